@@ -1,0 +1,143 @@
+//! De Boor's algorithm on homogeneous points: the single evaluation core.
+//!
+//! A rational Bezier patch is a B-spline patch over the knots `0..0, 1..1`, and a span of a
+//! NURBS surface is a piece of one, so both evaluate here. The same triangle with a different
+//! parameter per level is the *blossom*, which extracts the exact Bezier pieces of a NURBS
+//! surface (see [`crate::nurbs`]).
+//!
+//! Local knots for a span of degree `p` are the `2p` knots `U[k-p+1 ..= k+p]` around span
+//! `[U[k], U[k+1])`; for a Bezier patch they are `p` zeros then `p` ones.
+
+use glam::Vec4;
+
+use crate::math::lerp4;
+use crate::MAX_DEGREE;
+
+/// `MAX_DEGREE` zeros followed by `MAX_DEGREE` ones; `&BEZIER_KNOTS[MAX_DEGREE - p..MAX_DEGREE + p]`
+/// are the local knots of a Bezier segment of degree `p`.
+const BEZIER_KNOTS: [f32; 2 * MAX_DEGREE] = {
+    let mut k = [0.0; 2 * MAX_DEGREE];
+    let mut i = MAX_DEGREE;
+    while i < 2 * MAX_DEGREE {
+        k[i] = 1.0;
+        i += 1;
+    }
+    k
+};
+
+/// The local knots of a Bezier segment of degree `degree` (`1..=MAX_DEGREE`).
+#[inline]
+pub(crate) fn bezier_knots(degree: usize) -> &'static [f32] {
+    &BEZIER_KNOTS[MAX_DEGREE - degree..MAX_DEGREE + degree]
+}
+
+/// One level of de Boor's triangle: turns `d[r-1..=p]` of level `r - 1` into `d[r..=p]` of
+/// level `r`, at parameter `t`.
+#[inline]
+fn level(d: &mut [Vec4], knots: &[f32], p: usize, r: usize, t: f32) {
+    let mut a = p;
+    while a >= r {
+        let left = knots[a - 1];
+        let right = knots[a + p - r];
+        // right > left for every valid span (see the module docs), so no division by zero.
+        let alpha = (t - left) / (right - left);
+        d[a] = lerp4(d[a - 1], d[a], alpha);
+        a -= 1;
+    }
+}
+
+/// Point and first derivative of one span at `t`; `d` holds the `p + 1` local control points
+/// (destroyed) and `knots` the `2p` local knots.
+#[inline]
+pub(crate) fn point_and_derivative(d: &mut [Vec4], knots: &[f32], t: f32) -> (Vec4, Vec4) {
+    let p = d.len() - 1;
+    for r in 1..p {
+        level(d, knots, p, r, t);
+    }
+    let span = knots[p] - knots[p - 1];
+    let derivative = (d[p] - d[p - 1]) * (p as f32 / span);
+    level(d, knots, p, p, t);
+    (d[p], derivative)
+}
+
+/// Point of one span at `t` (see [`point_and_derivative`]).
+#[inline]
+pub(crate) fn point(d: &mut [Vec4], knots: &[f32], t: f32) -> Vec4 {
+    let p = d.len() - 1;
+    for r in 1..=p {
+        level(d, knots, p, r, t);
+    }
+    d[p]
+}
+
+/// The blossom of one span: level `r` uses parameter `args[r - 1]`. With every argument equal
+/// it is the point; with arguments `a` (`p - i` times) then `b` (`i` times) it is the `i`-th
+/// Bezier control point of the piece over `[a, b]`.
+#[inline]
+pub(crate) fn blossom(d: &mut [Vec4], knots: &[f32], args: &[f32]) -> Vec4 {
+    let p = d.len() - 1;
+    for r in 1..=p {
+        level(d, knots, p, r, args[r - 1]);
+    }
+    d[p]
+}
+
+/// Homogeneous point and partial derivatives of a tensor-product span.
+pub(crate) struct TensorEval {
+    /// Homogeneous point `(w x, w y, w z, w)`.
+    pub(crate) a: Vec4,
+    /// Derivative in u.
+    pub(crate) a_u: Vec4,
+    /// Derivative in v.
+    pub(crate) a_v: Vec4,
+    /// Mixed derivative.
+    pub(crate) a_uv: Vec4,
+}
+
+/// Evaluates a tensor-product span with degrees `(p, q)` whose homogeneous control point
+/// `(i, j)` is `net(i, j)`, with `i` along u.
+pub(crate) fn tensor_with_derivatives(
+    p: usize,
+    q: usize,
+    knots_u: &[f32],
+    knots_v: &[f32],
+    net: impl Fn(usize, usize) -> Vec4,
+    u: f32,
+    v: f32,
+) -> TensorEval {
+    let mut rows = [Vec4::ZERO; MAX_DEGREE + 1];
+    let mut rows_u = [Vec4::ZERO; MAX_DEGREE + 1];
+    let mut work = [Vec4::ZERO; MAX_DEGREE + 1];
+    for j in 0..=q {
+        for (i, w) in work[..=p].iter_mut().enumerate() {
+            *w = net(i, j);
+        }
+        let (c, c_u) = point_and_derivative(&mut work[..=p], knots_u, u);
+        rows[j] = c;
+        rows_u[j] = c_u;
+    }
+    let (a, a_v) = point_and_derivative(&mut rows[..=q], knots_v, v);
+    let (a_u, a_uv) = point_and_derivative(&mut rows_u[..=q], knots_v, v);
+    TensorEval { a, a_u, a_v, a_uv }
+}
+
+/// Homogeneous point of a tensor-product span (see [`tensor_with_derivatives`]).
+pub(crate) fn tensor_point(
+    p: usize,
+    q: usize,
+    knots_u: &[f32],
+    knots_v: &[f32],
+    net: impl Fn(usize, usize) -> Vec4,
+    u: f32,
+    v: f32,
+) -> Vec4 {
+    let mut rows = [Vec4::ZERO; MAX_DEGREE + 1];
+    let mut work = [Vec4::ZERO; MAX_DEGREE + 1];
+    for (j, row) in rows[..=q].iter_mut().enumerate() {
+        for (i, w) in work[..=p].iter_mut().enumerate() {
+            *w = net(i, j);
+        }
+        *row = point(&mut work[..=p], knots_u, u);
+    }
+    point(&mut rows[..=q], knots_v, v)
+}

@@ -1,0 +1,93 @@
+//! # spline-tess
+//!
+//! A `no_std`, allocation-free kernel that tessellates rational Bezier and NURBS surfaces into
+//! crack-free triangle meshes, for firmware that drives small displays and for host programs.
+//! The algorithm is Chhugani & Kumar's view-dependent adaptive tessellation (I3D 2001).
+//!
+//! This release holds the foundation every later stage stands on:
+//!
+//! - [`BezierPatch`]: rational Bezier patches of degree 1 to [`MAX_DEGREE`] in u and in v,
+//!   as views over control-point slices, with position, partials, a unit normal that is the
+//!   correct limit at collapsed edges, and conservative bounds;
+//! - [`NurbsSurface`]: validated NURBS views, evaluation, and exact decomposition into Bezier
+//!   patches written into caller buffers;
+//! - [`PatchSet`], [`Topology`] and [`Model`]: patches over flat slices (so a model can be a
+//!   `static` in flash) and which boundary curve each patch edge is;
+//! - [`parse`]: the BPT text format and the NURBS JSON fixtures, read into caller buffers.
+//!
+//! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
+//! states what was needed.
+//!
+//! ## Example
+//!
+//! ```
+//! use spline_tess::{parse, BoundaryCurve, EdgeLink, Model, PatchHeader};
+//!
+//! // One bicubic patch of the Utah teapot's lid (BPT text: count, degrees, 16 points).
+//! let text = "1\n3 3\n0 0 3.15\n0 0 3.15\n0 0 3.15\n0 0 3.15\n\
+//!             0.8 0 3.15\n0.8 -0.45 3.15\n0.45 -0.8 3.15\n0 -0.8 3.15\n\
+//!             0 0 2.85\n0 0 2.85\n0 0 2.85\n0 0 2.85\n\
+//!             0.2 0 2.7\n0.2 -0.112 2.7\n0.112 -0.2 2.7\n0 -0.2 2.7\n";
+//! let size = parse::bpt_size(text)?;
+//! let mut headers = [PatchHeader::default(); 1];
+//! let mut points = [[0.0; 3]; 16];
+//! assert_eq!((size.patches, size.points), (1, 16));
+//! let patches = parse::parse_bpt(text, &mut headers, &mut points)?;
+//!
+//! // The edge u = 0 is collapsed to the pole; the normal there is the limit, not NaN.
+//! let pole = patches.patch(0).unwrap().evaluate(0.0, 0.3);
+//! assert_eq!(pole.position.to_array(), [0.0, 0.0, 3.15]);
+//! assert!(pole.normal.z.abs() > 0.999);
+//!
+//! let mut edges = [[EdgeLink::Collapsed; 4]; 1];
+//! let mut curves = [BoundaryCurve::default(); 4];
+//! let model = Model::build(patches, &mut edges, &mut curves).unwrap();
+//! assert_eq!(model.topology.edge_counts().collapsed, 1);
+//! # Ok::<(), spline_tess::parse::BptError>(())
+//! ```
+//!
+//! ## Crate features
+//!
+//! - `defmt`: every public type implements `defmt::Format`.
+//! - `embedded-graphics`: drawing onto `embedded_graphics` targets (the renderer; wired, and
+//!   filled in by a later release).
+//!
+//! ## Numbers
+//!
+//! Evaluation is in `f32` (the single-precision FPU of a Cortex-M4F) using only element-wise
+//! IEEE-754 operations in a fixed order, so a host and a microcontroller compute the same bits.
+//! `host-tests/` checks it against an `f64` reference and against `curvo` and `truck-geometry`.
+
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+#![deny(missing_debug_implementations)]
+#![deny(rustdoc::broken_intra_doc_links)]
+
+mod basis;
+mod bound;
+#[cfg(feature = "defmt")]
+mod defmt_impls;
+mod frame;
+mod math;
+mod model;
+mod nurbs;
+pub mod parse;
+mod patch;
+
+pub use bound::{Aabb, BoundingSphere};
+pub use frame::SurfacePoint;
+pub use model::{
+    BoundaryCurve, EdgeCounts, EdgeLink, Model, PatchHeader, PatchSet, PatchSetError, Topology,
+    TopologyError,
+};
+pub use nurbs::{DecomposeError, DecompositionSize, Direction, NurbsError, NurbsSurface, ParamRect};
+pub use patch::{BezierPatch, PatchError, Side};
+
+/// Re-export of the vector type used in the API.
+pub use glam::Vec3;
+
+/// Highest degree, in u or in v, of a patch or NURBS surface.
+///
+/// Evaluation keeps `3 * (MAX_DEGREE + 1)` homogeneous points on the stack (384 bytes).
+pub const MAX_DEGREE: usize = 7;

@@ -1,0 +1,65 @@
+//! The one place the kernel's floating-point helpers live.
+//!
+//! Every `libm` call goes through here (as in glam's `f32/math.rs`), and the interpolation the
+//! evaluators use is defined once, so host and Cortex-M compute the same bits: only IEEE-754
+//! element-wise operations and correctly rounded square roots, in a fixed order.
+
+use glam::{Vec3, Vec4};
+
+/// Square root (correctly rounded on every target).
+#[inline]
+pub(crate) fn sqrt(x: f32) -> f32 {
+    libm::sqrtf(x)
+}
+
+/// Linear interpolation that is exact at both ends and when `a == b`.
+///
+/// `a + (b - a) * t` is exact at `t = 0` and for equal inputs but not at `t = 1`;
+/// `(1 - t) * a + t * b` is exact at both ends but not for equal inputs. Switching formula at
+/// one half keeps all three properties: corners of a patch are its corner control points bit
+/// for bit, and a row of equal control points (a collapsed edge) has an exactly zero
+/// derivative along it.
+#[inline]
+pub(crate) fn lerp4(a: Vec4, b: Vec4, t: f32) -> Vec4 {
+    let d = b - a;
+    if t <= 0.5 {
+        a + d * t
+    } else {
+        // 1 - t is exact here (Sterbenz), so t = 1 gives b exactly.
+        b - d * (1.0 - t)
+    }
+}
+
+/// Length of a vector.
+#[inline]
+pub(crate) fn length(v: Vec3) -> f32 {
+    sqrt(v.dot(v))
+}
+
+/// `v / |v|`, or `None` when the length is zero or not finite.
+#[inline]
+pub(crate) fn normalize(v: Vec3) -> Option<Vec3> {
+    let len = length(v);
+    if len > 0.0 && len.is_finite() {
+        let n = v / len;
+        if n.is_finite() {
+            return Some(n);
+        }
+    }
+    None
+}
+
+/// Clamps a parameter into `[lo, hi]`; NaN maps to `lo`.
+#[inline]
+pub(crate) fn clamp_param(t: f32, lo: f32, hi: f32) -> f32 {
+    if t >= lo {
+        if t <= hi {
+            t
+        } else {
+            hi
+        }
+    } else {
+        // Also the NaN case: every comparison with NaN is false.
+        lo
+    }
+}
