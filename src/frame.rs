@@ -12,9 +12,11 @@ use crate::basis::TensorEval;
 use crate::math::{length, normalize};
 
 /// Below this ratio of partial lengths a partial is treated as vanished and the analytic limit
-/// is used. The limit differs from the true normal by `O(ratio)` there, and above it rounding
-/// of the small partial in `f32` stays well under 1e-3 rad.
-const DEGENERATE_RATIO: f32 = 1.0e-3;
+/// is used. It only has to catch rounding: along a collapsed row of a polynomial patch the
+/// partial is exactly zero (see [`crate::math::lerp4`]), and for a rational one it is `f32`
+/// noise of order `1e-7` relative. Genuine surfaces come much closer than `1e-3` (Gumbo has
+/// a fold where `|S_u| / |S_v| = 6e-4`), so the ratio must stay far below that.
+const DEGENERATE_RATIO: f32 = 1.0e-5;
 
 /// Position, first partial derivatives and unit normal of a surface at one parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,40 +52,51 @@ pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32) -> Frame {
     let position = xyz(ev.a) / w;
     let partial_u = (xyz(ev.a_u) - position * ev.a_u.w) / w;
     let partial_v = (xyz(ev.a_v) - position * ev.a_v.w) / w;
-    let lu = length(partial_u);
-    let lv = length(partial_v);
+    // Max-norms and unit vectors: no squared lengths, so nothing underflows near a pole.
+    let mu = partial_u.abs().max_element();
+    let mv = partial_v.abs().max_element();
+    let du = normalize(partial_u);
+    let dv = normalize(partial_v);
     let mut normal = None;
-    if lu > DEGENERATE_RATIO * lv && lv > DEGENERATE_RATIO * lu {
-        let n = partial_u.cross(partial_v);
-        if length(n) > DEGENERATE_RATIO * lu * lv {
-            normal = normalize(n);
+    if mu > DEGENERATE_RATIO * mv && mv > DEGENERATE_RATIO * mu {
+        if let (Some(du), Some(dv)) = (du, dv) {
+            let n = du.cross(dv);
+            if length(n) > DEGENERATE_RATIO {
+                normal = normalize(n);
+            }
         }
-    } else if lu != lv {
+    } else if mu != mv {
         let partial_uv = (xyz(ev.a_uv)
             - position * ev.a_uv.w
             - partial_v * ev.a_u.w
             - partial_u * ev.a_v.w)
             / w;
-        let limit = if lu < lv {
-            // S_u vanished along v = 0 or v = 1.
-            let n = partial_uv.cross(partial_v);
-            if t <= 0.5 {
-                n
-            } else {
-                -n
-            }
-        } else {
-            let n = partial_u.cross(partial_uv);
-            if s <= 0.5 {
-                n
-            } else {
-                -n
-            }
+        let duv = normalize(partial_uv);
+        let limit = match (mu < mv, duv) {
+            // S_u vanished along v = 0 or v = 1: the normal tends to sign * (S_uv x S_v).
+            (true, Some(duv)) => dv.map(|dv| {
+                let n = duv.cross(dv);
+                if t <= 0.5 {
+                    n
+                } else {
+                    -n
+                }
+            }),
+            (false, Some(duv)) => du.map(|du| {
+                let n = du.cross(duv);
+                if s <= 0.5 {
+                    n
+                } else {
+                    -n
+                }
+            }),
+            (_, None) => None,
         };
         // The limit is only trusted when its own factors are not parallel.
-        let big = if lu < lv { lv } else { lu };
-        if length(limit) > DEGENERATE_RATIO * length(partial_uv) * big {
-            normal = normalize(limit);
+        if let Some(n) = limit {
+            if length(n) > DEGENERATE_RATIO {
+                normal = normalize(n);
+            }
         }
     }
     Frame {

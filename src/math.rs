@@ -36,17 +36,19 @@ pub(crate) fn length(v: Vec3) -> f32 {
     sqrt(v.dot(v))
 }
 
-/// `v / |v|`, or `None` when the length is zero or not finite.
+/// `v / |v|`, or `None` when `v` is zero or not finite.
+///
+/// The vector is first scaled by its largest component, so tiny vectors (whose squared length
+/// would underflow, as cross products next to a pole do) still normalise.
 #[inline]
 pub(crate) fn normalize(v: Vec3) -> Option<Vec3> {
-    let len = length(v);
-    if len > 0.0 && len.is_finite() {
-        let n = v / len;
-        if n.is_finite() {
-            return Some(n);
-        }
+    let big = v.abs().max_element();
+    if !(big > 0.0 && big.is_finite()) {
+        return None;
     }
-    None
+    let s = v / big;
+    let n = s / length(s);
+    n.is_finite().then_some(n)
 }
 
 /// Clamps a parameter into `[lo, hi]`; NaN maps to `lo`.
