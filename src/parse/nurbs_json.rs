@@ -246,6 +246,7 @@ impl<'t> Cursor<'t> {
             return Ok((0, 0));
         }
         loop {
+            self.skip_ws();
             let line = self.line;
             let w = row(self, rows)?;
             if rows == 0 {
@@ -366,20 +367,17 @@ fn walk(text: &str, mut store: Option<&mut NurbsJsonBuffers<'_>>) -> Result<Foun
                     let mut points = store.as_deref_mut().map(|s| &mut *s.points);
                     let mut cols_seen = 0;
                     let (rows, cols) = c.grid("control_points", |c, i| {
-                        let (n, three) = c.grid("control_points", |c, j| {
+                        let (n, _) = c.grid("control_points", |c, j| {
                             let mut xyz = [0.0f32; 3];
-                            let n = c.numbers(Some(&mut xyz))?;
-                            if n == 3 {
-                                let k = i * cols_seen.max(1) + j;
-                                if let Some(slot) = points.as_deref_mut().and_then(|p| p.get_mut(k)) {
-                                    *slot = xyz;
-                                }
+                            if c.numbers(Some(&mut xyz))? != 3 {
+                                return Err(c.syntax("points of three coordinates"));
                             }
-                            Ok(n)
+                            let k = i * cols_seen.max(1) + j;
+                            if let Some(slot) = points.as_deref_mut().and_then(|p| p.get_mut(k)) {
+                                *slot = xyz;
+                            }
+                            Ok(3)
                         })?;
-                        if n > 0 && three != 3 {
-                            return Err(c.syntax("points of three coordinates"));
-                        }
                         if i == 0 {
                             cols_seen = n;
                         }
