@@ -42,9 +42,19 @@ fn parse_args() -> Result<(String, usize), String> {
     Ok((model.ok_or_else(usage)?, grid))
 }
 
-fn line(out: &mut impl Write, patch: usize, u: f32, v: f32, s: &SurfacePoint) -> std::io::Result<()> {
+fn line(
+    out: &mut impl Write,
+    patch: usize,
+    u: f32,
+    v: f32,
+    s: &SurfacePoint,
+) -> std::io::Result<()> {
     let (p, n) = (s.position, s.normal);
-    writeln!(out, "{patch} {u} {v} {} {} {} {} {} {}", p.x, p.y, p.z, n.x, n.y, n.z)
+    writeln!(
+        out,
+        "{patch} {u} {v} {} {} {} {} {} {}",
+        p.x, p.y, p.z, n.x, n.y, n.z
+    )
 }
 
 fn param(lo: f32, hi: f32, k: usize, n: usize) -> f32 {
@@ -73,7 +83,8 @@ fn run() -> Result<(), String> {
             points: &mut pts,
             weights: &mut w,
         };
-        let surface = parse::parse_nurbs_json(&text, buffers).map_err(|e| format!("{path}: {e}"))?;
+        let surface =
+            parse::parse_nurbs_json(&text, buffers).map_err(|e| format!("{path}: {e}"))?;
         let d = surface.domain();
         for i in 0..grid {
             for j in 0..grid {
@@ -85,7 +96,8 @@ fn run() -> Result<(), String> {
         let size = parse::bpt_size(&text).map_err(|e| format!("{path}: {e}"))?;
         let mut headers = vec![PatchHeader::default(); size.patches];
         let mut pts = vec![[0.0; 3]; size.points];
-        let set = parse::parse_bpt(&text, &mut headers, &mut pts).map_err(|e| format!("{path}: {e}"))?;
+        let set =
+            parse::parse_bpt(&text, &mut headers, &mut pts).map_err(|e| format!("{path}: {e}"))?;
         for (k, patch) in set.iter().enumerate() {
             for i in 0..grid {
                 for j in 0..grid {

@@ -66,11 +66,8 @@ pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32) -> Frame {
             }
         }
     } else if mu != mv {
-        let partial_uv = (xyz(ev.a_uv)
-            - position * ev.a_uv.w
-            - partial_v * ev.a_u.w
-            - partial_u * ev.a_v.w)
-            / w;
+        let partial_uv =
+            (xyz(ev.a_uv) - position * ev.a_uv.w - partial_v * ev.a_u.w - partial_u * ev.a_v.w) / w;
         let duv = normalize(partial_uv);
         let limit = match (mu < mv, duv) {
             // S_u vanished along v = 0 or v = 1: the normal tends to sign * (S_uv x S_v).

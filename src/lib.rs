@@ -81,7 +81,9 @@ pub use model::{
     BoundaryCurve, EdgeCounts, EdgeLink, Model, PatchHeader, PatchSet, PatchSetError, Topology,
     TopologyError,
 };
-pub use nurbs::{DecomposeError, DecompositionSize, Direction, NurbsError, NurbsSurface, ParamRect};
+pub use nurbs::{
+    DecomposeError, DecompositionSize, Direction, NurbsError, NurbsSurface, ParamRect,
+};
 pub use patch::{BezierPatch, PatchError, Side};
 
 /// Re-export of the vector type used in the API.

@@ -114,7 +114,10 @@ impl fmt::Display for NurbsError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             NurbsError::DegreeOutOfRange { direction, degree } => {
-                write!(f, "degree in {direction} is {degree}, outside 1..={MAX_DEGREE}")
+                write!(
+                    f,
+                    "degree in {direction} is {degree}, outside 1..={MAX_DEGREE}"
+                )
             }
             NurbsError::TooFewKnots {
                 direction,
@@ -125,7 +128,10 @@ impl fmt::Display for NurbsError {
                 write!(f, "knot {index} in {direction} is not finite")
             }
             NurbsError::DecreasingKnots { direction, index } => {
-                write!(f, "knot {index} in {direction} is smaller than the one before")
+                write!(
+                    f,
+                    "knot {index} in {direction} is smaller than the one before"
+                )
             }
             NurbsError::NotClamped { direction } => {
                 write!(f, "knot vector in {direction} is not clamped")

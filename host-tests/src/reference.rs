@@ -179,7 +179,9 @@ impl RefPatch {
 
 /// Reads a BPT text in `f64` with its own parser (independent of the kernel's).
 pub fn read_bpt(text: &str) -> Vec<RefPatch> {
-    let mut words = text.split_whitespace().map(|w| w.parse::<f64>().expect("number"));
+    let mut words = text
+        .split_whitespace()
+        .map(|w| w.parse::<f64>().expect("number"));
     let n = words.next().expect("patch count") as usize;
     (0..n)
         .map(|_| {
@@ -241,8 +243,18 @@ impl RefNurbs {
         let num = |v: &Value| v.as_f64().expect("number");
         let du = json["degree_u"].as_u64().unwrap() as usize;
         let dv = json["degree_v"].as_u64().unwrap() as usize;
-        let ku: Vec<f64> = json["knots_u"].as_array().unwrap().iter().map(num).collect();
-        let kv: Vec<f64> = json["knots_v"].as_array().unwrap().iter().map(num).collect();
+        let ku: Vec<f64> = json["knots_u"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(num)
+            .collect();
+        let kv: Vec<f64> = json["knots_v"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(num)
+            .collect();
         let rows = json["control_points"].as_array().unwrap();
         let nv = rows[0].as_array().unwrap().len();
         let mut pts = Vec::new();
@@ -272,7 +284,12 @@ impl RefNurbs {
     /// Parameter domain `(u0, u1, v0, v1)`.
     pub fn domain(&self) -> (f64, f64, f64, f64) {
         let nu = self.ku.len() - self.du - 1;
-        (self.ku[self.du], self.ku[nu], self.kv[self.dv], self.kv[self.nv])
+        (
+            self.ku[self.du],
+            self.ku[nu],
+            self.kv[self.dv],
+            self.kv[self.nv],
+        )
     }
 
     /// Evaluates with Cox-de Boor basis functions.

@@ -10,7 +10,9 @@ use spline_tess::{
 };
 
 fn square() -> Vec<[f32; 3]> {
-    (0..16).map(|k| [(k / 4) as f32, (k % 4) as f32, ((k * 5) % 3) as f32]).collect()
+    (0..16)
+        .map(|k| [(k / 4) as f32, (k % 4) as f32, ((k * 5) % 3) as f32])
+        .collect()
 }
 
 #[test]
@@ -24,7 +26,13 @@ fn patches_reject_non_finite_points_bad_weights_and_bad_sizes() {
             PatchError::NonFinitePoint { index }
         );
     }
-    for (index, w) in [(0, 0.0), (5, -1.0), (9, f32::NAN), (12, f32::INFINITY), (2, -0.0)] {
+    for (index, w) in [
+        (0, 0.0),
+        (5, -1.0),
+        (9, f32::NAN),
+        (12, f32::INFINITY),
+        (2, -0.0),
+    ] {
         let mut ws = vec![1.0f32; 16];
         ws[index] = w;
         assert_eq!(
@@ -34,11 +42,17 @@ fn patches_reject_non_finite_points_bad_weights_and_bad_sizes() {
     }
     assert_eq!(
         BezierPatch::new_rational(3, 3, &good, &[1.0; 15]).unwrap_err(),
-        PatchError::WeightCount { expected: 16, found: 15 }
+        PatchError::WeightCount {
+            expected: 16,
+            found: 15
+        }
     );
     assert_eq!(
         BezierPatch::new(3, 2, &good).unwrap_err(),
-        PatchError::PointCount { expected: 12, found: 16 }
+        PatchError::PointCount {
+            expected: 12,
+            found: 16
+        }
     );
     for degree in [0, 8, 200] {
         assert_eq!(
@@ -58,8 +72,16 @@ fn patch_sets_check_ranges_and_every_patch() {
     let mut pts = square();
     pts.extend(square());
     let headers = [
-        PatchHeader { degree_u: 3, degree_v: 3, first_point: 0 },
-        PatchHeader { degree_u: 3, degree_v: 3, first_point: 16 },
+        PatchHeader {
+            degree_u: 3,
+            degree_v: 3,
+            first_point: 0,
+        },
+        PatchHeader {
+            degree_u: 3,
+            degree_v: 3,
+            first_point: 16,
+        },
     ];
     assert!(PatchSet::new(&headers, &pts, None).is_ok());
     assert_eq!(
@@ -70,22 +92,38 @@ fn patch_sets_check_ranges_and_every_patch() {
     nan[20][2] = f32::NAN;
     assert_eq!(
         PatchSet::new(&headers, &nan, None).unwrap_err(),
-        PatchSetError::Patch { patch: 1, error: PatchError::NonFinitePoint { index: 4 } }
+        PatchSetError::Patch {
+            patch: 1,
+            error: PatchError::NonFinitePoint { index: 4 }
+        }
     );
     let mut ws = vec![1.0; 32];
     ws[3] = 0.0;
     assert_eq!(
         PatchSet::new(&headers, &pts, Some(&ws)).unwrap_err(),
-        PatchSetError::Patch { patch: 0, error: PatchError::InvalidWeight { index: 3 } }
+        PatchSetError::Patch {
+            patch: 0,
+            error: PatchError::InvalidWeight { index: 3 }
+        }
     );
     assert_eq!(
         PatchSet::new(&headers, &pts, Some(&ws[..31])).unwrap_err(),
-        PatchSetError::WeightCount { expected: 32, found: 31 }
+        PatchSetError::WeightCount {
+            expected: 32,
+            found: 31
+        }
     );
-    let bad_degree = [PatchHeader { degree_u: 0, degree_v: 3, first_point: 0 }];
+    let bad_degree = [PatchHeader {
+        degree_u: 0,
+        degree_v: 3,
+        first_point: 0,
+    }];
     assert_eq!(
         PatchSet::new(&bad_degree, &pts, None).unwrap_err(),
-        PatchSetError::Patch { patch: 0, error: PatchError::DegreeOutOfRange { degree: 0 } }
+        PatchSetError::Patch {
+            patch: 0,
+            error: PatchError::DegreeOutOfRange { degree: 0 }
+        }
     );
 }
 
@@ -101,11 +139,18 @@ fn nurbs_knot_vectors_and_nets_are_validated() {
     let v = Direction::V;
     assert_eq!(
         make(&[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &good, None),
-        Err(NurbsError::TooFewKnots { direction: u, found: 7, needed: 8 })
+        Err(NurbsError::TooFewKnots {
+            direction: u,
+            found: 7,
+            needed: 8
+        })
     );
     assert_eq!(
         make(&good, &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.5, 1.0], None),
-        Err(NurbsError::DecreasingKnots { direction: v, index: 6 })
+        Err(NurbsError::DecreasingKnots {
+            direction: v,
+            index: 6
+        })
     );
     assert_eq!(
         make(&[0.0, 0.0, 0.0, 0.1, 1.0, 1.0, 1.0, 1.0], &good, None),
@@ -113,11 +158,18 @@ fn nurbs_knot_vectors_and_nets_are_validated() {
     );
     assert_eq!(
         make(&good, &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, f32::NAN], None),
-        Err(NurbsError::NonFiniteKnot { direction: v, index: 7 })
+        Err(NurbsError::NonFiniteKnot {
+            direction: v,
+            index: 7
+        })
     );
     assert_eq!(
         make(&[0.0; 8], &good, None),
-        Err(NurbsError::KnotMultiplicity { direction: u, index: 0, multiplicity: 8 })
+        Err(NurbsError::KnotMultiplicity {
+            direction: u,
+            index: 0,
+            multiplicity: 8
+        })
     );
     // Interior multiplicity above the degree (here 4 > 3) splits the surface: refused.
     let pts9: Vec<[f32; 3]> = (0..36).map(|k| [k as f32, 0.0, (k % 6) as f32]).collect();
@@ -125,18 +177,31 @@ fn nurbs_knot_vectors_and_nets_are_validated() {
     let kv = [0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
     assert_eq!(
         NurbsSurface::new(3, 3, &ku, &kv, &pts9[..32], None).map(|_| ()),
-        Err(NurbsError::KnotMultiplicity { direction: u, index: 4, multiplicity: 4 })
+        Err(NurbsError::KnotMultiplicity {
+            direction: u,
+            index: 4,
+            multiplicity: 4
+        })
     );
     assert_eq!(
         make(&good, &[0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0], None),
-        Err(NurbsError::PointCount { expected: 20, found: 16 })
+        Err(NurbsError::PointCount {
+            expected: 20,
+            found: 16
+        })
     );
     let mut w = [1.0f32; 16];
     w[6] = -2.0;
-    assert_eq!(make(&good, &good, Some(&w)), Err(NurbsError::InvalidWeight { index: 6 }));
+    assert_eq!(
+        make(&good, &good, Some(&w)),
+        Err(NurbsError::InvalidWeight { index: 6 })
+    );
     assert_eq!(
         make(&good, &good, Some(&w[..15])),
-        Err(NurbsError::WeightCount { expected: 16, found: 15 })
+        Err(NurbsError::WeightCount {
+            expected: 16,
+            found: 15
+        })
     );
     let mut bad = pts.clone();
     bad[9][0] = f32::INFINITY;
@@ -146,7 +211,10 @@ fn nurbs_knot_vectors_and_nets_are_validated() {
     );
     assert_eq!(
         NurbsSurface::new(9, 3, &good, &good, &pts, None).map(|_| ()),
-        Err(NurbsError::DegreeOutOfRange { direction: u, degree: 9 })
+        Err(NurbsError::DegreeOutOfRange {
+            direction: u,
+            degree: 9
+        })
     );
 }
 
@@ -168,14 +236,20 @@ fn every_truncation_of_the_teapot_is_a_typed_error() {
         // A cut inside the file's very last number leaves a shorter valid number ("3.1" of
         // "3.15"): the format has no terminator to tell. Everything else must fail.
         let last_token = trimmed[cut..].find(char::is_whitespace).is_none()
-            && prefix[last_line_start.min(cut)..].split_whitespace().count() == 3
+            && prefix[last_line_start.min(cut)..]
+                .split_whitespace()
+                .count()
+                == 3
             && !prefix.ends_with(char::is_whitespace);
         if last_token {
             assert_eq!(bpt(prefix), Ok(32), "cut {cut}");
             continue;
         }
         let err = bpt(prefix).expect_err("a truncated file must not parse");
-        assert!(err.line >= 1 && err.line <= total_lines + 1, "cut {cut}: {err}");
+        assert!(
+            err.line >= 1 && err.line <= total_lines + 1,
+            "cut {cut}: {err}"
+        );
         // A cut at the end of a line leaves whole lines: the file ends early.
         if cut > 0 && trimmed.as_bytes()[cut] == b'\n' {
             let lines = prefix.lines().count();
@@ -184,7 +258,10 @@ fn every_truncation_of_the_teapot_is_a_typed_error() {
                 err,
                 BptError {
                     line: lines + 1,
-                    kind: BptErrorKind::Truncated { expected: 32, complete }
+                    kind: BptErrorKind::Truncated {
+                        expected: 32,
+                        complete
+                    }
                 },
                 "cut after line {lines}"
             );
@@ -205,7 +282,11 @@ fn bpt_errors_name_the_line_and_the_problem() {
         ("1\n1 1\n0 0 zero\n", 3, BptErrorKind::BadNumber),
         ("1\n1 1\n0 0 0\n\n0 nan 0\n", 5, BptErrorKind::NonFinite),
         ("1\n1 1\n0 0 0\n0 1e39 0\n", 4, BptErrorKind::NonFinite),
-        ("1\n1 1\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n1 1 1\n", 7, BptErrorKind::TrailingData),
+        (
+            "1\n1 1\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n1 1 1\n",
+            7,
+            BptErrorKind::TrailingData,
+        ),
     ];
     for (text, line, kind) in cases {
         assert_eq!(bpt(text), Err(BptError { line, kind }), "{text:?}");
@@ -215,17 +296,32 @@ fn bpt_errors_name_the_line_and_the_problem() {
     let mut headers = [PatchHeader::default(); 1];
     let mut points = [[9.0f32; 3]; 3];
     let err = parse::parse_bpt(&format!("{head}1 1 1\n"), &mut headers, &mut points).unwrap_err();
-    assert_eq!(err.kind, BptErrorKind::BufferTooSmall { patches: 1, points: 4 });
+    assert_eq!(
+        err.kind,
+        BptErrorKind::BufferTooSmall {
+            patches: 1,
+            points: 4
+        }
+    );
     assert!(points.iter().all(|p| *p == [9.0; 3]));
     assert_eq!(
-        BptError { line: 5, kind: BptErrorKind::BadNumber }.to_string(),
+        BptError {
+            line: 5,
+            kind: BptErrorKind::BadNumber
+        }
+        .to_string(),
         "line 5: not a number"
     );
 }
 
 fn json(text: &str) -> Result<(), spline_tess::parse::NurbsJsonError> {
     let (mut ku, mut kv, mut pts, mut w) = ([0.0; 32], [0.0; 32], [[0.0; 3]; 64], [0.0; 64]);
-    let b = NurbsJsonBuffers { knots_u: &mut ku, knots_v: &mut kv, points: &mut pts, weights: &mut w };
+    let b = NurbsJsonBuffers {
+        knots_u: &mut ku,
+        knots_v: &mut kv,
+        points: &mut pts,
+        weights: &mut w,
+    };
     parse::parse_nurbs_json(text, b).map(|_| ())
 }
 
@@ -246,12 +342,24 @@ fn json_errors_name_the_line_and_the_problem() {
     let with = |from: &str, to: &str| SURFACE.replacen(from, to, 1);
     let kind = |text: String| json(&text).map_err(|e| (e.line, e.kind));
     assert_eq!(
-        kind(with("\"knots_u\": [0, 0, 1, 1]", "\"knots_u\": [0, 0, 1, 0.5]")),
-        Err((4, NurbsJsonErrorKind::Surface(NurbsError::DecreasingKnots { direction: Direction::U, index: 3 })))
+        kind(with(
+            "\"knots_u\": [0, 0, 1, 1]",
+            "\"knots_u\": [0, 0, 1, 0.5]"
+        )),
+        Err((
+            4,
+            NurbsJsonErrorKind::Surface(NurbsError::DecreasingKnots {
+                direction: Direction::U,
+                index: 3
+            })
+        ))
     );
     assert_eq!(
         kind(with("[1, 2]]", "[1, 0]]")),
-        Err((8, NurbsJsonErrorKind::Surface(NurbsError::InvalidWeight { index: 3 })))
+        Err((
+            8,
+            NurbsJsonErrorKind::Surface(NurbsError::InvalidWeight { index: 3 })
+        ))
     );
     assert_eq!(
         kind(with("[1, 2]]", "[1]]")),
@@ -259,14 +367,22 @@ fn json_errors_name_the_line_and_the_problem() {
     );
     assert_eq!(
         kind(with("[[1, 0, 0], [1, 1, 1]]", "[[1, 0, 0]]")),
-        Err((7, NurbsJsonErrorKind::Ragged { field: "control_points" }))
+        Err((
+            7,
+            NurbsJsonErrorKind::Ragged {
+                field: "control_points"
+            }
+        ))
     );
     assert_eq!(
         kind(with("  \"degree_v\": 1,\n", "")),
         Err((9, NurbsJsonErrorKind::MissingField { field: "degree_v" }))
     );
     assert_eq!(
-        kind(with("\"degree_v\": 1,", "\"degree_v\": 1, \"degree_v\": 1,")),
+        kind(with(
+            "\"degree_v\": 1,",
+            "\"degree_v\": 1, \"degree_v\": 1,"
+        )),
         Err((3, NurbsJsonErrorKind::DuplicateField { field: "degree_v" }))
     );
     assert_eq!(
@@ -279,19 +395,40 @@ fn json_errors_name_the_line_and_the_problem() {
     );
     assert_eq!(
         kind(with("[0, 1, 0]", "[0, 1 0]")),
-        Err((6, NurbsJsonErrorKind::Syntax { expected: "`,` or `]`" }))
+        Err((
+            6,
+            NurbsJsonErrorKind::Syntax {
+                expected: "`,` or `]`"
+            }
+        ))
     );
     assert_eq!(
         kind(with("[0, 1, 0]", "[0, 1]")),
-        Err((6, NurbsJsonErrorKind::Syntax { expected: "points of three coordinates" }))
+        Err((
+            6,
+            NurbsJsonErrorKind::Syntax {
+                expected: "points of three coordinates"
+            }
+        ))
     );
     // Too-small buffers: the sizes needed, nothing written.
     let (mut ku, mut kv, mut pts, mut w) = ([5.0; 3], [0.0; 4], [[0.0; 3]; 4], [0.0; 4]);
-    let b = NurbsJsonBuffers { knots_u: &mut ku, knots_v: &mut kv, points: &mut pts, weights: &mut w };
+    let b = NurbsJsonBuffers {
+        knots_u: &mut ku,
+        knots_v: &mut kv,
+        points: &mut pts,
+        weights: &mut w,
+    };
     let err = parse::parse_nurbs_json(SURFACE, b).unwrap_err();
     assert_eq!(
         err.kind,
-        NurbsJsonErrorKind::BufferTooSmall { needed: NurbsJsonSize { knots_u: 4, knots_v: 4, points: 4 } }
+        NurbsJsonErrorKind::BufferTooSmall {
+            needed: NurbsJsonSize {
+                knots_u: 4,
+                knots_v: 4,
+                points: 4
+            }
+        }
     );
     assert_eq!(ku, [5.0; 3]);
 }
@@ -314,7 +451,16 @@ fn every_truncation_of_every_fixture_is_a_typed_error() {
 fn evaluation_takes_any_parameter() {
     let pts = square();
     let p = BezierPatch::new(3, 3, &pts).unwrap();
-    for t in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -1.0, 2.0, 1e30, -0.0, f32::MIN_POSITIVE] {
+    for t in [
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        -1.0,
+        2.0,
+        1e30,
+        -0.0,
+        f32::MIN_POSITIVE,
+    ] {
         for s in [0.5, t] {
             let e = p.evaluate(t, s);
             assert!(e.position.is_finite() && e.normal.is_finite(), "({t}, {s})");

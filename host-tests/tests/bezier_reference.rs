@@ -172,7 +172,10 @@ fn bounds_contain_the_surface() {
             let s = patch.bounding_sphere();
             for (u, v) in samples(&mut rng) {
                 let p = patch.position(u as f32, v as f32);
-                assert!(p.cmpge(b.min).all() && p.cmple(b.max).all(), "{p:?} outside {b:?}");
+                assert!(
+                    p.cmpge(b.min).all() && p.cmple(b.max).all(),
+                    "{p:?} outside {b:?}"
+                );
                 assert!((p - s.center).length() <= s.radius, "{p:?} outside {s:?}");
             }
         }

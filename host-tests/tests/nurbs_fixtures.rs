@@ -5,10 +5,9 @@ use curvo::prelude::NurbsSurface3D;
 use host_tests::reference::{self, dist, RefNurbs, V3};
 use host_tests::{angle, name, nurbs_fixtures, widen, KernelNurbs, Rng};
 use nalgebra::Point4;
-use spline_tess::{BoundaryCurve, EdgeLink, PatchHeader, ParamRect, Topology};
+use spline_tess::{BoundaryCurve, EdgeLink, ParamRect, PatchHeader, Topology};
 use truck_geometry::prelude::{
-    BSplineSurface, KnotVec, NurbsSurface as TruckNurbs, ParametricSurface3D,
-    Vector4,
+    BSplineSurface, KnotVec, NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4,
 };
 
 const POSITION_TOL: f64 = 1e-5;
@@ -46,8 +45,7 @@ fn fixtures() -> Vec<Fixture> {
                         .collect()
                 })
                 .collect();
-            let curvo =
-                NurbsSurface3D::new(r.du, r.dv, r.ku.clone(), r.kv.clone(), curvo_net);
+            let curvo = NurbsSurface3D::new(r.du, r.dv, r.ku.clone(), r.kv.clone(), curvo_net);
             let truck_net: Vec<Vec<Vector4>> = (0..nu)
                 .map(|i| {
                     (0..r.nv)
@@ -176,7 +174,12 @@ fn expected_points_hold() {
         let expected = f.r.json["expected"].as_array().unwrap();
         for e in expected {
             let (u, v) = (e["u"].as_f64().unwrap(), e["v"].as_f64().unwrap());
-            let p: Vec<f64> = e["p"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+            let p: Vec<f64> = e["p"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
             let k = widen(s.position(u as f32, v as f32));
             let r = f.r.eval(u, v).p;
             // The sources assert each coordinate within their delta (geomdl truncates to
@@ -184,7 +187,11 @@ fn expected_points_hold() {
             let limit = tol.unwrap_or(POSITION_TOL * f.diag);
             for (who, q) in [("kernel", k), ("f64 reference", r)] {
                 let d = (0..3).map(|i| (q[i] - p[i]).abs()).fold(0.0, f64::max);
-                assert!(d <= limit, "{}: {who} at ({u}, {v}): {q:?} is {d} from {p:?}", f.name);
+                assert!(
+                    d <= limit,
+                    "{}: {who} at ({u}, {v}): {q:?} is {d} from {p:?}",
+                    f.name
+                );
             }
         }
     }
@@ -192,7 +199,10 @@ fn expected_points_hold() {
 
 #[test]
 fn hemisphere_lies_on_the_unit_sphere_with_radial_normals() {
-    let f = fixtures().into_iter().find(|f| f.name == "tinynurbs_hemisphere.json").unwrap();
+    let f = fixtures()
+        .into_iter()
+        .find(|f| f.name == "tinynurbs_hemisphere.json")
+        .unwrap();
     let s = f.k.surface();
     let mut rng = Rng::new(11);
     for (u, v) in params(&f.r, &mut rng) {
@@ -202,13 +212,19 @@ fn hemisphere_lies_on_the_unit_sphere_with_radial_normals() {
         assert!((r - 1.0).abs() <= 2e-6, "|P({u}, {v})| = {r}");
         // A sphere's normal is its position (up to orientation), at the poles too.
         let cos = reference::dot(widen(k.normal), p).abs() / r;
-        assert!(cos > 1.0 - 1e-6, "normal at ({u}, {v}) is not radial: cos {cos}");
+        assert!(
+            cos > 1.0 - 1e-6,
+            "normal at ({u}, {v}) is not radial: cos {cos}"
+        );
     }
 }
 
 #[test]
 fn quarter_cylinder_lies_on_the_cylinder() {
-    let f = fixtures().into_iter().find(|f| f.name == "verb_quarter_cylinder.json").unwrap();
+    let f = fixtures()
+        .into_iter()
+        .find(|f| f.name == "verb_quarter_cylinder.json")
+        .unwrap();
     let s = f.k.surface();
     let mut rng = Rng::new(13);
     for (u, v) in params(&f.r, &mut rng) {
@@ -218,7 +234,10 @@ fn quarter_cylinder_lies_on_the_cylinder() {
         assert!(e.abs() <= 2e-6, "y^2 + z^2 - 1 = {e} at ({u}, {v})");
         let radial = [0.0, p[1], p[2]];
         let cos = reference::dot(widen(k.normal), radial).abs() / reference::norm(radial);
-        assert!(cos > 1.0 - 1e-6, "normal at ({u}, {v}) is not radial: cos {cos}");
+        assert!(
+            cos > 1.0 - 1e-6,
+            "normal at ({u}, {v}) is not radial: cos {cos}"
+        );
     }
 }
 
@@ -237,7 +256,10 @@ fn decomposition_is_exact_and_shares_rows() {
         let err = s
             .decompose(&mut headers, &mut short, &mut weights, &mut domains)
             .unwrap_err();
-        assert_eq!(err, spline_tess::DecomposeError::BufferTooSmall { needed: size });
+        assert_eq!(
+            err,
+            spline_tess::DecomposeError::BufferTooSmall { needed: size }
+        );
         assert!(short.iter().all(|p| *p == [7.0; 3]));
 
         let set = s
@@ -252,7 +274,11 @@ fn decomposition_is_exact_and_shares_rows() {
                 let v = d.v0 as f64 + b * (d.v1 - d.v0) as f64;
                 let piece = widen(patch.position(a as f32, b as f32));
                 let e = dist(piece, f.r.eval(u, v).p) / f.diag;
-                assert!(e <= POSITION_TOL, "{} piece {k} at ({a}, {b}): {e:e}", f.name);
+                assert!(
+                    e <= POSITION_TOL,
+                    "{} piece {k} at ({a}, {b}): {e:e}",
+                    f.name
+                );
             }
         }
         // Interior span boundaries are found as shared curves.

@@ -22,7 +22,10 @@ fn reference_of(du: usize, dv: usize, pts: &[[f32; 3]], w: &[f32]) -> RefPatch {
     RefPatch {
         du,
         dv,
-        pts: pts.iter().map(|p| [p[0] as f64, p[1] as f64, p[2] as f64]).collect(),
+        pts: pts
+            .iter()
+            .map(|p| [p[0] as f64, p[1] as f64, p[2] as f64])
+            .collect(),
         w: w.iter().map(|&x| x as f64).collect(),
     }
 }

@@ -15,7 +15,11 @@ const EXPECTED: [(&str, usize, usize, usize); 6] = [
 
 #[test]
 fn every_model_has_the_documented_edge_counts() {
-    assert_eq!(bpt_models().len(), EXPECTED.len(), "a model without expected counts");
+    assert_eq!(
+        bpt_models().len(),
+        EXPECTED.len(),
+        "a model without expected counts"
+    );
     for (file, shared, open, collapsed) in EXPECTED {
         let text = std::fs::read_to_string(models_dir().join(file)).unwrap();
         let kernel = KernelBpt::parse(&text);
@@ -24,7 +28,11 @@ fn every_model_has_the_documented_edge_counts() {
         let mut curves = vec![BoundaryCurve::default(); 4 * set.len()];
         let topo = Topology::build(&set, &mut edges, &mut curves).unwrap();
         let c = topo.edge_counts();
-        assert_eq!((c.shared, c.open, c.collapsed), (shared, open, collapsed), "{file}");
+        assert_eq!(
+            (c.shared, c.open, c.collapsed),
+            (shared, open, collapsed),
+            "{file}"
+        );
         let uses: u32 = topo.curves().iter().map(|c| c.uses).sum();
         assert_eq!(uses as usize, shared + open, "{file}: curve uses");
         println!("{file}: {} distinct curves", topo.curves().len());
@@ -62,7 +70,10 @@ fn small_buffers_report_what_is_needed() {
         let set = kernel.set();
         let mut edges = vec![[EdgeLink::Collapsed; 4]; set.len()];
         let mut curves = vec![BoundaryCurve::default(); 4 * set.len()];
-        let needed = Topology::build(&set, &mut edges, &mut curves).unwrap().curves().len();
+        let needed = Topology::build(&set, &mut edges, &mut curves)
+            .unwrap()
+            .curves()
+            .len();
         let expected = TopologyError::BufferTooSmall {
             edges: set.len(),
             curves: needed,

@@ -83,10 +83,9 @@ impl fmt::Display for BptError {
             }
             BptErrorKind::BadNumber => f.write_str("not a number"),
             BptErrorKind::NonFinite => f.write_str("coordinate is not finite"),
-            BptErrorKind::Truncated { expected, complete } => write!(
-                f,
-                "file ends after {complete} of {expected} patches"
-            ),
+            BptErrorKind::Truncated { expected, complete } => {
+                write!(f, "file ends after {complete} of {expected} patches")
+            }
             BptErrorKind::TrailingData => f.write_str("unexpected data after the last patch"),
             BptErrorKind::BufferTooSmall { patches, points } => write!(
                 f,

@@ -179,7 +179,10 @@ impl<'t> Cursor<'t> {
                 Some(_) => self.pos += 1,
             }
         }
-        let s = self.text.get(start..self.pos).ok_or(self.syntax("a string"))?;
+        let s = self
+            .text
+            .get(start..self.pos)
+            .ok_or(self.syntax("a string"))?;
         self.pos += 1;
         Ok(s)
     }
@@ -335,7 +338,11 @@ struct Found {
 }
 
 fn walk(text: &str, mut store: Option<&mut NurbsJsonBuffers<'_>>) -> Result<Found> {
-    let mut c = Cursor { text, pos: 0, line: 1 };
+    let mut c = Cursor {
+        text,
+        pos: 0,
+        line: 1,
+    };
     let mut found = Found::default();
     c.expect(b'{', "`{`")?;
     if !c.eat(b'}') {
@@ -479,10 +486,7 @@ pub fn nurbs_json_size(text: &str) -> Result<NurbsJsonSize> {
 /// let surface = parse_nurbs_json(text, buffers).unwrap();
 /// assert_eq!(surface.position(1.0, 1.0).to_array(), [1.0, 1.0, 1.0]);
 /// ```
-pub fn parse_nurbs_json<'a>(
-    text: &str,
-    buffers: NurbsJsonBuffers<'a>,
-) -> Result<NurbsSurface<'a>> {
+pub fn parse_nurbs_json<'a>(text: &str, buffers: NurbsJsonBuffers<'a>) -> Result<NurbsSurface<'a>> {
     let found = walk(text, None)?;
     let size = found.size();
     if buffers.knots_u.len() < size.knots_u
