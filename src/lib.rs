@@ -86,6 +86,11 @@ pub use nurbs::{
 };
 pub use patch::{BezierPatch, PatchError, Side};
 
+/// The README's examples, run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 /// Re-export of the vector type used in the API.
 pub use glam::Vec3;
 
