@@ -13,56 +13,72 @@ use glam::Vec4;
 use crate::math::lerp4;
 use crate::MAX_DEGREE;
 
-/// `MAX_DEGREE` zeros followed by `MAX_DEGREE` ones; `&BEZIER_KNOTS[MAX_DEGREE - p..MAX_DEGREE + p]`
-/// are the local knots of a Bezier segment of degree `p`.
-const BEZIER_KNOTS: [f32; 2 * MAX_DEGREE] = {
-    let mut k = [0.0; 2 * MAX_DEGREE];
-    let mut i = MAX_DEGREE;
-    while i < 2 * MAX_DEGREE {
-        k[i] = 1.0;
-        i += 1;
-    }
-    k
-};
+/// The knots of one span, as far as de Boor's triangle needs them.
+pub(crate) trait Span: Copy {
+    /// Interpolation factor of point `a` at level `r` of a degree-`p` triangle at `t`.
+    fn alpha(self, a: usize, p: usize, r: usize, t: f32) -> f32;
+    /// Length of the span in parameter.
+    fn width(self, p: usize) -> f32;
+}
 
-/// The local knots of a Bezier segment of degree `degree` (`1..=MAX_DEGREE`).
-#[inline]
-pub(crate) fn bezier_knots(degree: usize) -> &'static [f32] {
-    &BEZIER_KNOTS[MAX_DEGREE - degree..MAX_DEGREE + degree]
+/// A Bezier segment: knots `0..0, 1..1`, so every factor is `t` itself, with no division.
+/// (The general formula gives `(t - 0) / (1 - 0)`, which is `t` exactly: both agree bit for bit.)
+#[derive(Clone, Copy)]
+pub(crate) struct Bezier;
+
+impl Span for Bezier {
+    #[inline(always)]
+    fn alpha(self, _: usize, _: usize, _: usize, t: f32) -> f32 {
+        t
+    }
+    #[inline(always)]
+    fn width(self, _: usize) -> f32 {
+        1.0
+    }
+}
+
+/// The `2p` local knots `U[k-p+1 ..= k+p]` of span `k` of a B-spline.
+impl Span for &[f32] {
+    #[inline(always)]
+    fn alpha(self, a: usize, p: usize, r: usize, t: f32) -> f32 {
+        let left = self[a - 1];
+        let right = self[a + p - r];
+        // right > left for every valid span (see the module docs), so no division by zero.
+        (t - left) / (right - left)
+    }
+    #[inline(always)]
+    fn width(self, p: usize) -> f32 {
+        self[p] - self[p - 1]
+    }
 }
 
 /// One level of de Boor's triangle: turns `d[r-1..=p]` of level `r - 1` into `d[r..=p]` of
 /// level `r`, at parameter `t`.
-#[inline]
-fn level(d: &mut [Vec4], knots: &[f32], p: usize, r: usize, t: f32) {
+#[inline(always)]
+fn level<S: Span>(d: &mut [Vec4], knots: S, p: usize, r: usize, t: f32) {
     let mut a = p;
     while a >= r {
-        let left = knots[a - 1];
-        let right = knots[a + p - r];
-        // right > left for every valid span (see the module docs), so no division by zero.
-        let alpha = (t - left) / (right - left);
-        d[a] = lerp4(d[a - 1], d[a], alpha);
+        d[a] = lerp4(d[a - 1], d[a], knots.alpha(a, p, r, t));
         a -= 1;
     }
 }
 
 /// Point and first derivative of one span at `t`; `d` holds the `p + 1` local control points
-/// (destroyed) and `knots` the `2p` local knots.
+/// (destroyed).
 #[inline]
-pub(crate) fn point_and_derivative(d: &mut [Vec4], knots: &[f32], t: f32) -> (Vec4, Vec4) {
+pub(crate) fn point_and_derivative<S: Span>(d: &mut [Vec4], knots: S, t: f32) -> (Vec4, Vec4) {
     let p = d.len() - 1;
     for r in 1..p {
         level(d, knots, p, r, t);
     }
-    let span = knots[p] - knots[p - 1];
-    let derivative = (d[p] - d[p - 1]) * (p as f32 / span);
+    let derivative = (d[p] - d[p - 1]) * (p as f32 / knots.width(p));
     level(d, knots, p, p, t);
     (d[p], derivative)
 }
 
 /// Point of one span at `t` (see [`point_and_derivative`]).
 #[inline]
-pub(crate) fn point(d: &mut [Vec4], knots: &[f32], t: f32) -> Vec4 {
+pub(crate) fn point<S: Span>(d: &mut [Vec4], knots: S, t: f32) -> Vec4 {
     let p = d.len() - 1;
     for r in 1..=p {
         level(d, knots, p, r, t);
@@ -96,11 +112,11 @@ pub(crate) struct TensorEval {
 
 /// Evaluates a tensor-product span with degrees `(p, q)` whose homogeneous control point
 /// `(i, j)` is `net(i, j)`, with `i` along u.
-pub(crate) fn tensor_with_derivatives(
+pub(crate) fn tensor_with_derivatives<U: Span, V: Span>(
     p: usize,
     q: usize,
-    knots_u: &[f32],
-    knots_v: &[f32],
+    knots_u: U,
+    knots_v: V,
     net: impl Fn(usize, usize) -> Vec4,
     u: f32,
     v: f32,
@@ -122,11 +138,11 @@ pub(crate) fn tensor_with_derivatives(
 }
 
 /// Homogeneous point of a tensor-product span (see [`tensor_with_derivatives`]).
-pub(crate) fn tensor_point(
+pub(crate) fn tensor_point<U: Span, V: Span>(
     p: usize,
     q: usize,
-    knots_u: &[f32],
-    knots_v: &[f32],
+    knots_u: U,
+    knots_v: V,
     net: impl Fn(usize, usize) -> Vec4,
     u: f32,
     v: f32,

@@ -14,7 +14,7 @@ use crate::basis::{blossom, tensor_point, tensor_with_derivatives};
 use crate::frame::{frame, nudge, SurfacePoint};
 use crate::math::{clamp_param, normalize};
 use crate::model::{PatchHeader, PatchSet};
-use crate::patch::{check_degree, check_points, check_weights, PatchError};
+use crate::patch::{check_degree, first_invalid_weight, first_non_finite};
 use crate::MAX_DEGREE;
 
 /// A parameter direction of a surface.
@@ -302,7 +302,9 @@ impl<'a> NurbsSurface<'a> {
                 found: points.len(),
             });
         }
-        check_points(points).map_err(from_patch_error)?;
+        if let Some(index) = first_non_finite(points) {
+            return Err(NurbsError::NonFinitePoint { index });
+        }
         if let Some(w) = weights {
             if w.len() != expected {
                 return Err(NurbsError::WeightCount {
@@ -310,7 +312,9 @@ impl<'a> NurbsSurface<'a> {
                     found: w.len(),
                 });
             }
-            check_weights(w).map_err(from_patch_error)?;
+            if let Some(index) = first_invalid_weight(w) {
+                return Err(NurbsError::InvalidWeight { index });
+            }
         }
         Ok(NurbsSurface {
             degree_u: degree_u as u8,
@@ -604,17 +608,6 @@ impl<'a> NurbsSurface<'a> {
                 weights[k] = h.w;
             }
         }
-    }
-}
-
-fn from_patch_error(e: PatchError) -> NurbsError {
-    match e {
-        PatchError::NonFinitePoint { index } => NurbsError::NonFinitePoint { index },
-        PatchError::InvalidWeight { index } => NurbsError::InvalidWeight { index },
-        // check_points and check_weights report nothing else.
-        PatchError::DegreeOutOfRange { .. }
-        | PatchError::PointCount { .. }
-        | PatchError::WeightCount { .. } => NurbsError::NonFinitePoint { index: 0 },
     }
 }
 

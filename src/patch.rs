@@ -9,7 +9,7 @@ use core::fmt;
 
 use glam::{Vec3, Vec4};
 
-use crate::basis::{bezier_knots, tensor_point, tensor_with_derivatives};
+use crate::basis::{tensor_point, tensor_with_derivatives, Bezier};
 use crate::bound::{Aabb, BoundingSphere};
 use crate::frame::{frame, nudge, SurfacePoint};
 use crate::math::{clamp_param, normalize};
@@ -19,10 +19,11 @@ use crate::MAX_DEGREE;
 ///
 /// Each edge is traversed in the direction of its own parameter: `V0` and `V1` along
 /// increasing u, `U0` and `U1` along increasing v.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Side {
     /// The edge `v = 0`.
+    #[default]
     V0,
     /// The edge `u = 1`.
     U1,
@@ -110,23 +111,27 @@ pub(crate) fn check_degree(degree: usize) -> Result<(), PatchError> {
     }
 }
 
-/// Checks that every coordinate is finite.
-pub(crate) fn check_points(points: &[[f32; 3]]) -> Result<(), PatchError> {
-    match points
+/// Index of the first point with a NaN or infinite coordinate.
+pub(crate) fn first_non_finite(points: &[[f32; 3]]) -> Option<usize> {
+    points
         .iter()
         .position(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
-    {
-        Some(index) => Err(PatchError::NonFinitePoint { index }),
-        None => Ok(()),
-    }
 }
 
-/// Checks that every weight is finite and positive.
-pub(crate) fn check_weights(weights: &[f32]) -> Result<(), PatchError> {
-    match weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
-        Some(index) => Err(PatchError::InvalidWeight { index }),
-        None => Ok(()),
+/// Index of the first weight that is not finite and positive.
+pub(crate) fn first_invalid_weight(weights: &[f32]) -> Option<usize> {
+    weights.iter().position(|w| !(w.is_finite() && *w > 0.0))
+}
+
+/// Checks a control net's points and (optional) weights.
+pub(crate) fn check_net(points: &[[f32; 3]], weights: Option<&[f32]>) -> Result<(), PatchError> {
+    if let Some(index) = first_non_finite(points) {
+        return Err(PatchError::NonFinitePoint { index });
     }
+    if let Some(index) = weights.and_then(first_invalid_weight) {
+        return Err(PatchError::InvalidWeight { index });
+    }
+    Ok(())
 }
 
 /// A rational Bezier patch borrowing its control net.
@@ -186,7 +191,6 @@ impl<'a> BezierPatch<'a> {
                 found: points.len(),
             });
         }
-        check_points(points)?;
         if let Some(w) = weights {
             if w.len() != expected {
                 return Err(PatchError::WeightCount {
@@ -194,8 +198,8 @@ impl<'a> BezierPatch<'a> {
                     found: w.len(),
                 });
             }
-            check_weights(w)?;
         }
+        check_net(points, weights)?;
         Ok(Self::trusted(degree_u, degree_v, points, weights))
     }
 
@@ -299,15 +303,7 @@ impl<'a> BezierPatch<'a> {
         let (p, q) = (self.degree_u(), self.degree_v());
         let u = clamp_param(u, 0.0, 1.0);
         let v = clamp_param(v, 0.0, 1.0);
-        let a = tensor_point(
-            p,
-            q,
-            bezier_knots(p),
-            bezier_knots(q),
-            |i, j| self.homogeneous(i, j),
-            u,
-            v,
-        );
+        let a = tensor_point(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v);
         Vec3::new(a.x, a.y, a.z) / a.w
     }
 
@@ -340,15 +336,7 @@ impl<'a> BezierPatch<'a> {
 
     fn frame_at(&self, u: f32, v: f32) -> crate::frame::Frame {
         let (p, q) = (self.degree_u(), self.degree_v());
-        let ev = tensor_with_derivatives(
-            p,
-            q,
-            bezier_knots(p),
-            bezier_knots(q),
-            |i, j| self.homogeneous(i, j),
-            u,
-            v,
-        );
+        let ev = tensor_with_derivatives(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v);
         frame(&ev, u, v)
     }
 

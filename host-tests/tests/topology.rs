@@ -47,12 +47,12 @@ fn every_model_has_the_documented_edge_counts() {
                         let owner = topo.curves()[curve as usize];
                         let op = set.patch(owner.patch as usize).unwrap();
                         let n = patch.edge_len(side);
-                        assert_eq!(op.edge_len(owner.side()), n);
+                        assert_eq!(op.edge_len(owner.side), n);
                         for k in 0..n {
                             let kk = if reversed { n - 1 - k } else { k };
                             assert_eq!(
                                 patch.edge_point(side, k),
-                                op.edge_point(owner.side(), kk),
+                                op.edge_point(owner.side, kk),
                                 "{file} patch {p} {side:?}"
                             );
                         }

@@ -9,7 +9,7 @@ mod topology;
 use core::fmt;
 
 use crate::bound::Aabb;
-use crate::patch::{check_degree, check_points, check_weights, BezierPatch, PatchError};
+use crate::patch::{check_degree, check_net, BezierPatch, PatchError};
 
 pub use topology::{BoundaryCurve, EdgeCounts, EdgeLink, Topology, TopologyError};
 
@@ -120,10 +120,7 @@ impl<'a> PatchSet<'a> {
             if end > points.len() {
                 return Err(PatchSetError::PointsOutOfRange { patch });
             }
-            check_points(&points[start..end]).map_err(wrap)?;
-            if let Some(w) = weights {
-                check_weights(&w[start..end]).map_err(wrap)?;
-            }
+            check_net(&points[start..end], weights.map(|w| &w[start..end])).map_err(wrap)?;
         }
         Ok(Self::trusted(headers, points, weights))
     }

@@ -36,17 +36,12 @@ pub struct BoundaryCurve {
     /// Patch whose edge defines the curve and its direction.
     pub patch: u32,
     /// That patch's side.
-    pub side: u8,
+    pub side: Side,
     /// Number of patch edges that are this curve: 1 for an open curve, 2 or more when shared.
     pub uses: u32,
 }
 
 impl BoundaryCurve {
-    /// The defining side as a [`Side`].
-    pub fn side(&self) -> Side {
-        Side::ALL[(self.side & 3) as usize]
-    }
-
     /// True when more than one patch edge uses the curve.
     pub fn is_shared(&self) -> bool {
         self.uses > 1
@@ -156,7 +151,7 @@ impl<'a> Topology<'a> {
                             if let Some(c) = curves.get_mut(count) {
                                 *c = BoundaryCurve {
                                     patch: a as u32,
-                                    side: side.index() as u8,
+                                    side,
                                     uses: 1,
                                 };
                             }
