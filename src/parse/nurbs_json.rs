@@ -23,6 +23,7 @@ pub struct NurbsJsonSize {
 
 /// Caller storage for [`parse_nurbs_json`].
 #[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct NurbsJsonBuffers<'a> {
     /// Receives the u knots.
     pub knots_u: &'a mut [f32],
