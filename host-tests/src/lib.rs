@@ -12,6 +12,13 @@ use std::path::PathBuf;
 use spline_tess::parse::{self, NurbsJsonBuffers};
 use spline_tess::{NurbsSurface, PatchHeader, PatchSet};
 
+/// Largest kernel position error, relative to the model's bounding-box diagonal.
+pub const POSITION_TOL: f64 = 1e-5;
+/// Largest kernel normal error away from poles, in radians.
+pub const NORMAL_TOL: f64 = 1e-3;
+/// "Away from poles": at least this far in (normalised) parameter from a collapsed edge.
+pub const POLE_ZONE: f64 = 1e-2;
+
 /// The repository's model folder.
 pub fn models_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/models")

@@ -1,15 +1,10 @@
 //! Every patch of every BPT model: kernel f32 evaluation against the f64 Bernstein reference.
 
 use host_tests::reference::{self, dist, read_bpt, RefFrame};
-use host_tests::{angle, bpt_models, name, widen, KernelBpt, Rng};
+use host_tests::{
+    angle, bpt_models, name, widen, KernelBpt, Rng, NORMAL_TOL, POLE_ZONE, POSITION_TOL,
+};
 use spline_tess::BezierPatch;
-
-/// Position tolerance relative to the model's bounding-box diagonal.
-const POSITION_TOL: f64 = 1e-5;
-/// Normal tolerance away from poles, radians.
-const NORMAL_TOL: f64 = 1e-3;
-/// "Away from poles": this far in parameter from a collapsed edge.
-const POLE_ZONE: f64 = 1e-2;
 
 struct Stats {
     points: usize,

@@ -3,16 +3,14 @@
 
 use curvo::prelude::NurbsSurface3D;
 use host_tests::reference::{self, dist, RefNurbs, V3};
-use host_tests::{angle, name, nurbs_fixtures, widen, KernelNurbs, Rng};
+use host_tests::{
+    angle, name, nurbs_fixtures, widen, KernelNurbs, Rng, NORMAL_TOL, POLE_ZONE, POSITION_TOL,
+};
 use nalgebra::Point4;
 use spline_tess::{BoundaryCurve, EdgeLink, ParamRect, PatchHeader, Topology};
 use truck_geometry::prelude::{
     BSplineSurface, KnotVec, NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4,
 };
-
-const POSITION_TOL: f64 = 1e-5;
-const NORMAL_TOL: f64 = 1e-3;
-const POLE_ZONE: f64 = 1e-2;
 
 struct Fixture {
     name: String,
