@@ -13,7 +13,10 @@
 //!   patches written into caller buffers;
 //! - [`PatchSet`], [`Topology`] and [`Model`]: patches over flat slices (so a model can be a
 //!   `static` in flash) and which boundary curve each patch edge is;
-//! - [`parse`]: the BPT text format and the NURBS JSON fixtures, read into caller buffers.
+//! - [`parse`]: the BPT text format and the NURBS JSON fixtures, read into caller buffers;
+//! - [`DomainMesh`]: the fixed-capacity Delaunay triangulation of a patch's (u,v) square with
+//!   insertion and deletion and exact, history-independent decisions, which the bake and the
+//!   run time share.
 //!
 //! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
 //! states what was needed.
@@ -68,6 +71,7 @@ mod basis;
 mod bound;
 #[cfg(feature = "defmt")]
 mod defmt_impls;
+mod domain;
 mod frame;
 mod math;
 mod model;
@@ -76,6 +80,10 @@ pub mod parse;
 mod patch;
 
 pub use bound::{Aabb, BoundingSphere};
+pub use domain::{
+    DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex, RemoveError,
+    STAR_CAPACITY,
+};
 pub use frame::SurfacePoint;
 pub use model::{
     BoundaryCurve, EdgeCounts, EdgeLink, Model, PatchHeader, PatchSet, PatchSetError, Topology,

@@ -1,0 +1,213 @@
+//! The domain triangulation: structural invariants after every operation, Delaunay property
+//! by an independent i128 in-circle test, and history independence (random insert/delete
+//! sequences give the same triangles as a fresh build of the surviving points).
+
+use std::collections::BTreeSet;
+
+use host_tests::Rng;
+use spline_tess::{DomainMesh, GridPoint, InsertError, MeshTriangle, MeshVertex, RemoveError};
+
+const M: i128 = GridPoint::MAX as i128;
+
+type Tri = [(u16, u16); 3];
+
+fn storage(vertices: usize) -> (Vec<MeshVertex>, Vec<MeshTriangle>) {
+    (
+        vec![MeshVertex::default(); vertices],
+        vec![MeshTriangle::default(); DomainMesh::triangles_for(vertices)],
+    )
+}
+
+fn orient(a: GridPoint, b: GridPoint, c: GridPoint) -> i128 {
+    (b.u as i128 - a.u as i128) * (c.v as i128 - a.v as i128)
+        - (b.v as i128 - a.v as i128) * (c.u as i128 - a.u as i128)
+}
+
+/// Plain in-circle determinant (no tie-break): > 0 when d is strictly inside.
+fn in_circle_det(a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> i128 {
+    let r = |p: GridPoint| {
+        let (x, y) = (p.u as i128 - d.u as i128, p.v as i128 - d.v as i128);
+        (x, y, x * x + y * y)
+    };
+    let (a, b, c) = (r(a), r(b), r(c));
+    a.2 * (b.0 * c.1 - b.1 * c.0) - b.2 * (a.0 * c.1 - a.1 * c.0) + c.2 * (a.0 * b.1 - a.1 * b.0)
+}
+
+/// Checks every structural invariant; returns the triangles as canonical coordinate triples.
+fn check(mesh: &DomainMesh<'_>) -> BTreeSet<Tri> {
+    let point = |v: u16| mesh.point(v).expect("triangle vertex is live");
+    let tris: Vec<(u16, [u16; 3], [Option<u16>; 3])> = mesh.triangles_with_neighbors().collect();
+    assert_eq!(tris.len(), mesh.triangle_count());
+    let mut area2 = 0i128;
+    for &(t, v, n) in &tris {
+        let [a, b, c] = v.map(point);
+        let o = orient(a, b, c);
+        assert!(o > 0, "triangle {t} {v:?} is not counter-clockwise");
+        area2 += o;
+        for i in 0..3 {
+            let (x, y) = (v[(i + 1) % 3], v[(i + 2) % 3]);
+            match n[i] {
+                Some(s) => {
+                    let (_, w, wn) = tris.iter().find(|e| e.0 == s).expect("neighbour is live");
+                    let j = (0..3)
+                        .find(|&j| w[(j + 1) % 3] == y && w[(j + 2) % 3] == x)
+                        .expect("neighbour shares the edge reversed");
+                    assert_eq!(wn[j], Some(t), "neighbour pointers are symmetric");
+                    // Local Delaunay: the far vertex is not strictly inside.
+                    let far = point(w[j]);
+                    assert!(
+                        in_circle_det(a, b, c, far) <= 0,
+                        "edge {x}-{y} is not Delaunay"
+                    );
+                }
+                None => {
+                    let (p, q) = (point(x), point(y));
+                    let same_side = (p.u == q.u && (p.u == 0 || p.u == GridPoint::MAX))
+                        || (p.v == q.v && (p.v == 0 || p.v == GridPoint::MAX));
+                    assert!(
+                        same_side,
+                        "open edge {p:?}-{q:?} is not on the square's boundary"
+                    );
+                }
+            }
+        }
+    }
+    assert_eq!(area2, 2 * M * M, "triangles tile the square");
+    let boundary = mesh.vertices().filter(|(_, p)| p.on_boundary()).count();
+    let interior = mesh.vertex_count() - boundary;
+    assert_eq!(
+        tris.len(),
+        2 * interior + boundary - 2,
+        "2n + b - 2 triangles"
+    );
+    tris.iter()
+        .map(|&(_, v, _)| {
+            let mut t = v.map(|x| {
+                let p = point(x);
+                (p.u, p.v)
+            });
+            t.sort();
+            t
+        })
+        .collect()
+}
+
+fn fresh(points: &[GridPoint]) -> BTreeSet<Tri> {
+    let (mut vs, mut ts) = storage(points.len() + 4);
+    let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
+    for &p in points {
+        mesh.insert(p).unwrap();
+    }
+    check(&mesh)
+}
+
+/// Points that provoke ties: a coarse grid (squares are cocircular), the square's edges, and
+/// random points.
+fn candidates(rng: &mut Rng) -> Vec<GridPoint> {
+    let mut set = BTreeSet::new();
+    let coarse = |k: u32| (k * (GridPoint::MAX as u32) / 8) as u16;
+    while set.len() < 48 {
+        let p = match (rng.unit() * 4.0) as u32 {
+            0 | 1 => GridPoint::new(
+                coarse((rng.unit() * 9.0) as u32),
+                coarse((rng.unit() * 9.0) as u32),
+            ),
+            2 => {
+                let t = coarse((rng.unit() * 9.0) as u32);
+                [
+                    GridPoint::new(t, 0),
+                    GridPoint::new(0, t),
+                    GridPoint::new(t, GridPoint::MAX),
+                ][(rng.unit() * 3.0) as usize]
+            }
+            _ => GridPoint::new((rng.unit() * 65535.0) as u16, (rng.unit() * 65535.0) as u16),
+        };
+        let corner = (p.u == 0 || p.u == GridPoint::MAX) && (p.v == 0 || p.v == GridPoint::MAX);
+        if !corner {
+            set.insert(p);
+        }
+    }
+    set.into_iter().collect()
+}
+
+#[test]
+fn random_histories_give_the_fresh_triangulation() {
+    for seed in 0..60 {
+        let mut rng = Rng::new(seed);
+        let pool = candidates(&mut rng);
+        let (mut vs, mut ts) = storage(pool.len() + 4);
+        let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
+        let mut live: Vec<(GridPoint, u16)> = Vec::new();
+        for step in 0..300 {
+            let insert = live.is_empty() || (rng.unit() < 0.6 && live.len() < pool.len());
+            if insert {
+                let p = pool[(rng.unit() * pool.len() as f64) as usize];
+                match mesh.insert(p) {
+                    Ok(id) => live.push((p, id)),
+                    Err(InsertError::Duplicate { vertex }) => {
+                        assert!(
+                            live.contains(&(p, vertex)),
+                            "seed {seed} step {step}: bad duplicate"
+                        )
+                    }
+                    Err(e) => panic!("seed {seed} step {step}: insert {p:?}: {e}"),
+                }
+            } else {
+                let k = (rng.unit() * live.len() as f64) as usize;
+                let (_, id) = live.swap_remove(k);
+                mesh.remove(id)
+                    .unwrap_or_else(|e| panic!("seed {seed} step {step}: remove: {e}"));
+            }
+            let now = check(&mesh);
+            if step % 25 == 24 {
+                let mut points: Vec<GridPoint> = live.iter().map(|&(p, _)| p).collect();
+                points.sort();
+                assert_eq!(
+                    now,
+                    fresh(&points),
+                    "seed {seed} step {step}: differs from a fresh build"
+                );
+                points.reverse();
+                assert_eq!(
+                    now,
+                    fresh(&points),
+                    "seed {seed} step {step}: insertion order matters"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn capacities_and_bad_requests_leave_the_mesh_unchanged() {
+    let (mut vs, mut ts) = storage(5);
+    let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
+    let centre = mesh.insert(GridPoint::from_unit(0.5, 0.5)).unwrap();
+    let before = check(&mesh);
+    assert_eq!(
+        mesh.insert(GridPoint::from_unit(0.25, 0.5)),
+        Err(InsertError::VerticesFull)
+    );
+    assert_eq!(
+        mesh.insert(GridPoint::from_unit(0.5, 0.5)),
+        Err(InsertError::Duplicate { vertex: centre })
+    );
+    assert_eq!(mesh.remove(0), Err(RemoveError::Corner));
+    assert_eq!(mesh.remove(77), Err(RemoveError::NotAVertex));
+    assert_eq!(check(&mesh), before);
+    mesh.remove(centre).unwrap();
+    assert_eq!(mesh.remove(centre), Err(RemoveError::NotAVertex));
+    assert_eq!(check(&mesh).len(), 2);
+    // Too few triangle slots: refused with the number needed, mesh unchanged.
+    let mut vs = vec![MeshVertex::default(); 8];
+    let mut ts = vec![MeshTriangle::default(); 3];
+    let mut small = DomainMesh::new(&mut vs, &mut ts).unwrap();
+    assert_eq!(
+        small.insert(GridPoint::from_unit(0.3, 0.6)),
+        Err(InsertError::TrianglesFull { needed: 2 })
+    );
+    assert_eq!(check(&small).len(), 2);
+    let edge = small.insert(GridPoint::from_unit(0.5, 0.0)).unwrap();
+    assert_eq!(small.triangle_count(), 3);
+    assert_eq!(small.find(GridPoint::from_unit(0.5, 0.0)), Some(edge));
+}
