@@ -67,6 +67,7 @@
 #![deny(missing_debug_implementations)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod bake;
 mod basis;
 mod bound;
 #[cfg(feature = "defmt")]
