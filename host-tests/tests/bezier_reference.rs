@@ -176,3 +176,101 @@ fn bounds_contain_the_surface() {
         }
     }
 }
+
+/// The same patches through curvo and truck-geometry (as B-splines with Bezier knots): the
+/// kernel agrees with both third-party references too.
+#[test]
+fn every_bpt_patch_matches_curvo_and_truck() {
+    use curvo::prelude::NurbsSurface3D;
+    use nalgebra::Point4;
+    use truck_geometry::prelude::{
+        BSplineSurface, KnotVec, NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4,
+    };
+
+    let mut rng = Rng::new(5);
+    for path in bpt_models() {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let reference = read_bpt(&text);
+        let kernel = KernelBpt::parse(&text);
+        let diag = reference::diagonal(reference.iter().flat_map(|p| p.pts.iter()));
+        let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
+        for (i, (k, r)) in kernel.set().iter().zip(&reference).enumerate() {
+            let knots = |d: usize| [vec![0.0; d + 1], vec![1.0; d + 1]].concat();
+            let net = |i: usize, j: usize| {
+                let (p, w) = (r.at(i, j), r.w[i * (r.dv + 1) + j]);
+                [p[0] * w, p[1] * w, p[2] * w, w]
+            };
+            let curvo = NurbsSurface3D::new(
+                r.du,
+                r.dv,
+                knots(r.du),
+                knots(r.dv),
+                (0..=r.du)
+                    .map(|i| {
+                        (0..=r.dv)
+                            .map(|j| {
+                                let h = net(i, j);
+                                Point4::new(h[0], h[1], h[2], h[3])
+                            })
+                            .collect()
+                    })
+                    .collect(),
+            );
+            let truck = TruckNurbs::new(BSplineSurface::new(
+                (KnotVec::from(knots(r.du)), KnotVec::from(knots(r.dv))),
+                (0..=r.du)
+                    .map(|i| {
+                        (0..=r.dv)
+                            .map(|j| {
+                                let h = net(i, j);
+                                Vector4::new(h[0], h[1], h[2], h[3])
+                            })
+                            .collect()
+                    })
+                    .collect(),
+            ));
+            let collapsed = r.collapsed();
+            for (u, v) in samples(&mut rng) {
+                let (uf, vf) = (u as f32, v as f32);
+                let (u, v) = (uf as f64, vf as f64);
+                let e = k.evaluate(uf, vf);
+                let kp = widen(e.position);
+                let cp = curvo.point_at(u, v);
+                let tp = truck.subs(u, v);
+                for (who, p) in [("curvo", [cp.x, cp.y, cp.z]), ("truck", [tp.x, tp.y, tp.z])] {
+                    let err = dist(kp, p) / diag;
+                    assert!(
+                        err <= POSITION_TOL,
+                        "{} patch {i} at ({u}, {v}): {err:e} x diagonal from {who}",
+                        name(&path)
+                    );
+                    worst_p = worst_p.max(err);
+                }
+                let near_pole = (collapsed[0] && v < POLE_ZONE)
+                    || (collapsed[2] && v > 1.0 - POLE_ZONE)
+                    || (collapsed[3] && u < POLE_ZONE)
+                    || (collapsed[1] && u > 1.0 - POLE_ZONE);
+                // Compare normals where the f64 reference says they are well defined.
+                if near_pole || r.eval(u, v).normal().is_none() {
+                    continue;
+                }
+                let cn = curvo.normal_at(u, v);
+                let tn = truck.normal(u, v);
+                let cn = reference::scale([cn.x, cn.y, cn.z], 1.0 / cn.norm());
+                for (who, m) in [("curvo", cn), ("truck", [tn.x, tn.y, tn.z])] {
+                    let a = angle(widen(e.normal), m);
+                    assert!(
+                        a <= NORMAL_TOL,
+                        "{} patch {i} at ({u}, {v}): normal {a} rad from {who}",
+                        name(&path)
+                    );
+                    worst_n = worst_n.max(a);
+                }
+            }
+        }
+        println!(
+            "{} vs curvo and truck: worst position {worst_p:.2e} x diagonal, worst normal {worst_n:.2e} rad",
+            name(&path)
+        );
+    }
+}
