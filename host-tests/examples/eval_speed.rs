@@ -13,8 +13,8 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use curvo::prelude::NurbsSurface3D;
+use host_tests::peers::{self, bezier_knots};
 use host_tests::{models_dir, KernelBpt, Rng};
-use nalgebra::Point4;
 use spline_tess::BezierPatch;
 
 const GRID: usize = 32;
@@ -49,23 +49,20 @@ fn best(points: usize, mut run: impl FnMut() -> f64) -> f64 {
 }
 
 fn curvo_of(n: &Net) -> NurbsSurface3D<f64> {
-    let knots = |d: usize| {
-        let mut k = vec![0.0; d + 1];
-        k.extend(vec![1.0; d + 1]);
-        k
+    let homogeneous = |i: usize, j: usize| {
+        let k = i * (n.dv + 1) + j;
+        let (p, w) = (n.points[k], n.weights[k] as f64);
+        [p[0] as f64 * w, p[1] as f64 * w, p[2] as f64 * w, w]
     };
-    let net: Vec<Vec<Point4<f64>>> = (0..=n.du)
-        .map(|i| {
-            (0..=n.dv)
-                .map(|j| {
-                    let k = i * (n.dv + 1) + j;
-                    let (p, w) = (n.points[k], n.weights[k] as f64);
-                    Point4::new(p[0] as f64 * w, p[1] as f64 * w, p[2] as f64 * w, w)
-                })
-                .collect()
-        })
-        .collect();
-    NurbsSurface3D::new(n.du, n.dv, knots(n.du), knots(n.dv), net)
+    let (ku, kv) = (bezier_knots(n.du), bezier_knots(n.dv));
+    peers::Net {
+        du: n.du,
+        dv: n.dv,
+        ku: &ku,
+        kv: &kv,
+        at: &homogeneous,
+    }
+    .curvo()
 }
 
 fn measure(label: &str, nets: &[Net]) {

@@ -5,6 +5,7 @@
 //! fixtures with `serde_json`, evaluates Bezier patches by direct Bernstein sums and NURBS
 //! surfaces by Cox-de Boor basis functions, all in `f64`.
 
+pub mod peers;
 pub mod reference;
 
 use std::path::PathBuf;

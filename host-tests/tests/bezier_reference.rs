@@ -181,11 +181,8 @@ fn bounds_contain_the_surface() {
 /// kernel agrees with both third-party references too.
 #[test]
 fn every_bpt_patch_matches_curvo_and_truck() {
-    use curvo::prelude::NurbsSurface3D;
-    use nalgebra::Point4;
-    use truck_geometry::prelude::{
-        BSplineSurface, KnotVec, NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4,
-    };
+    use host_tests::peers::{bezier_knots, Net};
+    use truck_geometry::prelude::ParametricSurface3D;
 
     let mut rng = Rng::new(5);
     for path in bpt_models() {
@@ -195,40 +192,19 @@ fn every_bpt_patch_matches_curvo_and_truck() {
         let diag = reference::diagonal(reference.iter().flat_map(|p| p.pts.iter()));
         let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
         for (i, (k, r)) in kernel.set().iter().zip(&reference).enumerate() {
-            let knots = |d: usize| [vec![0.0; d + 1], vec![1.0; d + 1]].concat();
-            let net = |i: usize, j: usize| {
+            let homogeneous = |i: usize, j: usize| {
                 let (p, w) = (r.at(i, j), r.w[i * (r.dv + 1) + j]);
                 [p[0] * w, p[1] * w, p[2] * w, w]
             };
-            let curvo = NurbsSurface3D::new(
-                r.du,
-                r.dv,
-                knots(r.du),
-                knots(r.dv),
-                (0..=r.du)
-                    .map(|i| {
-                        (0..=r.dv)
-                            .map(|j| {
-                                let h = net(i, j);
-                                Point4::new(h[0], h[1], h[2], h[3])
-                            })
-                            .collect()
-                    })
-                    .collect(),
-            );
-            let truck = TruckNurbs::new(BSplineSurface::new(
-                (KnotVec::from(knots(r.du)), KnotVec::from(knots(r.dv))),
-                (0..=r.du)
-                    .map(|i| {
-                        (0..=r.dv)
-                            .map(|j| {
-                                let h = net(i, j);
-                                Vector4::new(h[0], h[1], h[2], h[3])
-                            })
-                            .collect()
-                    })
-                    .collect(),
-            ));
+            let (ku, kv) = (bezier_knots(r.du), bezier_knots(r.dv));
+            let net = Net {
+                du: r.du,
+                dv: r.dv,
+                ku: &ku,
+                kv: &kv,
+                at: &homogeneous,
+            };
+            let (curvo, truck) = (net.curvo(), net.truck());
             let collapsed = r.collapsed();
             for (u, v) in samples(&mut rng) {
                 let (uf, vf) = (u as f32, v as f32);

@@ -2,15 +2,13 @@
 //! fixtures' expected points and analytic properties; exact decomposition.
 
 use curvo::prelude::NurbsSurface3D;
+use host_tests::peers::Net;
 use host_tests::reference::{self, dist, RefNurbs, V3};
 use host_tests::{
     angle, name, nurbs_fixtures, widen, KernelNurbs, Rng, NORMAL_TOL, POLE_ZONE, POSITION_TOL,
 };
-use nalgebra::Point4;
 use spline_tess::{BoundaryCurve, EdgeLink, ParamRect, PatchHeader, Topology};
-use truck_geometry::prelude::{
-    BSplineSurface, KnotVec, NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4,
-};
+use truck_geometry::prelude::{NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4};
 
 struct Fixture {
     name: String,
@@ -28,36 +26,18 @@ fn fixtures() -> Vec<Fixture> {
             let text = std::fs::read_to_string(&path).unwrap();
             let r = RefNurbs::read(&text);
             let k = KernelNurbs::parse(&text);
-            let nu = r.pts.len() / r.nv;
             let homogeneous = |i: usize, j: usize| {
                 let (p, w) = (r.pts[i * r.nv + j], r.w[i * r.nv + j]);
                 [p[0] * w, p[1] * w, p[2] * w, w]
             };
-            let curvo_net: Vec<Vec<Point4<f64>>> = (0..nu)
-                .map(|i| {
-                    (0..r.nv)
-                        .map(|j| {
-                            let h = homogeneous(i, j);
-                            Point4::new(h[0], h[1], h[2], h[3])
-                        })
-                        .collect()
-                })
-                .collect();
-            let curvo = NurbsSurface3D::new(r.du, r.dv, r.ku.clone(), r.kv.clone(), curvo_net);
-            let truck_net: Vec<Vec<Vector4>> = (0..nu)
-                .map(|i| {
-                    (0..r.nv)
-                        .map(|j| {
-                            let h = homogeneous(i, j);
-                            Vector4::new(h[0], h[1], h[2], h[3])
-                        })
-                        .collect()
-                })
-                .collect();
-            let truck = TruckNurbs::new(BSplineSurface::new(
-                (KnotVec::from(r.ku.clone()), KnotVec::from(r.kv.clone())),
-                truck_net,
-            ));
+            let net = Net {
+                du: r.du,
+                dv: r.dv,
+                ku: &r.ku,
+                kv: &r.kv,
+                at: &homogeneous,
+            };
+            let (curvo, truck) = (net.curvo(), net.truck());
             let diag = reference::diagonal(r.pts.iter());
             Fixture {
                 name: name(&path),

@@ -104,7 +104,7 @@ fn grid_to_unit(t: u16) -> f32 {
 }
 
 /// The point of edge `side` at curve parameter `t` in `[0, 1]`.
-fn edge_point(patch: &BezierPatch<'_>, side: Side, t: f32) -> Vec3 {
+fn point_on_edge(patch: &BezierPatch<'_>, side: Side, t: f32) -> Vec3 {
     match side {
         Side::V0 => patch.position(t, 0.0),
         Side::U1 => patch.position(1.0, t),
@@ -115,10 +115,10 @@ fn edge_point(patch: &BezierPatch<'_>, side: Side, t: f32) -> Vec3 {
 
 fn analyse(patch: &BezierPatch<'_>, side: Side, t0: u16, t1: u16) -> CurveSegment {
     let (a, b) = (grid_to_unit(t0), grid_to_unit(t1));
-    let (pa, pb) = (edge_point(patch, side, a), edge_point(patch, side, b));
+    let (pa, pb) = (point_on_edge(patch, side, a), point_on_edge(patch, side, b));
     let deviation = |t: f32| {
         let chord = pa + (pb - pa) * ((t - a) / (b - a));
-        length(edge_point(patch, side, t) - chord)
+        length(point_on_edge(patch, side, t) - chord)
     };
     let step = (b - a) / (SCAN + 1) as f32;
     let (mut best_t, mut best) = (a, 0.0f32);
