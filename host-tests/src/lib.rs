@@ -20,6 +20,15 @@ pub const NORMAL_TOL: f64 = 1e-3;
 /// "Away from poles": at least this far in (normalised) parameter from a collapsed edge.
 pub const POLE_ZONE: f64 = 1e-2;
 
+/// True when `(s, t)` (parameters scaled to `[0, 1]`) lies within [`POLE_ZONE`] of a collapsed
+/// edge; `collapsed` is `[v = 0, u = 1, v = 1, u = 0]`.
+pub fn near_pole(collapsed: [bool; 4], s: f64, t: f64) -> bool {
+    (collapsed[0] && t < POLE_ZONE)
+        || (collapsed[2] && t > 1.0 - POLE_ZONE)
+        || (collapsed[3] && s < POLE_ZONE)
+        || (collapsed[1] && s > 1.0 - POLE_ZONE)
+}
+
 /// The repository's model folder.
 pub fn models_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/models")

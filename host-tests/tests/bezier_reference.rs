@@ -2,7 +2,7 @@
 
 use host_tests::reference::{self, dist, read_bpt, RefFrame};
 use host_tests::{
-    angle, bpt_models, name, widen, KernelBpt, Rng, NORMAL_TOL, POLE_ZONE, POSITION_TOL,
+    angle, bpt_models, name, near_pole, widen, KernelBpt, Rng, NORMAL_TOL, POSITION_TOL,
 };
 use spline_tess::BezierPatch;
 
@@ -54,10 +54,7 @@ fn check_patch(
             (reference::norm(n) - 1.0).abs() < 1e-6,
             "{label}: normal not unit at ({u}, {v})"
         );
-        let near_pole = (collapsed[0] && v < POLE_ZONE)
-            || (collapsed[2] && v > 1.0 - POLE_ZONE)
-            || (collapsed[3] && u < POLE_ZONE)
-            || (collapsed[1] && u > 1.0 - POLE_ZONE);
+        let near_pole = near_pole(collapsed, u, v);
         let on_pole = (collapsed[0] && v == 0.0)
             || (collapsed[2] && v == 1.0)
             || (collapsed[3] && u == 0.0)
@@ -222,10 +219,7 @@ fn every_bpt_patch_matches_curvo_and_truck() {
                     );
                     worst_p = worst_p.max(err);
                 }
-                let near_pole = (collapsed[0] && v < POLE_ZONE)
-                    || (collapsed[2] && v > 1.0 - POLE_ZONE)
-                    || (collapsed[3] && u < POLE_ZONE)
-                    || (collapsed[1] && u > 1.0 - POLE_ZONE);
+                let near_pole = near_pole(collapsed, u, v);
                 // Compare normals where the f64 reference says they are well defined.
                 if near_pole || r.eval(u, v).normal().is_none() {
                     continue;

@@ -5,7 +5,7 @@ use curvo::prelude::NurbsSurface3D;
 use host_tests::peers::Net;
 use host_tests::reference::{self, dist, RefNurbs, V3};
 use host_tests::{
-    angle, name, nurbs_fixtures, widen, KernelNurbs, Rng, NORMAL_TOL, POLE_ZONE, POSITION_TOL,
+    angle, name, near_pole, nurbs_fixtures, widen, KernelNurbs, Rng, NORMAL_TOL, POSITION_TOL,
 };
 use spline_tess::{BoundaryCurve, EdgeLink, ParamRect, PatchHeader, Topology};
 use truck_geometry::prelude::{NurbsSurface as TruckNurbs, ParametricSurface3D, Vector4};
@@ -110,11 +110,7 @@ fn kernel_matches_reference_curvo_and_truck() {
             assert_eq!(widen(s.position(uf, vf)), kp, "position() vs evaluate()");
             let su = (u - u0) / (u1 - u0);
             let sv = (v - v0) / (v1 - v0);
-            let near_pole = (c[0] && sv < POLE_ZONE)
-                || (c[2] && sv > 1.0 - POLE_ZONE)
-                || (c[3] && su < POLE_ZONE)
-                || (c[1] && su > 1.0 - POLE_ZONE);
-            if near_pole {
+            if near_pole(c, su, sv) {
                 continue;
             }
             let Some(rn) = rf.normal() else { continue };
