@@ -364,6 +364,57 @@ impl<'a> DomainMesh<'a> {
             .map(|(k, t)| (k as u16, t.v, t.n.map(|n| (n != NONE).then_some(n))))
     }
 
+    /// Vertex slots, live or free.
+    pub fn vertex_capacity(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Triangle slots, live or free: the bound of the slot numbers [`DomainMesh::triangle`]
+    /// and [`DomainMesh::star`] use.
+    pub fn triangle_capacity(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The counter-clockwise vertices of the triangle in slot `slot`, or `None` if it is free.
+    pub fn triangle(&self, slot: u16) -> Option<[u16; 3]> {
+        let t = self.triangles.get(slot as usize)?;
+        t.alive.then_some(t.v)
+    }
+
+    /// The slots of the triangles around vertex `id`, counter-clockwise (empty if `id` is not
+    /// live). After an insertion these are exactly the triangles it created.
+    pub fn star(&self, id: u16) -> Star<'_, 'a> {
+        let start = match self.vertices.get(id as usize) {
+            Some(v) if v.alive => self.star_start(id),
+            _ => NONE,
+        };
+        Star {
+            mesh: self,
+            id,
+            start,
+            next: start,
+            steps: 0,
+        }
+    }
+
+    /// The first triangle of `id`'s star in counter-clockwise order: for a boundary vertex the
+    /// one whose clockwise neighbour is outside the square, else the incident triangle.
+    fn star_start(&self, id: u16) -> u16 {
+        let first = self.vertices[id as usize].link;
+        let mut t = first;
+        for _ in 0..=STAR_CAPACITY {
+            let tri = self.triangles[t as usize];
+            let i = index_of(&tri.v, id);
+            // Clockwise: across the edge (id, v[i+1]), opposite v[i+2].
+            let cw = tri.n[(i + 2) % 3];
+            if cw == NONE || cw == first {
+                break;
+            }
+            t = cw;
+        }
+        t
+    }
+
     /// The vertex at `p`, if any.
     pub fn find(&self, p: GridPoint) -> Option<u16> {
         let t = self.locate(p);
@@ -547,20 +598,8 @@ impl<'a> DomainMesh<'a> {
         if !self.vertices.get(id as usize).is_some_and(|v| v.alive) {
             return Err(RemoveError::NotAVertex);
         }
-        // The star, counter-clockwise: start at the clockwise-most triangle (a boundary vertex
-        // has one whose clockwise neighbour is outside the square).
-        let first = self.vertices[id as usize].link;
-        let mut t = first;
-        for _ in 0..=STAR_CAPACITY {
-            let tri = self.triangles[t as usize];
-            let i = index_of(&tri.v, id);
-            // Clockwise: across the edge (id, v[i+1]), opposite v[i+2].
-            let cw = tri.n[(i + 2) % 3];
-            if cw == NONE || cw == first {
-                break;
-            }
-            t = cw;
-        }
+        // The star, counter-clockwise from its first triangle.
+        let mut t = self.star_start(id);
         let mut star = [NONE; STAR_CAPACITY];
         let mut poly = [NONE; STAR_CAPACITY + 1];
         let mut rim = [(NONE, NONE, NONE); STAR_CAPACITY + 1];
@@ -678,6 +717,35 @@ impl<'a> DomainMesh<'a> {
                 self.vertices[v[i] as usize].link = t;
             }
         }
+    }
+}
+
+/// The triangles around a vertex, counter-clockwise: see [`DomainMesh::star`].
+#[derive(Debug)]
+pub struct Star<'m, 'a> {
+    mesh: &'m DomainMesh<'a>,
+    id: u16,
+    start: u16,
+    next: u16,
+    steps: usize,
+}
+
+impl Iterator for Star<'_, '_> {
+    type Item = u16;
+
+    fn next(&mut self) -> Option<u16> {
+        // The step bound only guards against a corrupted mesh turning into a hang.
+        if self.next == NONE || self.steps > self.mesh.triangles.len() {
+            return None;
+        }
+        let t = self.next;
+        let tri = self.mesh.triangles[t as usize];
+        let i = index_of(&tri.v, self.id);
+        // Counter-clockwise: across the edge (v[i+2], id), opposite v[i+1].
+        let ccw = tri.n[(i + 1) % 3];
+        self.next = if ccw == self.start { NONE } else { ccw };
+        self.steps += 1;
+        Some(t)
     }
 }
 

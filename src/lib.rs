@@ -83,7 +83,7 @@ mod patch;
 pub use bound::{Aabb, BoundingSphere};
 pub use domain::{
     DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex, RemoveError,
-    STAR_CAPACITY,
+    Star, STAR_CAPACITY,
 };
 pub use frame::SurfacePoint;
 pub use model::{

@@ -73,6 +73,30 @@ fn check(mesh: &DomainMesh<'_>) -> BTreeSet<Tri> {
         }
     }
     assert_eq!(area2, 2 * M * M, "triangles tile the square");
+    // Every vertex's star is the triangles that hold it, each once, counter-clockwise: each
+    // triangle's edge leaving the vertex is the next triangle's edge arriving at it.
+    for (id, _) in mesh.vertices() {
+        let star: Vec<u16> = mesh.star(id).collect();
+        let mut holding: Vec<u16> = tris
+            .iter()
+            .filter(|e| e.1.contains(&id))
+            .map(|e| e.0)
+            .collect();
+        let mut sorted = star.clone();
+        sorted.sort();
+        holding.sort();
+        assert_eq!(sorted, holding, "star of vertex {id}");
+        for pair in star.windows(2) {
+            let [t0, t1] = [pair[0], pair[1]].map(|t| mesh.triangle(t).unwrap());
+            let after =
+                |t: [u16; 3], k: usize| t[(t.iter().position(|&x| x == id).unwrap() + k) % 3];
+            assert_eq!(
+                after(t0, 2),
+                after(t1, 1),
+                "star of vertex {id} is not in order"
+            );
+        }
+    }
     let boundary = mesh.vertices().filter(|(_, p)| p.on_boundary()).count();
     let interior = mesh.vertex_count() - boundary;
     assert_eq!(
@@ -142,8 +166,19 @@ fn random_histories_give_the_fresh_triangulation() {
             let insert = live.is_empty() || (rng.unit() < 0.6 && live.len() < pool.len());
             if insert {
                 let p = pool[(rng.unit() * pool.len() as f64) as usize];
+                let before: BTreeSet<[u16; 3]> = mesh.triangles().collect();
                 match mesh.insert(p) {
-                    Ok(id) => live.push((p, id)),
+                    Ok(id) => {
+                        live.push((p, id));
+                        let created: BTreeSet<[u16; 3]> =
+                            mesh.triangles().filter(|t| !before.contains(t)).collect();
+                        let star: BTreeSet<[u16; 3]> =
+                            mesh.star(id).map(|t| mesh.triangle(t).unwrap()).collect();
+                        assert_eq!(
+                            star, created,
+                            "seed {seed} step {step}: star != new triangles"
+                        );
+                    }
                     Err(InsertError::Duplicate { vertex }) => {
                         assert!(
                             live.contains(&(p, vertex)),
