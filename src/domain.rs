@@ -9,9 +9,11 @@
 //! so the same point set gives the same triangles whatever the order of insertions and
 //! deletions (host-tests check this against fresh builds).
 //!
-//! Insertion is Bowyer-Watson (remove the triangles whose circumcircle holds the point, fan the
-//! cavity); deletion clips "Delaunay ears" off the deleted vertex's link polygon (Devillers). Both
-//! first check every capacity, and on an error the mesh is unchanged.
+//! Insertion splits the triangle (or edge) holding the point and flips edges until they are
+//! Delaunay (Lawson); deletion flips "Delaunay ears" off the vertex's link until it has three
+//! triangles (two on the boundary) and merges them (Devillers). Both work in place, with no
+//! memory beyond the mesh whatever the vertex degrees, and check every capacity first: on an
+//! error the mesh is unchanged.
 //!
 //! The four corners are vertices 0 to 3, `(0,0), (1,0), (1,1), (0,1)`, and cannot be removed.
 //! Points on the square's edges are boundary vertices: a triangulation with `b` of them
@@ -63,22 +65,75 @@ impl GridPoint {
 /// "No vertex / no triangle" in index fields.
 const NONE: u16 = u16::MAX;
 
-/// Most triangles a single insertion may replace (and link edges a deletion may re-fill).
-/// Delaunay cavities and stars of well-spread samples hold a handful; 64 bounds the stack use.
-pub const STAR_CAPACITY: usize = 64;
-
 /// Twice the signed area of `abc`: positive when counter-clockwise.
 #[inline]
-fn orient(a: GridPoint, b: GridPoint, c: GridPoint) -> i64 {
+pub(crate) fn orient(a: GridPoint, b: GridPoint, c: GridPoint) -> i64 {
     let (ax, ay) = (a.u as i64, a.v as i64);
     (b.u as i64 - ax) * (c.v as i64 - ay) - (b.v as i64 - ay) * (c.u as i64 - ax)
 }
 
-/// True when `d` lies inside the circumcircle of the counter-clockwise triangle `abc`, with ties
-/// broken by simulation of simplicity (the largest point in `(u, v)` order is perturbed most).
-fn in_circle(a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> bool {
-    let dx = |p: GridPoint| p.u as i64 - d.u as i64;
-    let dy = |p: GridPoint| p.v as i64 - d.v as i64;
+/// How the Delaunay test weighs u against v: circles are taken in the coordinates
+/// `(u * metric.u, v * metric.v)`, so a patch whose surface bends faster along one parameter gets
+/// triangles stretched along the other.
+///
+/// Orientation does not depend on it, so a mesh's validity does not either; only which of the
+/// valid triangulations is chosen. Factors are whole numbers from 1 to [`Metric::MAX`], which
+/// keeps the predicates exact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Metric {
+    u: u8,
+    v: u8,
+}
+
+impl Default for Metric {
+    fn default() -> Self {
+        Metric::ISOTROPIC
+    }
+}
+
+impl Metric {
+    /// The largest factor.
+    pub const MAX: u8 = 16;
+    /// Plain Delaunay in `(u, v)`.
+    pub const ISOTROPIC: Metric = Metric { u: 1, v: 1 };
+
+    /// Factors for u and v, each clamped into `1..=MAX`.
+    pub const fn new(u: u8, v: u8) -> Self {
+        Metric {
+            u: clamp_factor(u),
+            v: clamp_factor(v),
+        }
+    }
+
+    /// The factor of u.
+    pub const fn u(self) -> u8 {
+        self.u
+    }
+
+    /// The factor of v.
+    pub const fn v(self) -> u8 {
+        self.v
+    }
+}
+
+const fn clamp_factor(x: u8) -> u8 {
+    if x < 1 {
+        1
+    } else if x > Metric::MAX {
+        Metric::MAX
+    } else {
+        x
+    }
+}
+
+/// True when `d` lies inside the circumcircle of the counter-clockwise triangle `abc` (in the
+/// coordinates `metric` scales), with ties broken by simulation of simplicity (the largest point
+/// in `(u, v)` order is perturbed most).
+fn in_circle(metric: Metric, a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> bool {
+    // Coordinates up to 2^20: the lifts are below 2^41, the determinant below 2^85.
+    let dx = |p: GridPoint| (p.u as i64 - d.u as i64) * metric.u as i64;
+    let dy = |p: GridPoint| (p.v as i64 - d.v as i64) * metric.v as i64;
     let (adx, ady, bdx, bdy, cdx, cdy) = (dx(a), dy(a), dx(b), dy(b), dx(c), dy(c));
     let lift = |x: i64, y: i64| (x * x + y * y) as i128;
     let det = lift(adx, ady) * (bdx * cdy - bdy * cdx) as i128
@@ -171,8 +226,6 @@ pub enum InsertError {
         /// Free slots the insertion needs.
         needed: usize,
     },
-    /// The insertion would replace more than [`STAR_CAPACITY`] triangles.
-    CavityTooLarge,
 }
 
 /// Why a vertex could not be removed. The mesh is unchanged.
@@ -183,8 +236,9 @@ pub enum RemoveError {
     Corner,
     /// No live vertex has this index.
     NotAVertex,
-    /// The vertex has more than [`STAR_CAPACITY`] neighbours.
-    StarTooLarge,
+    /// No Delaunay ear was found; exact predicates make this unreachable for a mesh built by
+    /// this type, so it means the storage was tampered with.
+    NoEar,
 }
 
 impl fmt::Display for MeshStorageError {
@@ -204,9 +258,6 @@ impl fmt::Display for InsertError {
             InsertError::TrianglesFull { needed } => {
                 write!(f, "needs {needed} free triangle slots")
             }
-            InsertError::CavityTooLarge => {
-                write!(f, "would replace more than {STAR_CAPACITY} triangles")
-            }
         }
     }
 }
@@ -216,7 +267,7 @@ impl fmt::Display for RemoveError {
         f.write_str(match self {
             RemoveError::Corner => "the corners cannot be removed",
             RemoveError::NotAVertex => "no such vertex",
-            RemoveError::StarTooLarge => "vertex has too many neighbours to remove",
+            RemoveError::NoEar => "no Delaunay ear found (corrupted mesh)",
         })
     }
 }
@@ -225,7 +276,7 @@ impl core::error::Error for MeshStorageError {}
 impl core::error::Error for InsertError {}
 impl core::error::Error for RemoveError {}
 
-/// An edge on the rim of a cavity or star: `(from, to)` counter-clockwise around the hole, and
+/// An edge on the rim of a hole: `(from, to)` counter-clockwise around it, and
 /// the triangle outside it (or `NONE` on the square's boundary).
 type RimEdge = (u16, u16, u16);
 
@@ -256,6 +307,7 @@ pub struct DomainMesh<'a> {
     vertex_count: usize,
     triangle_count: usize,
     hint: u16,
+    metric: Metric,
 }
 
 impl<'a> DomainMesh<'a> {
@@ -268,10 +320,20 @@ impl<'a> DomainMesh<'a> {
         }
     }
 
-    /// The two triangles of the square, in the given storage (its contents are overwritten).
+    /// The two triangles of the square, in the given storage (its contents are overwritten),
+    /// with the [`Metric::ISOTROPIC`] Delaunay test.
     pub fn new(
         vertices: &'a mut [MeshVertex],
         triangles: &'a mut [MeshTriangle],
+    ) -> Result<Self, MeshStorageError> {
+        Self::with_metric(vertices, triangles, Metric::ISOTROPIC)
+    }
+
+    /// Like [`DomainMesh::new`], with circles taken in `metric`'s coordinates.
+    pub fn with_metric(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+        metric: Metric,
     ) -> Result<Self, MeshStorageError> {
         if vertices.len() < 4 || triangles.len() < 2 {
             return Err(MeshStorageError::TooSmall);
@@ -303,6 +365,7 @@ impl<'a> DomainMesh<'a> {
             vertex_count: 0,
             triangle_count: 0,
             hint: 0,
+            metric,
         };
         for c in corners {
             mesh.take_vertex(c);
@@ -310,7 +373,7 @@ impl<'a> DomainMesh<'a> {
         // The corners are cocircular: the tie-break picks the diagonal.
         let [a, b, c, d] = corners;
         let (t0, t1) = (mesh.take_triangle(), mesh.take_triangle());
-        if in_circle(a, b, c, d) {
+        if in_circle(mesh.metric, a, b, c, d) {
             mesh.triangles[t0 as usize].v = [0, 1, 3];
             mesh.triangles[t1 as usize].v = [1, 2, 3];
         } else {
@@ -320,6 +383,11 @@ impl<'a> DomainMesh<'a> {
         let rim: [RimEdge; 4] = [(0, 1, NONE), (1, 2, NONE), (2, 3, NONE), (3, 0, NONE)];
         mesh.stitch(&[t0, t1], &rim);
         Ok(mesh)
+    }
+
+    /// The metric of the Delaunay test.
+    pub fn metric(&self) -> Metric {
+        self.metric
     }
 
     /// Live vertices.
@@ -402,7 +470,7 @@ impl<'a> DomainMesh<'a> {
     fn star_start(&self, id: u16) -> u16 {
         let first = self.vertices[id as usize].link;
         let mut t = first;
-        for _ in 0..=STAR_CAPACITY {
+        for _ in 0..=self.triangles.len() {
             let tri = self.triangles[t as usize];
             let i = index_of(&tri.v, id);
             // Clockwise: across the edge (id, v[i+1]), opposite v[i+2].
@@ -512,85 +580,177 @@ impl<'a> DomainMesh<'a> {
     }
 
     /// Inserts `p`; returns its vertex index.
+    ///
+    /// The triangle (or edge) holding `p` is split and the edges around `p` are flipped until
+    /// they are Delaunay (Lawson). Needs one vertex slot and two triangle slots (one when `p`
+    /// lies on the square's boundary) and no other memory, whatever the number of triangles
+    /// that change.
     pub fn insert(&mut self, p: GridPoint) -> Result<u16, InsertError> {
-        let start = self.locate(p);
-        if let Some(vertex) = self.triangles[start as usize]
-            .v
-            .into_iter()
-            .find(|&v| self.pt(v) == p)
-        {
+        let t = self.locate(p);
+        let tri = self.triangles[t as usize];
+        if let Some(vertex) = tri.v.into_iter().find(|&v| self.pt(v) == p) {
             return Err(InsertError::Duplicate { vertex });
         }
         if self.free_vertex == NONE {
             return Err(InsertError::VerticesFull);
         }
-        // The cavity: triangles whose circumcircle holds p, grown from the one containing it.
-        let mut cavity = [NONE; STAR_CAPACITY];
-        cavity[0] = start;
-        let mut len = 1;
-        let mut k = 0;
-        while k < len {
-            let t = cavity[k];
-            for nb in self.triangles[t as usize].n {
-                if nb == NONE || cavity[..len].contains(&nb) {
-                    continue;
-                }
-                let [a, b, c] = self.tri_points(nb);
-                if in_circle(a, b, c, p) {
-                    if len == STAR_CAPACITY {
-                        return Err(InsertError::CavityTooLarge);
-                    }
-                    cavity[len] = nb;
-                    len += 1;
-                }
-            }
-            k += 1;
-        }
-        // Its rim, counter-clockwise around p; a boundary edge through p is split, not fanned.
-        let mut rim = [(NONE, NONE, NONE); STAR_CAPACITY + 2];
-        let mut rim_len = 0;
-        for &t in &cavity[..len] {
-            let tri = self.triangles[t as usize];
-            for i in 0..3 {
-                let nb = tri.n[i];
-                if nb != NONE && cavity[..len].contains(&nb) {
-                    continue;
-                }
-                let (a, b) = (tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]);
-                if nb == NONE && orient(self.pt(a), self.pt(b), p) == 0 {
-                    // p lies on this boundary edge: it becomes the edges a-p and p-b.
-                    continue;
-                }
-                if rim_len == rim.len() {
-                    return Err(InsertError::CavityTooLarge);
-                }
-                rim[rim_len] = (a, b, nb);
-                rim_len += 1;
-            }
-        }
-        let free = self.triangles.len() - self.triangle_count;
-        if rim_len > len && rim_len - len > free {
-            return Err(InsertError::TrianglesFull {
-                needed: rim_len - len,
-            });
-        }
-        // Commit: free the cavity, fan the rim from p.
-        for &t in &cavity[..len] {
-            self.free_triangle(t);
+        let [a, b, c] = tri.v.map(|v| self.pt(v));
+        // The edge `p` lies on, if any: the one opposite vertex `i`.
+        let on_edge = [orient(b, c, p), orient(c, a, p), orient(a, b, p)]
+            .iter()
+            .position(|&o| o == 0);
+        let needed = match on_edge {
+            Some(i) if tri.n[i] == NONE => 1,
+            _ => 2,
+        };
+        if self.triangles.len() - self.triangle_count < needed {
+            return Err(InsertError::TrianglesFull { needed });
         }
         let id = self.take_vertex(p);
-        let mut fan = [NONE; STAR_CAPACITY + 2];
-        for (slot, &(a, b, _)) in fan.iter_mut().zip(&rim[..rim_len]) {
-            let t = self.take_triangle();
-            self.triangles[t as usize].v = [id, a, b];
-            *slot = t;
+        match on_edge {
+            None => self.split_triangle(t, id),
+            Some(i) => self.split_edge(t, i, id),
         }
-        self.stitch(&fan[..rim_len], &rim[..rim_len]);
-        self.hint = fan[0];
+        self.legalize(id);
+        self.hint = self.vertices[id as usize].link;
         Ok(id)
     }
 
+    /// Splits triangle `t` into three around the new vertex `id` inside it.
+    fn split_triangle(&mut self, t: u16, id: u16) {
+        let MeshTriangle {
+            v: [a, b, c], n, ..
+        } = self.triangles[t as usize];
+        let (t1, t2) = (self.take_triangle(), self.take_triangle());
+        // t: (id, b, c), t1: (id, c, a), t2: (id, a, b).
+        self.set(t, [id, b, c], [n[0], t1, t2]);
+        self.set(t1, [id, c, a], [n[1], t2, t]);
+        self.set(t2, [id, a, b], [n[2], t, t1]);
+        self.replace_neighbor(n[1], t, t1);
+        self.replace_neighbor(n[2], t, t2);
+        for (v, tri) in [(id, t), (a, t1), (b, t), (c, t)] {
+            self.vertices[v as usize].link = tri;
+        }
+    }
+
+    /// Splits the edge of `t` opposite its vertex `i`, on which the new vertex `id` lies, and
+    /// the triangle across it (if any).
+    fn split_edge(&mut self, t: u16, i: usize, id: u16) {
+        let tri = self.triangles[t as usize];
+        let (c, a, b) = (tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]);
+        let (na, nb, o) = (tri.n[(i + 1) % 3], tri.n[(i + 2) % 3], tri.n[i]);
+        // t: (c, a, id), t1: (c, id, b).
+        let t1 = self.take_triangle();
+        if o == NONE {
+            self.set(t, [c, a, id], [NONE, t1, nb]);
+            self.set(t1, [c, id, b], [NONE, na, t]);
+            self.replace_neighbor(na, t, t1);
+            for (v, tri) in [(id, t), (a, t), (b, t1), (c, t)] {
+                self.vertices[v as usize].link = tri;
+            }
+            return;
+        }
+        let ot = self.triangles[o as usize];
+        let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+        // o is (d, b, a); it becomes o: (d, b, id) and o1: (d, id, a).
+        let d = ot.v[j];
+        let (oa, ob) = (ot.n[(j + 2) % 3], ot.n[(j + 1) % 3]);
+        let o1 = self.take_triangle();
+        self.set(t, [c, a, id], [o1, t1, nb]);
+        self.set(t1, [c, id, b], [o, na, t]);
+        self.set(o, [d, b, id], [t1, o1, oa]);
+        self.set(o1, [d, id, a], [t, ob, o]);
+        self.replace_neighbor(na, t, t1);
+        self.replace_neighbor(ob, o, o1);
+        for (v, tri) in [(id, t), (a, t), (b, t1), (c, t), (d, o)] {
+            self.vertices[v as usize].link = tri;
+        }
+    }
+
+    /// Flips the edges opposite the new vertex `id` until every one is Delaunay. Each flip
+    /// adds a triangle to the star and is never undone, so one pass around the star with no
+    /// flip ends it.
+    fn legalize(&mut self, id: u16) {
+        let mut t = self.star_start(id);
+        let mut clean = 0usize;
+        // A bound on the work, only a guard: each flip removes an edge for good.
+        let mut budget = 8 * self.triangles.len() + 16;
+        while budget > 0 {
+            budget -= 1;
+            let tri = self.triangles[t as usize];
+            let i = index_of(&tri.v, id);
+            let o = tri.n[i];
+            if o != NONE {
+                let ot = self.triangles[o as usize];
+                let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+                let [p, a, b] = [tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]];
+                if in_circle(
+                    self.metric,
+                    self.pt(p),
+                    self.pt(a),
+                    self.pt(b),
+                    self.pt(ot.v[j]),
+                ) {
+                    self.flip(t, i);
+                    clean = 0;
+                    continue;
+                }
+            }
+            clean += 1;
+            let degree = self.star(id).count();
+            if clean >= degree {
+                break;
+            }
+            let ccw = tri.n[(i + 1) % 3];
+            t = if ccw == NONE {
+                self.star_start(id)
+            } else {
+                ccw
+            };
+        }
+    }
+
+    /// Flips the edge of `t` opposite its vertex `i`: `t = (p, a, b)` and the triangle across,
+    /// `(d, b, a)`, become `(p, a, d)` (in slot `t`) and `(p, d, b)`.
+    fn flip(&mut self, t: u16, i: usize) {
+        let tri = self.triangles[t as usize];
+        let o = tri.n[i];
+        let ot = self.triangles[o as usize];
+        let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+        let [p, a, b] = [tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]];
+        let d = ot.v[j];
+        let (across_ad, across_db) = (ot.n[(j + 1) % 3], ot.n[(j + 2) % 3]);
+        let (across_bp, across_pa) = (tri.n[(i + 1) % 3], tri.n[(i + 2) % 3]);
+        self.set(t, [p, a, d], [across_ad, o, across_pa]);
+        self.set(o, [p, d, b], [across_db, across_bp, t]);
+        self.replace_neighbor(across_ad, o, t);
+        self.replace_neighbor(across_bp, t, o);
+        for (v, tri) in [(p, t), (a, t), (d, t), (b, o)] {
+            self.vertices[v as usize].link = tri;
+        }
+    }
+
+    fn set(&mut self, t: u16, v: [u16; 3], n: [u16; 3]) {
+        let slot = &mut self.triangles[t as usize];
+        slot.v = v;
+        slot.n = n;
+    }
+
+    /// In triangle `t` (if any), the neighbour `old` becomes `new`.
+    fn replace_neighbor(&mut self, t: u16, old: u16, new: u16) {
+        if let Some(tri) = self.triangles.get_mut(t as usize) {
+            if let Some(k) = tri.n.iter().position(|&x| x == old) {
+                tri.n[k] = new;
+            }
+        }
+    }
+
     /// Removes vertex `id` and re-triangulates the hole.
+    ///
+    /// Delaunay ears of the vertex's link are flipped off one at a time (each is a triangle of
+    /// the final triangulation), until three triangles are left around an interior vertex or
+    /// two around a boundary one; those merge into one. Needs no memory beyond the mesh; the
+    /// work grows with the cube of the vertex's degree, which greedy samples keep small.
     pub fn remove(&mut self, id: u16) -> Result<(), RemoveError> {
         if id < 4 {
             return Err(RemoveError::Corner);
@@ -598,87 +758,174 @@ impl<'a> DomainMesh<'a> {
         if !self.vertices.get(id as usize).is_some_and(|v| v.alive) {
             return Err(RemoveError::NotAVertex);
         }
-        // The star, counter-clockwise from its first triangle.
-        let mut t = self.star_start(id);
-        let mut star = [NONE; STAR_CAPACITY];
-        let mut poly = [NONE; STAR_CAPACITY + 1];
-        let mut rim = [(NONE, NONE, NONE); STAR_CAPACITY + 1];
-        let mut len = 0;
-        let start = t;
-        let closed = loop {
-            if len == STAR_CAPACITY {
-                return Err(RemoveError::StarTooLarge);
-            }
-            let tri = self.triangles[t as usize];
-            let i = index_of(&tri.v, id);
-            let (x, y) = (tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]);
-            star[len] = t;
-            poly[len] = x;
-            rim[len] = (x, y, tri.n[i]);
-            len += 1;
-            // Counter-clockwise: across the edge (y, id), opposite x.
-            let ccw = tri.n[(i + 1) % 3];
-            if ccw == NONE {
-                poly[len] = y;
-                break false;
-            }
-            if ccw == start {
-                break true;
-            }
-            t = ccw;
-        };
-        let mut m = if closed { len } else { len + 1 };
-        let mut rim_len = len;
-        if !closed {
-            // The hole is closed by the boundary edge that passed through the vertex.
-            rim[rim_len] = (poly[m - 1], poly[0], NONE);
-            rim_len += 1;
-        }
-        // Clip Delaunay ears: a convex corner whose circumcircle holds no other hole vertex.
-        let mut ears = [[NONE; 3]; STAR_CAPACITY];
-        let mut count = 0;
-        while m >= 3 {
-            let found = (0..m).find(|&k| {
-                let (a, b, c) = (poly[(k + m - 1) % m], poly[k], poly[(k + 1) % m]);
-                let (pa, pb, pc) = (self.pt(a), self.pt(b), self.pt(c));
-                orient(pa, pb, pc) > 0
-                    && (0..m)
-                        .filter(|&j| j != k && j != (k + m - 1) % m && j != (k + 1) % m)
-                        .all(|j| !in_circle(pa, pb, pc, self.pt(poly[j])))
-            });
-            // A Delaunay ear always exists; if arithmetic said otherwise, leave the mesh as is.
-            let Some(k) = found else {
-                return Err(RemoveError::StarTooLarge);
-            };
-            ears[count] = [poly[(k + m - 1) % m], poly[k], poly[(k + 1) % m]];
-            count += 1;
-            if m == 3 {
+        let boundary = self.pt(id).on_boundary();
+        let last = if boundary { 2 } else { 3 };
+        loop {
+            let degree = self.star(id).count();
+            if degree <= last {
                 break;
             }
-            poly.copy_within(k + 1..m, k);
-            m -= 1;
+            if !self.flip_ear(id, boundary) {
+                if degree == 4 && !boundary {
+                    self.merge_four(id);
+                    return Ok(());
+                }
+                return Err(RemoveError::NoEar);
+            }
         }
-        // Commit: the star's slots are freed and the ears take them.
-        for &t in &star[..len] {
+        self.merge(id, boundary);
+        Ok(())
+    }
+
+    /// True when `(a, b, c)`, three consecutive vertices of `id`'s link, is a Delaunay ear:
+    /// convex, with `id` beyond its diagonal, and no other link vertex in its circumcircle.
+    fn is_ear(&self, id: u16, a: u16, b: u16, c: u16) -> bool {
+        let (pa, pb, pc, v) = (self.pt(a), self.pt(b), self.pt(c), self.pt(id));
+        if orient(pa, pb, pc) <= 0 || orient(v, pa, pc) <= 0 {
+            return false;
+        }
+        self.star(id).all(|t| {
+            let tri = self.triangles[t as usize].v;
+            let i = index_of(&tri, id);
+            [tri[(i + 1) % 3], tri[(i + 2) % 3]].into_iter().all(|x| {
+                x == a || x == b || x == c || !in_circle(self.metric, pa, pb, pc, self.pt(x))
+            })
+        })
+    }
+
+    /// Flips one Delaunay ear off the link of `id`; false if there is none.
+    fn flip_ear(&mut self, id: u16, boundary: bool) -> bool {
+        // Consecutive triangles (id, a, b) and (id, b, c) of the star make the ear (a, b, c).
+        let mut found = None;
+        let mut first: Option<(u16, u16, u16)> = None;
+        let mut prev: Option<(u16, u16, u16)> = None;
+        for t in self.star(id) {
+            let tri = self.triangles[t as usize].v;
+            let i = index_of(&tri, id);
+            let (x, y) = (tri[(i + 1) % 3], tri[(i + 2) % 3]);
+            if let Some((pt, a, b)) = prev {
+                if self.is_ear(id, a, b, y) {
+                    found = Some((pt, a));
+                    break;
+                }
+            }
+            prev = Some((t, x, y));
+            first = first.or(prev);
+        }
+        if found.is_none() && !boundary {
+            // The closing pair: the last triangle and the first.
+            if let (Some((pt, a, b)), Some((_, _, c))) = (prev, first) {
+                if self.is_ear(id, a, b, c) {
+                    found = Some((pt, a));
+                }
+            }
+        }
+        let Some((t, a)) = found else {
+            return false;
+        };
+        // Flipping the edge (b, id) of (id, a, b), opposite a, cuts the ear off.
+        let i = index_of(&self.triangles[t as usize].v, a);
+        self.flip(t, i);
+        true
+    }
+
+    /// The last step of a removal: the triangles left around `id` (three around an interior
+    /// vertex, two around a boundary one) become one.
+    fn merge(&mut self, id: u16, boundary: bool) {
+        let mut star = [NONE; 3];
+        for (slot, t) in star.iter_mut().zip(self.star(id)) {
+            *slot = t;
+        }
+        let count = if boundary { 2 } else { 3 };
+        // The outer neighbours and the link vertices, counter-clockwise.
+        let mut link = [NONE; 4];
+        let mut outer = [NONE; 3];
+        for k in 0..count {
+            let tri = self.triangles[star[k] as usize];
+            let i = index_of(&tri.v, id);
+            link[k] = tri.v[(i + 1) % 3];
+            link[k + 1] = tri.v[(i + 2) % 3];
+            outer[k] = tri.n[i];
+        }
+        let keep = star[0];
+        let (v, n) = if boundary {
+            // (q0, q1, q2), q0 and q2 on the boundary with id between them.
+            ([link[0], link[1], link[2]], [outer[1], NONE, outer[0]])
+        } else {
+            ([link[0], link[1], link[2]], [outer[1], outer[2], outer[0]])
+        };
+        for &t in &star[1..count] {
             self.free_triangle(t);
         }
-        let v = &mut self.vertices[id as usize];
-        *v = MeshVertex {
+        self.set(keep, v, n);
+        for k in 1..count {
+            self.replace_neighbor(outer[k], star[k], keep);
+        }
+        for x in v {
+            self.vertices[x as usize].link = keep;
+        }
+        self.free_vertex_slot(id);
+        self.hint = keep;
+    }
+
+    /// Removal of an interior vertex of degree four lying on the diagonal its hole's Delaunay
+    /// triangulation uses: the four triangles become two.
+    fn merge_four(&mut self, id: u16) {
+        let mut star = [NONE; 4];
+        for (slot, t) in star.iter_mut().zip(self.star(id)) {
+            *slot = t;
+        }
+        let mut q = [NONE; 4];
+        let mut outer = [NONE; 4];
+        for k in 0..4 {
+            let tri = self.triangles[star[k] as usize];
+            let i = index_of(&tri.v, id);
+            q[k] = tri.v[(i + 1) % 3];
+            outer[k] = tri.n[i];
+        }
+        let p = q.map(|x| self.pt(x));
+        // Diagonal q0-q2 unless q3 is inside the circle of q0 q1 q2 (or that diagonal is
+        // outside the hole).
+        let use_02 = !in_circle(self.metric, p[0], p[1], p[2], p[3])
+            && orient(p[0], p[1], p[2]) > 0
+            && orient(p[0], p[2], p[3]) > 0;
+        let (t0, t1) = (star[0], star[1]);
+        self.free_triangle(star[2]);
+        self.free_triangle(star[3]);
+        if use_02 {
+            self.set(t0, [q[0], q[1], q[2]], [outer[1], t1, outer[0]]);
+            self.set(t1, [q[0], q[2], q[3]], [outer[2], outer[3], t0]);
+            self.replace_neighbor(outer[1], star[1], t0);
+            self.replace_neighbor(outer[2], star[2], t1);
+            self.replace_neighbor(outer[3], star[3], t1);
+        } else {
+            self.set(t0, [q[1], q[2], q[3]], [outer[2], t1, outer[1]]);
+            self.set(t1, [q[1], q[3], q[0]], [outer[3], outer[0], t0]);
+            self.replace_neighbor(outer[0], star[0], t1);
+            self.replace_neighbor(outer[1], star[1], t0);
+            self.replace_neighbor(outer[2], star[2], t0);
+            self.replace_neighbor(outer[3], star[3], t1);
+        }
+        for k in 0..4 {
+            let t = if use_02 {
+                [t0, t0, t0, t1][k]
+            } else {
+                [t1, t0, t0, t0][k]
+            };
+            self.vertices[q[k] as usize].link = t;
+        }
+        self.free_vertex_slot(id);
+        self.hint = t0;
+    }
+
+    fn free_vertex_slot(&mut self, id: u16) {
+        self.vertices[id as usize] = MeshVertex {
             point: GridPoint::default(),
             link: self.free_vertex,
             alive: false,
         };
         self.free_vertex = id;
         self.vertex_count -= 1;
-        let mut new = [NONE; STAR_CAPACITY];
-        for (slot, ear) in new.iter_mut().zip(&ears[..count]) {
-            let t = self.take_triangle();
-            self.triangles[t as usize].v = *ear;
-            *slot = t;
-        }
-        self.stitch(&new[..count], &rim[..rim_len]);
-        self.hint = new[0];
-        Ok(())
     }
 
     /// Sets the neighbours of the new triangles `new`: among themselves, and across the `rim`

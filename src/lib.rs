@@ -82,8 +82,8 @@ mod patch;
 
 pub use bound::{Aabb, BoundingSphere};
 pub use domain::{
-    DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex, RemoveError,
-    Star, STAR_CAPACITY,
+    DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex, Metric,
+    RemoveError, Star,
 };
 pub use frame::SurfacePoint;
 pub use model::{

@@ -246,3 +246,66 @@ fn capacities_and_bad_requests_leave_the_mesh_unchanged() {
     assert_eq!(small.triangle_count(), 3);
     assert_eq!(small.find(GridPoint::from_unit(0.5, 0.0)), Some(edge));
 }
+
+/// Hundreds of boundary points and a few interior ones: vertices of degree in the hundreds,
+/// which insertion and removal handle in place.
+#[test]
+fn high_degree_vertices_insert_and_remove_in_place() {
+    let mut rng = Rng::new(7);
+    let mut boundary = BTreeSet::new();
+    for k in 1..200u32 {
+        let t = (k * GridPoint::MAX as u32 / 200) as u16;
+        boundary.insert(GridPoint::new(t, 0));
+        boundary.insert(GridPoint::new(GridPoint::MAX, t));
+        boundary.insert(GridPoint::new(t, GridPoint::MAX));
+        boundary.insert(GridPoint::new(0, t));
+    }
+    let interior: Vec<GridPoint> = (0..12)
+        .map(|_| {
+            GridPoint::new(
+                20000 + (rng.unit() * 25000.0) as u16,
+                20000 + (rng.unit() * 25000.0) as u16,
+            )
+        })
+        .collect();
+    let n = boundary.len() + interior.len() + 4;
+    let (mut vs, mut ts) = storage(n);
+    let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
+    for &p in &boundary {
+        mesh.insert(p).unwrap();
+    }
+    let mut live = Vec::new();
+    for &p in &interior {
+        live.push((p, mesh.insert(p).unwrap()));
+        if live.len() == 1 {
+            let degree = mesh.star(live[0].1).count();
+            assert!(
+                degree > 100,
+                "the first interior point sees much of the boundary: {degree}"
+            );
+        }
+        check(&mesh);
+    }
+    // Remove in a shuffled order, then the boundary points too, comparing with fresh builds.
+    while let Some(k) = (!live.is_empty()).then(|| (rng.unit() * live.len() as f64) as usize) {
+        let (_, id) = live.swap_remove(k);
+        mesh.remove(id).unwrap();
+        let mut points: Vec<GridPoint> = live
+            .iter()
+            .map(|&(p, _)| p)
+            .chain(boundary.iter().copied())
+            .collect();
+        points.sort();
+        assert_eq!(check(&mesh), fresh(&points));
+    }
+    let ids: Vec<u16> = mesh
+        .vertices()
+        .map(|(id, _)| id)
+        .filter(|&id| id >= 4)
+        .collect();
+    for id in ids {
+        mesh.remove(id).unwrap();
+    }
+    assert_eq!(mesh.triangle_count(), 2);
+    check(&mesh);
+}
