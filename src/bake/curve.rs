@@ -46,7 +46,9 @@ pub enum StopReason {
     Tolerance,
     /// The sample buffer is full.
     SampleCap,
-    /// The worst segment spans adjacent grid values and cannot be split.
+    /// The worst piece cannot be split: a curve segment spans adjacent grid values, or a patch
+    /// triangle has no free grid point outside the boundary margin
+    /// ([`BOUNDARY_MARGIN`](super::BOUNDARY_MARGIN)).
     Resolution,
 }
 

@@ -1,10 +1,32 @@
-//! Pre-sampling ("bake"): ordered samples by greedy maximum deviation.
+//! Pre-sampling ("bake"): ordered samples by greedy maximum deviation, and the compact format
+//! that stores them in flash.
 //!
-//! This release holds the boundary-curve sampler ([`sample_curve`]); interior sampling and the
-//! compact baked format build on it.
+//! - [`sample_curve`] samples one boundary curve; every patch sharing it uses that one list.
+//! - [`sample_interior`] samples one patch's interior, starting from its corners and curve
+//!   samples.
+//! - [`bake_model`] does both for a whole [`Model`](crate::Model), in caller scratch, straight
+//!   into the bytes of the compact format, which [`BakedModel`] reads in place.
+//!
+//! Every recorded deviation is the largest deviation of the curve's polyline, or of the patch's
+//! triangulation, once that sample and all before it are in; the lists are non-increasing, so
+//! the run time takes the prefix whose last value is at or below its threshold.
 
 mod curve;
+mod format;
+mod interior;
+mod model;
 
 pub use curve::{
     sample_curve, CurveSample, CurveSampleError, CurveSampling, CurveSegment, StopReason,
+};
+pub use format::{
+    model_fingerprint, write_rust_source, BakedCurve, BakedModel, BakedPatch, CurveSamples,
+    InteriorSamples, LoadError, Part, MAGIC, VERSION,
+};
+pub use interior::{
+    max_deviation, patch_metric, sample_interior, InteriorSample, InteriorSampleError,
+    InteriorSampling, TriangleDeviation, BOUNDARY_MARGIN,
+};
+pub use model::{
+    bake_model, BakeError, BakeScratch, BakeScratchSize, BakeSettings, BakeSummary, Tolerance,
 };

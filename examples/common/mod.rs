@@ -1,0 +1,5 @@
+//! Code the host examples share.
+
+#![allow(dead_code)]
+
+pub mod model_file;

@@ -1,0 +1,137 @@
+//! Reading a model file (`.bpt` Bezier patches or a NURBS `.json` surface) into owned storage
+//! and baking it with heap scratch, for host programs: the examples, and host-tests (which
+//! include this file).
+
+use spline_tess::bake::{
+    bake_model, BakeError, BakeScratch, BakeSettings, CurveSample, CurveSegment, InteriorSample,
+    TriangleDeviation,
+};
+use spline_tess::parse::{self, NurbsJsonBuffers};
+use spline_tess::{
+    BoundaryCurve, EdgeLink, MeshTriangle, MeshVertex, Model, NurbsSurface, ParamRect, PatchHeader,
+    PatchSet,
+};
+
+/// A model's patches in owned storage. A NURBS surface is decomposed into its rational Bezier
+/// pieces; `domains[k]` is piece `k`'s rectangle of the surface's parameters.
+#[derive(Debug, Clone)]
+pub struct ModelFile {
+    /// Patch headers.
+    pub headers: Vec<PatchHeader>,
+    /// Control points.
+    pub points: Vec<[f32; 3]>,
+    /// Weights (NURBS pieces only).
+    pub weights: Option<Vec<f32>>,
+    /// Each patch's parameter rectangle in the file's own parameters (the unit square for BPT).
+    pub domains: Vec<ParamRect>,
+}
+
+impl ModelFile {
+    /// Reads `path`: NURBS JSON when it ends in `.json`, BPT otherwise.
+    pub fn read(path: &str) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+        let parsed = if path.ends_with(".json") {
+            Self::from_nurbs_json(&text)
+        } else {
+            Self::from_bpt(&text)
+        };
+        parsed.map_err(|e| format!("{path}: {e}"))
+    }
+
+    /// Parses BPT text.
+    pub fn from_bpt(text: &str) -> Result<Self, String> {
+        let size = parse::bpt_size(text).map_err(|e| e.to_string())?;
+        let mut headers = vec![PatchHeader::default(); size.patches];
+        let mut points = vec![[0.0; 3]; size.points];
+        parse::parse_bpt(text, &mut headers, &mut points).map_err(|e| e.to_string())?;
+        let unit = ParamRect {
+            u0: 0.0,
+            u1: 1.0,
+            v0: 0.0,
+            v1: 1.0,
+        };
+        Ok(ModelFile {
+            domains: vec![unit; headers.len()],
+            headers,
+            points,
+            weights: None,
+        })
+    }
+
+    /// Parses NURBS JSON text and decomposes the surface into rational Bezier patches.
+    pub fn from_nurbs_json(text: &str) -> Result<Self, String> {
+        let size = parse::nurbs_json_size(text).map_err(|e| e.to_string())?;
+        let mut ku = vec![0.0; size.knots_u];
+        let mut kv = vec![0.0; size.knots_v];
+        let mut pts = vec![[0.0; 3]; size.points];
+        let mut w = vec![0.0; size.points];
+        let buffers = NurbsJsonBuffers {
+            knots_u: &mut ku,
+            knots_v: &mut kv,
+            points: &mut pts,
+            weights: &mut w,
+        };
+        let surface: NurbsSurface<'_> =
+            parse::parse_nurbs_json(text, buffers).map_err(|e| e.to_string())?;
+        let need = surface.decomposition_size();
+        let mut headers = vec![PatchHeader::default(); need.patches];
+        let mut points = vec![[0.0; 3]; need.points];
+        let mut weights = vec![0.0; need.points];
+        let mut domains = vec![ParamRect::default(); need.patches];
+        surface
+            .decompose(&mut headers, &mut points, &mut weights, &mut domains)
+            .map_err(|e| e.to_string())?;
+        Ok(ModelFile {
+            headers,
+            points,
+            weights: Some(weights),
+            domains,
+        })
+    }
+
+    /// The patches.
+    pub fn patches(&self) -> PatchSet<'_> {
+        PatchSet::new(&self.headers, &self.points, self.weights.as_deref())
+            .expect("a parsed model is a valid patch set")
+    }
+
+    /// Builds the topology and runs `f` on the model.
+    pub fn with_model<R>(&self, f: impl FnOnce(&Model<'_>) -> R) -> Result<R, String> {
+        let patches = self.patches();
+        let mut edges = vec![[EdgeLink::Collapsed; 4]; patches.len()];
+        let mut curves = vec![BoundaryCurve::default(); 4 * patches.len()];
+        let model = Model::build(patches, &mut edges, &mut curves).map_err(|e| e.to_string())?;
+        Ok(f(&model))
+    }
+}
+
+/// Bakes `model` with heap scratch of the sizes the settings ask for; returns the bytes.
+pub fn bake_to_vec(model: &Model<'_>, settings: &BakeSettings) -> Result<Vec<u8>, BakeError> {
+    let n = settings.scratch_size();
+    let mut vertices = vec![MeshVertex::default(); n.vertices];
+    let mut triangles = vec![MeshTriangle::default(); n.triangles];
+    let mut deviations = vec![TriangleDeviation::default(); n.triangles];
+    let mut segments = vec![CurveSegment::default(); n.segments];
+    let mut curve_samples = vec![CurveSample::default(); n.curve_samples];
+    let mut interior_samples = vec![InteriorSample::default(); n.interior_samples];
+    let mut out = vec![0u8; 1 << 16];
+    loop {
+        let scratch = BakeScratch {
+            vertices: &mut vertices,
+            triangles: &mut triangles,
+            deviations: &mut deviations,
+            segments: &mut segments,
+            curve_samples: &mut curve_samples,
+            interior_samples: &mut interior_samples,
+        };
+        match bake_model(model, settings, scratch, &mut out) {
+            Ok(summary) => {
+                out.truncate(summary.bytes);
+                return Ok(out);
+            }
+            // The size is known now: bake again into a buffer that fits.
+            Err(BakeError::OutputTooSmall { needed }) => out = vec![0u8; needed],
+            Err(e) => return Err(e),
+        }
+    }
+}

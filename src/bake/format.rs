@@ -1,0 +1,626 @@
+//! The compact baked format: bytes that can live in flash and are read in place.
+//!
+//! Everything is little-endian and read byte by byte, so a `static [u8; N]` needs no alignment.
+//! Version 1:
+//!
+//! | bytes | content |
+//! |---|---|
+//! | 40 | header: magic `STBK`, version `u16`, header length `u16` (40), patches `u32`, curves `u32`, curve samples `u32`, interior samples `u32`, tolerance `f32`, model fingerprint `u32`, reserved `u32` (0), checksum `u32` |
+//! | 16 per curve | owner patch `u32`, owner side `u8`, stop reason `u8`, samples `u16`, first sample `u32`, initial deviation `f32` |
+//! | 28 per patch | four edge links `u32` (curve index, bit 31 set when reversed, `u32::MAX` when collapsed), first sample `u32`, samples `u16`, stop reason `u8`, Delaunay metric `u8` (u factor - 1 in the high nibble, v factor - 1 in the low one), initial deviation `f32` |
+//! | 6 per curve sample | `t` `u16`, deviation `f32` |
+//! | 8 per interior sample | `u` `u16`, `v` `u16`, deviation `f32` |
+//!
+//! The checksum is 32-bit FNV-1a over every byte except its own four, so any change to a
+//! single byte is detected. [`BakedModel::from_bytes`] checks the length, magic, version and
+//! checksum, then the structure (indices in range, sample ranges contiguous, deviations finite
+//! and non-increasing, parameters on the curve or inside the boundary margin), so every read
+//! afterwards is in bounds and no input makes it panic.
+
+use core::fmt;
+
+use super::curve::{CurveSample, StopReason};
+use super::interior::{InteriorSample, BOUNDARY_MARGIN};
+use crate::domain::{GridPoint, Metric};
+use crate::model::{EdgeLink, PatchSet};
+use crate::patch::Side;
+
+/// The four bytes every baked model starts with.
+pub const MAGIC: [u8; 4] = *b"STBK";
+/// The format version this crate writes and reads.
+pub const VERSION: u16 = 1;
+
+pub(crate) const HEADER_LEN: usize = 40;
+pub(crate) const CURVE_RECORD: usize = 16;
+pub(crate) const PATCH_RECORD: usize = 28;
+pub(crate) const CURVE_SAMPLE: usize = 6;
+pub(crate) const INTERIOR_SAMPLE: usize = 8;
+const CHECKSUM_AT: usize = 36;
+const COLLAPSED: u32 = u32::MAX;
+const REVERSED: u32 = 1 << 31;
+
+/// The part of a baked model a [`LoadError::Malformed`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Part {
+    /// The header.
+    Header,
+    /// The curve record with this index.
+    Curve(usize),
+    /// The patch record with this index.
+    Patch(usize),
+}
+
+/// Why bytes are not a baked model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LoadError {
+    /// Fewer bytes than the header, or than the header says the model has.
+    Truncated {
+        /// Bytes needed.
+        needed: usize,
+        /// Bytes given.
+        found: usize,
+    },
+    /// More bytes than the header says the model has.
+    TrailingBytes {
+        /// Bytes the model has.
+        expected: usize,
+        /// Bytes given.
+        found: usize,
+    },
+    /// The bytes do not start with [`MAGIC`].
+    BadMagic,
+    /// A format version this crate does not read.
+    UnsupportedVersion {
+        /// The version in the bytes.
+        found: u16,
+    },
+    /// The checksum does not match: the bytes were changed.
+    ChecksumMismatch {
+        /// Checksum in the header.
+        stored: u32,
+        /// Checksum of the bytes.
+        computed: u32,
+    },
+    /// The checksum matches but a record breaks the format's rules.
+    Malformed(Part),
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LoadError::Truncated { needed, found } => {
+                write!(f, "baked model truncated: {found} of {needed} bytes")
+            }
+            LoadError::TrailingBytes { expected, found } => {
+                write!(f, "baked model has {found} bytes, expected {expected}")
+            }
+            LoadError::BadMagic => f.write_str("not a baked model (bad magic)"),
+            LoadError::UnsupportedVersion { found } => {
+                write!(
+                    f,
+                    "baked format version {found}, this crate reads {VERSION}"
+                )
+            }
+            LoadError::ChecksumMismatch { stored, computed } => write!(
+                f,
+                "baked model corrupted: checksum {computed:#010x}, header says {stored:#010x}"
+            ),
+            LoadError::Malformed(part) => write!(f, "baked model malformed at {part:?}"),
+        }
+    }
+}
+
+impl core::error::Error for LoadError {}
+
+/// 32-bit FNV-1a, continuing from `hash`.
+pub(crate) fn fnv1a(mut hash: u32, bytes: &[u8]) -> u32 {
+    for &b in bytes {
+        hash = (hash ^ b as u32).wrapping_mul(0x0100_0193);
+    }
+    hash
+}
+
+pub(crate) const FNV_OFFSET: u32 = 0x811c_9dc5;
+
+/// The checksum of a baked model's bytes (all but the checksum field).
+pub(crate) fn checksum(bytes: &[u8]) -> u32 {
+    let h = fnv1a(FNV_OFFSET, &bytes[..CHECKSUM_AT]);
+    fnv1a(h, &bytes[CHECKSUM_AT + 4..])
+}
+
+/// A fingerprint of a patch set's degrees, control points and weights (FNV-1a of their bits),
+/// stored in the baked model so it can be checked against the model it is used with.
+pub fn model_fingerprint(patches: &PatchSet<'_>) -> u32 {
+    let mut h = fnv1a(FNV_OFFSET, &(patches.len() as u32).to_le_bytes());
+    for patch in patches.iter() {
+        h = fnv1a(h, &[patch.degree_u() as u8, patch.degree_v() as u8]);
+        for p in patch.points() {
+            for c in p {
+                h = fnv1a(h, &c.to_bits().to_le_bytes());
+            }
+        }
+        match patch.weights() {
+            Some(w) => {
+                for x in w {
+                    h = fnv1a(h, &x.to_bits().to_le_bytes());
+                }
+            }
+            None => h = fnv1a(h, &[0xff]),
+        }
+    }
+    h
+}
+
+pub(crate) fn u16_at(b: &[u8], at: usize) -> u16 {
+    match b.get(at..at + 2) {
+        Some(&[x, y]) => u16::from_le_bytes([x, y]),
+        _ => 0,
+    }
+}
+
+pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
+    match b.get(at..at + 4) {
+        Some(&[x, y, z, w]) => u32::from_le_bytes([x, y, z, w]),
+        _ => 0,
+    }
+}
+
+pub(crate) fn f32_at(b: &[u8], at: usize) -> f32 {
+    f32::from_bits(u32_at(b, at))
+}
+
+pub(crate) fn stop_code(stop: StopReason) -> u8 {
+    match stop {
+        StopReason::Tolerance => 0,
+        StopReason::SampleCap => 1,
+        StopReason::Resolution => 2,
+    }
+}
+
+fn stop_from(code: u8) -> Option<StopReason> {
+    match code {
+        0 => Some(StopReason::Tolerance),
+        1 => Some(StopReason::SampleCap),
+        2 => Some(StopReason::Resolution),
+        _ => None,
+    }
+}
+
+pub(crate) fn metric_code(m: Metric) -> u8 {
+    ((m.u() - 1) << 4) | (m.v() - 1)
+}
+
+fn metric_from(code: u8) -> Metric {
+    Metric::new((code >> 4) + 1, (code & 15) + 1)
+}
+
+pub(crate) fn link_code(link: EdgeLink) -> u32 {
+    match link {
+        EdgeLink::Collapsed => COLLAPSED,
+        EdgeLink::Curve { curve, reversed } => curve | if reversed { REVERSED } else { 0 },
+    }
+}
+
+fn link_from(code: u32) -> EdgeLink {
+    if code == COLLAPSED {
+        EdgeLink::Collapsed
+    } else {
+        EdgeLink::Curve {
+            curve: code & !REVERSED,
+            reversed: code & REVERSED != 0,
+        }
+    }
+}
+
+/// The byte length of a model with these counts, or `None` if it overflows `usize`.
+pub(crate) fn baked_len(
+    patches: usize,
+    curves: usize,
+    curve_samples: usize,
+    interior_samples: usize,
+) -> Option<usize> {
+    HEADER_LEN
+        .checked_add(curves.checked_mul(CURVE_RECORD)?)?
+        .checked_add(patches.checked_mul(PATCH_RECORD)?)?
+        .checked_add(curve_samples.checked_mul(CURVE_SAMPLE)?)?
+        .checked_add(interior_samples.checked_mul(INTERIOR_SAMPLE)?)
+}
+
+/// A baked model, read in place from its bytes (e.g. a `static` in flash).
+///
+/// ```
+/// use spline_tess::bake::{BakedModel, LoadError};
+///
+/// assert_eq!(BakedModel::from_bytes(b"STBK"), Err(LoadError::Truncated { needed: 40, found: 4 }));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BakedModel<'a> {
+    bytes: &'a [u8],
+    patches: usize,
+    curves: usize,
+    curve_samples: usize,
+}
+
+/// One baked boundary curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BakedCurve<'a> {
+    /// The patch whose edge defines the curve and its direction.
+    pub patch: u32,
+    /// That patch's side.
+    pub side: Side,
+    /// Why sampling stopped.
+    pub stop: StopReason,
+    /// Deviation of the chord alone.
+    pub initial_deviation: f32,
+    /// The samples, in insertion order.
+    pub samples: CurveSamples<'a>,
+}
+
+/// One baked patch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BakedPatch<'a> {
+    /// Which curve each side is, in [`Side::ALL`] order.
+    pub edges: [EdgeLink; 4],
+    /// Why interior sampling stopped.
+    pub stop: StopReason,
+    /// Deviation with the corners and every curve sample, before any interior sample.
+    pub initial_deviation: f32,
+    /// The Delaunay metric of the patch's domain mesh (the bake's and the run time's).
+    pub metric: Metric,
+    /// The interior samples, in insertion order.
+    pub samples: InteriorSamples<'a>,
+}
+
+/// A curve's samples, decoded on access.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CurveSamples<'a> {
+    bytes: &'a [u8],
+}
+
+/// A patch's interior samples, decoded on access.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct InteriorSamples<'a> {
+    bytes: &'a [u8],
+}
+
+impl<'a> CurveSamples<'a> {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.bytes.len() / CURVE_SAMPLE
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.bytes.is_empty()
+    }
+
+    /// Sample `k`.
+    pub fn get(&self, k: usize) -> Option<CurveSample> {
+        let at = k.checked_mul(CURVE_SAMPLE)?;
+        self.bytes.get(at..at + CURVE_SAMPLE).map(|b| CurveSample {
+            t: u16_at(b, 0),
+            deviation: f32_at(b, 2),
+        })
+    }
+
+    /// The samples in order.
+    pub fn iter(&self) -> impl Iterator<Item = CurveSample> + 'a {
+        let s = *self;
+        (0..s.len()).filter_map(move |k| s.get(k))
+    }
+}
+
+impl<'a> InteriorSamples<'a> {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.bytes.len() / INTERIOR_SAMPLE
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.bytes.is_empty()
+    }
+
+    /// Sample `k`.
+    pub fn get(&self, k: usize) -> Option<InteriorSample> {
+        let at = k.checked_mul(INTERIOR_SAMPLE)?;
+        self.bytes
+            .get(at..at + INTERIOR_SAMPLE)
+            .map(|b| InteriorSample {
+                point: GridPoint::new(u16_at(b, 0), u16_at(b, 2)),
+                deviation: f32_at(b, 4),
+            })
+    }
+
+    /// The samples in order.
+    pub fn iter(&self) -> impl Iterator<Item = InteriorSample> + 'a {
+        let s = *self;
+        (0..s.len()).filter_map(move |k| s.get(k))
+    }
+}
+
+/// True when `d` is a usable deviation.
+fn good_deviation(d: f32) -> bool {
+    d.is_finite() && d >= 0.0
+}
+
+fn non_increasing(mut deviations: impl Iterator<Item = f32>) -> bool {
+    let Some(mut last) = deviations.next() else {
+        return true;
+    };
+    if !good_deviation(last) {
+        return false;
+    }
+    deviations.all(|d| {
+        let ok = good_deviation(d) && d <= last;
+        last = d;
+        ok
+    })
+}
+
+impl<'a> BakedModel<'a> {
+    /// Reads and validates a baked model.
+    pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, LoadError> {
+        if bytes.len() < HEADER_LEN {
+            if bytes.len() >= 4 && bytes[..4] != MAGIC {
+                return Err(LoadError::BadMagic);
+            }
+            return Err(LoadError::Truncated {
+                needed: HEADER_LEN,
+                found: bytes.len(),
+            });
+        }
+        if bytes[..4] != MAGIC {
+            return Err(LoadError::BadMagic);
+        }
+        let version = u16_at(bytes, 4);
+        if version != VERSION {
+            return Err(LoadError::UnsupportedVersion { found: version });
+        }
+        if u16_at(bytes, 6) as usize != HEADER_LEN {
+            return Err(LoadError::Malformed(Part::Header));
+        }
+        let count = |at| u32_at(bytes, at) as usize;
+        let (patches, curves, curve_samples, interior_samples) =
+            (count(8), count(12), count(16), count(20));
+        let expected = baked_len(patches, curves, curve_samples, interior_samples)
+            .ok_or(LoadError::Malformed(Part::Header))?;
+        if bytes.len() < expected {
+            return Err(LoadError::Truncated {
+                needed: expected,
+                found: bytes.len(),
+            });
+        }
+        if bytes.len() > expected {
+            return Err(LoadError::TrailingBytes {
+                expected,
+                found: bytes.len(),
+            });
+        }
+        let stored = u32_at(bytes, CHECKSUM_AT);
+        let computed = checksum(bytes);
+        if stored != computed {
+            return Err(LoadError::ChecksumMismatch { stored, computed });
+        }
+        if !good_deviation(f32_at(bytes, 24)) || u32_at(bytes, 32) != 0 {
+            return Err(LoadError::Malformed(Part::Header));
+        }
+        let model = BakedModel {
+            bytes,
+            patches,
+            curves,
+            curve_samples,
+        };
+        model.check_curves()?;
+        model.check_patches(interior_samples)?;
+        Ok(model)
+    }
+
+    fn check_curves(&self) -> Result<(), LoadError> {
+        let mut next = 0usize;
+        for k in 0..self.curves {
+            let bad = Err(LoadError::Malformed(Part::Curve(k)));
+            let r = HEADER_LEN + k * CURVE_RECORD;
+            let b = self.bytes;
+            let (owner, side, stop) = (u32_at(b, r) as usize, b[r + 4], b[r + 5]);
+            let (count, first) = (u16_at(b, r + 6) as usize, u32_at(b, r + 8) as usize);
+            if owner >= self.patches
+                || side > 3
+                || stop_from(stop).is_none()
+                || first != next
+                || !good_deviation(f32_at(b, r + 12))
+            {
+                return bad;
+            }
+            next += count;
+            if next > self.curve_samples {
+                return bad;
+            }
+            // The owner's edge on that side is this curve, forwards.
+            let edge = self.patch_record(owner) + 4 * side as usize;
+            if u32_at(b, edge) != k as u32 {
+                return bad;
+            }
+            let samples = self.curve_samples_of(first, count);
+            let on_curve = samples.iter().all(|s| s.t > 0 && s.t < GridPoint::MAX);
+            if !on_curve || !non_increasing(samples.iter().map(|s| s.deviation)) {
+                return bad;
+            }
+        }
+        if next != self.curve_samples {
+            return Err(LoadError::Malformed(Part::Header));
+        }
+        Ok(())
+    }
+
+    fn check_patches(&self, interior_samples: usize) -> Result<(), LoadError> {
+        let mut next = 0usize;
+        let inside = BOUNDARY_MARGIN..=GridPoint::MAX - BOUNDARY_MARGIN;
+        for k in 0..self.patches {
+            let bad = Err(LoadError::Malformed(Part::Patch(k)));
+            let r = self.patch_record(k);
+            let b = self.bytes;
+            for side in 0..4 {
+                let code = u32_at(b, r + 4 * side);
+                if let EdgeLink::Curve { curve, .. } = link_from(code) {
+                    if curve as usize >= self.curves {
+                        return bad;
+                    }
+                }
+            }
+            let (first, count) = (u32_at(b, r + 16) as usize, u16_at(b, r + 20) as usize);
+            if first != next || stop_from(b[r + 22]).is_none() || !good_deviation(f32_at(b, r + 24))
+            {
+                return bad;
+            }
+            next += count;
+            if next > interior_samples {
+                return bad;
+            }
+            let samples = self.interior_samples_of(first, count);
+            let placed = samples
+                .iter()
+                .all(|s| inside.contains(&s.point.u) && inside.contains(&s.point.v));
+            if !placed || !non_increasing(samples.iter().map(|s| s.deviation)) {
+                return bad;
+            }
+        }
+        if next != interior_samples {
+            return Err(LoadError::Malformed(Part::Header));
+        }
+        Ok(())
+    }
+
+    fn patch_record(&self, k: usize) -> usize {
+        HEADER_LEN + self.curves * CURVE_RECORD + k * PATCH_RECORD
+    }
+
+    fn curve_samples_of(&self, first: usize, count: usize) -> CurveSamples<'a> {
+        let start = self.patch_record(self.patches) + first * CURVE_SAMPLE;
+        CurveSamples {
+            bytes: self
+                .bytes
+                .get(start..start + count * CURVE_SAMPLE)
+                .unwrap_or_default(),
+        }
+    }
+
+    fn interior_samples_of(&self, first: usize, count: usize) -> InteriorSamples<'a> {
+        let start = self.patch_record(self.patches)
+            + self.curve_samples * CURVE_SAMPLE
+            + first * INTERIOR_SAMPLE;
+        InteriorSamples {
+            bytes: self
+                .bytes
+                .get(start..start + count * INTERIOR_SAMPLE)
+                .unwrap_or_default(),
+        }
+    }
+
+    /// The bytes, as given to [`BakedModel::from_bytes`].
+    pub fn as_bytes(&self) -> &'a [u8] {
+        self.bytes
+    }
+
+    /// Number of patches.
+    pub fn patch_count(&self) -> usize {
+        self.patches
+    }
+
+    /// Number of boundary curves.
+    pub fn curve_count(&self) -> usize {
+        self.curves
+    }
+
+    /// Total curve samples.
+    pub fn curve_sample_count(&self) -> usize {
+        self.curve_samples
+    }
+
+    /// Total interior samples.
+    pub fn interior_sample_count(&self) -> usize {
+        u32_at(self.bytes, 20) as usize
+    }
+
+    /// The object-space tolerance the model was baked to.
+    pub fn tolerance(&self) -> f32 {
+        f32_at(self.bytes, 24)
+    }
+
+    /// The [`model_fingerprint`] of the patches it was baked from.
+    pub fn fingerprint(&self) -> u32 {
+        u32_at(self.bytes, 28)
+    }
+
+    /// True when `patches` are the patches this model was baked from (same count and
+    /// fingerprint).
+    pub fn matches(&self, patches: &PatchSet<'_>) -> bool {
+        patches.len() == self.patches && model_fingerprint(patches) == self.fingerprint()
+    }
+
+    /// Curve `k`.
+    pub fn curve(&self, k: usize) -> Option<BakedCurve<'a>> {
+        if k >= self.curves {
+            return None;
+        }
+        let r = HEADER_LEN + k * CURVE_RECORD;
+        let b = self.bytes;
+        Some(BakedCurve {
+            patch: u32_at(b, r),
+            side: Side::ALL[(b[r + 4] & 3) as usize],
+            stop: stop_from(b[r + 5]).unwrap_or(StopReason::Tolerance),
+            initial_deviation: f32_at(b, r + 12),
+            samples: self.curve_samples_of(u32_at(b, r + 8) as usize, u16_at(b, r + 6) as usize),
+        })
+    }
+
+    /// Patch `k`.
+    pub fn patch(&self, k: usize) -> Option<BakedPatch<'a>> {
+        if k >= self.patches {
+            return None;
+        }
+        let r = self.patch_record(k);
+        let b = self.bytes;
+        let edges = [0, 1, 2, 3].map(|s| link_from(u32_at(b, r + 4 * s)));
+        Some(BakedPatch {
+            edges,
+            stop: stop_from(b[r + 22]).unwrap_or(StopReason::Tolerance),
+            initial_deviation: f32_at(b, r + 24),
+            metric: metric_from(b[r + 23]),
+            samples: self
+                .interior_samples_of(u32_at(b, r + 16) as usize, u16_at(b, r + 20) as usize),
+        })
+    }
+}
+
+/// Writes `bytes` as Rust source: a `pub static NAME: [u8; N]` that
+/// [`BakedModel::from_bytes`] reads from flash.
+///
+/// ```
+/// let mut src = String::new();
+/// spline_tess::bake::write_rust_source(&mut src, "BAKED", &[1, 2, 3]).unwrap();
+/// assert!(src.contains("pub static BAKED: [u8; 3] = [\n    0x01, 0x02, 0x03,\n];"));
+/// ```
+pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, bytes: &[u8]) -> fmt::Result {
+    writeln!(
+        w,
+        "// A baked model in the spline-tess format, version {VERSION}: load it with\n\
+         // `spline_tess::bake::BakedModel::from_bytes(&{name})`."
+    )?;
+    writeln!(w, "pub static {name}: [u8; {}] = [", bytes.len())?;
+    for row in bytes.chunks(16) {
+        w.write_str("   ")?;
+        for b in row {
+            write!(w, " {b:#04x},")?;
+        }
+        w.write_str("\n")?;
+    }
+    w.write_str("];\n")
+}
