@@ -123,6 +123,19 @@ pub fn bernstein(n: usize, i: isize, t: f64) -> f64 {
     binomial(n, i) * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
 }
 
+/// `B_{i,n}(t)` for `i = 0..=n` (n <= 7), by the recurrence.
+fn bernstein_row(n: usize, t: f64) -> [f64; 8] {
+    let mut b = [0.0; 8];
+    b[0] = 1.0;
+    for k in 1..=n {
+        for i in (1..=k).rev() {
+            b[i] = (1.0 - t) * b[i] + t * b[i - 1];
+        }
+        b[0] *= 1.0 - t;
+    }
+    b
+}
+
 /// `(i, B_{i,n}(t), B'_{i,n}(t))` for `i = 0..=n`.
 fn bernstein_all(n: usize, t: f64) -> Vec<(usize, f64, f64)> {
     (0..=n)
@@ -157,6 +170,38 @@ impl RefPatch {
             &bernstein_all(self.du, u),
             &bernstein_all(self.dv, v),
         )
+    }
+
+    /// The point at `(u, v)` alone, without allocating (for dense sampling).
+    pub fn point(&self, u: f64, v: f64) -> V3 {
+        let (bu, bv) = (bernstein_row(self.du, u), bernstein_row(self.dv, v));
+        let (mut a, mut w) = ([0.0; 3], 0.0);
+        for (i, bi) in bu.iter().enumerate().take(self.du + 1) {
+            for (j, bj) in bv.iter().enumerate().take(self.dv + 1) {
+                let k = i * (self.dv + 1) + j;
+                let f = bi * bj * self.w[k];
+                w += f;
+                for (ac, pc) in a.iter_mut().zip(self.pts[k]) {
+                    *ac += f * pc;
+                }
+            }
+        }
+        scale(a, 1.0 / w)
+    }
+
+    /// Builds the reference of a kernel patch (its `f32` data widened).
+    pub fn from_kernel(patch: &spline_tess::BezierPatch<'_>) -> Self {
+        let (du, dv) = (patch.degree_u(), patch.degree_v());
+        let mut pts = Vec::new();
+        let mut w = Vec::new();
+        for i in 0..=du {
+            for j in 0..=dv {
+                let p = patch.control_point(i, j);
+                pts.push([p.x as f64, p.y as f64, p.z as f64]);
+                w.push(patch.weight(i, j) as f64);
+            }
+        }
+        RefPatch { du, dv, pts, w }
     }
 
     /// Control point `(i, j)`.

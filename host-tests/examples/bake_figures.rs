@@ -1,0 +1,177 @@
+//! Bake figures for every model: samples, bytes and bake time at relative tolerances 1e-3 and
+//! 1e-4, and the triangles of the baked triangulation beside a uniform grid per patch reaching
+//! the same verified deviation. One run, one machine; prints a Markdown table.
+//!
+//! ```text
+//! cargo run --release -p host-tests --example bake_figures
+//! ```
+//!
+//! "Verified deviation" is the largest distance, over every triangle, between the surface and
+//! the triangle's linear interpolant at the same (u,v), sampled at 24 x 24 barycentric points
+//! per triangle with the f64 reference evaluator. The baked triangulation of a patch is its
+//! corners, all its curves' samples and all its interior samples. For the uniform grid, each
+//! patch gets its own smallest n such that the n x n vertex grid (2 (n-1)^2 triangles) has a
+//! verified deviation at most the baked model's.
+
+use std::time::Instant;
+
+use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::reference::{add, dist, scale, sub, RefPatch};
+use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::{DomainMesh, EdgeLink, GridPoint, MeshTriangle, MeshVertex, Side};
+
+const DENSE: usize = 24;
+
+fn tri_max(r: &RefPatch, uv: [(f64, f64); 3]) -> f64 {
+    let pos = uv.map(|(u, v)| r.point(u, v));
+    let (d1, d2) = (sub(pos[1], pos[0]), sub(pos[2], pos[0]));
+    let mut best = 0.0f64;
+    for i in 0..=DENSE {
+        for j in 0..=DENSE - i {
+            let (s, t) = (i as f64 / DENSE as f64, j as f64 / DENSE as f64);
+            let u = uv[0].0 + s * (uv[1].0 - uv[0].0) + t * (uv[2].0 - uv[0].0);
+            let v = uv[0].1 + s * (uv[1].1 - uv[0].1) + t * (uv[2].1 - uv[0].1);
+            let linear = add(pos[0], add(scale(d1, s), scale(d2, t)));
+            best = best.max(dist(r.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0)), linear));
+        }
+    }
+    best
+}
+
+/// Verified deviation of the uniform n x n vertex grid (cells split along one diagonal).
+fn grid_max(r: &RefPatch, n: usize) -> f64 {
+    let s = |k: usize| k as f64 / (n - 1) as f64;
+    let mut best = 0.0f64;
+    for i in 0..n - 1 {
+        for j in 0..n - 1 {
+            let (a, b, c, d) = (
+                (s(i), s(j)),
+                (s(i + 1), s(j)),
+                (s(i + 1), s(j + 1)),
+                (s(i), s(j + 1)),
+            );
+            best = best.max(tri_max(r, [a, b, c])).max(tri_max(r, [a, c, d]));
+        }
+    }
+    best
+}
+
+/// Smallest n whose grid reaches `target`, by bisection (the deviation falls as n grows).
+fn grid_n(r: &RefPatch, target: f64) -> usize {
+    let (mut lo, mut hi) = (1usize, 2usize); // grid_max(lo) > target (lo = 1: no grid)
+    while grid_max(r, hi) > target {
+        lo = hi;
+        hi *= 2;
+        if hi > 4096 {
+            return hi;
+        }
+    }
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if grid_max(r, mid) > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+fn on_side(side: Side, t: u16, reversed: bool) -> GridPoint {
+    let e = if reversed { GridPoint::MAX - t } else { t };
+    match side {
+        Side::V0 => GridPoint::new(e, 0),
+        Side::U1 => GridPoint::new(GridPoint::MAX, e),
+        Side::V1 => GridPoint::new(e, GridPoint::MAX),
+        Side::U0 => GridPoint::new(0, e),
+    }
+}
+
+fn main() {
+    // FIGURES_ONLY=teapot limits the run to models whose file name contains it.
+    let only = std::env::var("FIGURES_ONLY").unwrap_or_default();
+    let models: Vec<_> = bpt_models()
+        .into_iter()
+        .chain(nurbs_fixtures())
+        .filter(|p| name(p).contains(&only))
+        .collect();
+    println!("| model | rel. tol. | patches | curve samples | interior samples | bytes | bake s | stops tol/cap/res | baked triangles | verified deviation | grid triangles | baked / grid |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for path in &models {
+        let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+        let patches = file.patches();
+        let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
+        for rel in [1e-3f32, 1e-4] {
+            let settings = BakeSettings {
+                tolerance: Tolerance::Relative(rel),
+                max_curve_samples: 256,
+                max_interior_samples: 4096,
+            };
+            let start = Instant::now();
+            let bytes = file
+                .with_model(|m| bake_to_vec(m, &settings))
+                .unwrap()
+                .unwrap();
+            let seconds = start.elapsed().as_secs_f64();
+            let baked = BakedModel::from_bytes(&bytes).unwrap();
+            let mut stops = [0usize; 3];
+            for c in (0..baked.curve_count()).filter_map(|k| baked.curve(k)) {
+                stops[c.stop as usize] += 1;
+            }
+            let (mut triangles, mut verified) = (0usize, 0.0f64);
+            for (k, r) in refs.iter().enumerate() {
+                let bp = baked.patch(k).unwrap();
+                stops[bp.stop as usize] += 1;
+                let n = 4 + 4 * 256 + bp.samples.len();
+                let mut vs = vec![MeshVertex::default(); n];
+                let mut ts = vec![MeshTriangle::default(); DomainMesh::triangles_for(n)];
+                let mut mesh = DomainMesh::with_metric(&mut vs, &mut ts, bp.metric).unwrap();
+                for (side, link) in Side::ALL.into_iter().zip(bp.edges) {
+                    if let EdgeLink::Curve { curve, reversed } = link {
+                        for s in baked.curve(curve as usize).unwrap().samples.iter() {
+                            mesh.insert(on_side(side, s.t, reversed)).unwrap();
+                        }
+                    }
+                }
+                for s in bp.samples.iter() {
+                    mesh.insert(s.point).unwrap();
+                }
+                triangles += mesh.triangle_count();
+                let m = GridPoint::MAX as f64;
+                let worst = mesh
+                    .triangles()
+                    .map(|t| {
+                        tri_max(
+                            r,
+                            t.map(|v| {
+                                let p = mesh.point(v).unwrap();
+                                (p.u as f64 / m, p.v as f64 / m)
+                            }),
+                        )
+                    })
+                    .fold(0.0, f64::max);
+                verified = verified.max(worst);
+            }
+            let grid: usize = refs
+                .iter()
+                .map(|r| {
+                    let n = grid_n(r, verified);
+                    2 * (n - 1) * (n - 1)
+                })
+                .sum();
+            println!(
+                "| {} | {rel:e} | {} | {} | {} | {} | {seconds:.3} | {}/{}/{} | {triangles} | {verified:.3e} | {grid} | {:.2} |",
+                name(path),
+                baked.patch_count(),
+                baked.curve_sample_count(),
+                baked.interior_sample_count(),
+                bytes.len(),
+                stops[0],
+                stops[1],
+                stops[2],
+                triangles as f64 / grid as f64,
+            );
+        }
+    }
+}
