@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates BENCHMARKS.md: host evaluation speed beside curvo (one run, one machine), the
-# firmware's instructions per evaluation under QEMU icount, and the firmware's section sizes.
+# firmware's instructions per evaluation and per patch bake under QEMU icount, the firmware's
+# section sizes, and the bake figures of every model (takes several minutes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -16,6 +17,8 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 
 host=$(cargo run -q --release -p host-tests --example eval_speed)
 fw=$(cargo run -q --release --example fw_eval --target thumbv7em-none-eabihf)
+fw_bake=$(cargo run -q --release --example fw_bake --target thumbv7em-none-eabihf)
+bake=$(cargo run -q --release -p host-tests --example bake_figures)
 elf=target/thumbv7em-none-eabihf/release/examples/fw_eval
 sizes=$(arm-none-eabi-size -A "$elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}')
 
@@ -45,6 +48,30 @@ evaluation is \`BezierPatch::evaluate\` (position, partials, normal) on the teap
 \`\`\`text
 $fw
 \`\`\`
+
+## Bake on the Cortex-M4F
+
+\`cargo run --release --example fw_bake --target thumbv7em-none-eabihf\`: teapot patch 0 at a
+thousandth of its diagonal, caps of 32 samples per curve and 128 interior samples, scratch on the
+stack; the bytes are compared with the host's bake of the same patch.
+
+\`\`\`text
+$fw_bake
+\`\`\`
+
+## Bake figures
+
+\`cargo run --release -p host-tests --example bake_figures\`, every model at relative
+tolerances 1e-3 and 1e-4 of its control-point bounding-box diagonal, caps of 256 samples per
+curve and 4096 per patch interior. *bake s* is one run of \`bake_model\` on one core.
+*Verified deviation* is the largest distance between the surface and a triangle's linear
+interpolant at the same (u,v), over every triangle of the baked triangulations (corners, all
+curve samples, all interior samples), sampled at 24 x 24 barycentric points per triangle with
+the \`f64\` reference. *Grid triangles* gives each patch its own smallest uniform n x n vertex
+grid (2 (n-1)^2 triangles) whose verified deviation is at most the baked one; a patch needing
+more than 512 x 512 counts as 512 (marked \`>\`).
+
+$bake
 
 ## Firmware size
 

@@ -57,14 +57,18 @@ fn grid_max(r: &RefPatch, n: usize) -> f64 {
     best
 }
 
-/// Smallest n whose grid reaches `target`, by bisection (the deviation falls as n grows).
-fn grid_n(r: &RefPatch, target: f64) -> usize {
+/// Largest grid tried; a patch that needs more counts as this (a lower bound, marked `>`).
+const GRID_LIMIT: usize = 512;
+
+/// Smallest n whose grid reaches `target`, by bisection (the deviation falls as n grows), or
+/// `None` past [`GRID_LIMIT`].
+fn grid_n(r: &RefPatch, target: f64) -> Option<usize> {
     let (mut lo, mut hi) = (1usize, 2usize); // grid_max(lo) > target (lo = 1: no grid)
     while grid_max(r, hi) > target {
         lo = hi;
         hi *= 2;
-        if hi > 4096 {
-            return hi;
+        if hi > GRID_LIMIT {
+            return None;
         }
     }
     while hi - lo > 1 {
@@ -75,7 +79,7 @@ fn grid_n(r: &RefPatch, target: f64) -> usize {
             hi = mid;
         }
     }
-    hi
+    Some(hi)
 }
 
 fn on_side(side: Side, t: u16, reversed: bool) -> GridPoint {
@@ -153,15 +157,20 @@ fn main() {
                     .fold(0.0, f64::max);
                 verified = verified.max(worst);
             }
+            let mut capped = false;
             let grid: usize = refs
                 .iter()
                 .map(|r| {
-                    let n = grid_n(r, verified);
+                    let n = grid_n(r, verified).unwrap_or_else(|| {
+                        capped = true;
+                        GRID_LIMIT
+                    });
                     2 * (n - 1) * (n - 1)
                 })
                 .sum();
+            let (more, less) = if capped { ("> ", "< ") } else { ("", "") };
             println!(
-                "| {} | {rel:e} | {} | {} | {} | {} | {seconds:.3} | {}/{}/{} | {triangles} | {verified:.3e} | {grid} | {:.2} |",
+                "| {} | {rel:e} | {} | {} | {} | {} | {seconds:.3} | {}/{}/{} | {triangles} | {verified:.3e} | {more}{grid} | {less}{:.2} |",
                 name(path),
                 baked.patch_count(),
                 baked.curve_sample_count(),
