@@ -15,28 +15,17 @@
 
 use std::time::Instant;
 
+use host_tests::baked::{boundary_points, triangle_max, unit};
 use host_tests::model_file::{bake_to_vec, ModelFile};
-use host_tests::reference::{add, dist, scale, sub, RefPatch};
+use host_tests::reference::RefPatch;
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
-use spline_tess::{DomainMesh, EdgeLink, GridPoint, MeshTriangle, MeshVertex, Side};
+use spline_tess::{DomainMesh, MeshTriangle, MeshVertex};
 
 const DENSE: usize = 24;
 
 fn tri_max(r: &RefPatch, uv: [(f64, f64); 3]) -> f64 {
-    let pos = uv.map(|(u, v)| r.point(u, v));
-    let (d1, d2) = (sub(pos[1], pos[0]), sub(pos[2], pos[0]));
-    let mut best = 0.0f64;
-    for i in 0..=DENSE {
-        for j in 0..=DENSE - i {
-            let (s, t) = (i as f64 / DENSE as f64, j as f64 / DENSE as f64);
-            let u = uv[0].0 + s * (uv[1].0 - uv[0].0) + t * (uv[2].0 - uv[0].0);
-            let v = uv[0].1 + s * (uv[1].1 - uv[0].1) + t * (uv[2].1 - uv[0].1);
-            let linear = add(pos[0], add(scale(d1, s), scale(d2, t)));
-            best = best.max(dist(r.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0)), linear));
-        }
-    }
-    best
+    triangle_max(r, uv, DENSE)
 }
 
 /// Verified deviation of the uniform n x n vertex grid (cells split along one diagonal).
@@ -82,16 +71,6 @@ fn grid_n(r: &RefPatch, target: f64) -> Option<usize> {
     Some(hi)
 }
 
-fn on_side(side: Side, t: u16, reversed: bool) -> GridPoint {
-    let e = if reversed { GridPoint::MAX - t } else { t };
-    match side {
-        Side::V0 => GridPoint::new(e, 0),
-        Side::U1 => GridPoint::new(GridPoint::MAX, e),
-        Side::V1 => GridPoint::new(e, GridPoint::MAX),
-        Side::U0 => GridPoint::new(0, e),
-    }
-}
-
 fn main() {
     // FIGURES_ONLY=teapot limits the run to models whose file name contains it.
     let only = std::env::var("FIGURES_ONLY").unwrap_or_default();
@@ -131,29 +110,16 @@ fn main() {
                 let mut vs = vec![MeshVertex::default(); n];
                 let mut ts = vec![MeshTriangle::default(); DomainMesh::triangles_for(n)];
                 let mut mesh = DomainMesh::with_metric(&mut vs, &mut ts, bp.metric).unwrap();
-                for (side, link) in Side::ALL.into_iter().zip(bp.edges) {
-                    if let EdgeLink::Curve { curve, reversed } = link {
-                        for s in baked.curve(curve as usize).unwrap().samples.iter() {
-                            mesh.insert(on_side(side, s.t, reversed)).unwrap();
-                        }
-                    }
+                for p in boundary_points(&baked, &bp) {
+                    mesh.insert(p).unwrap();
                 }
                 for s in bp.samples.iter() {
                     mesh.insert(s.point).unwrap();
                 }
                 triangles += mesh.triangle_count();
-                let m = GridPoint::MAX as f64;
                 let worst = mesh
                     .triangles()
-                    .map(|t| {
-                        tri_max(
-                            r,
-                            t.map(|v| {
-                                let p = mesh.point(v).unwrap();
-                                (p.u as f64 / m, p.v as f64 / m)
-                            }),
-                        )
-                    })
+                    .map(|t| tri_max(r, t.map(|v| unit(mesh.point(v).unwrap()))))
                     .fold(0.0, f64::max);
                 verified = verified.max(worst);
             }

@@ -5,6 +5,7 @@
 //! fixtures with `serde_json`, evaluates Bezier patches by direct Bernstein sums and NURBS
 //! surfaces by Cox-de Boor basis functions, all in `f64`.
 
+pub mod baked;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
 pub mod peers;

@@ -6,11 +6,12 @@
 
 use std::collections::HashMap;
 
+use host_tests::baked::{boundary_points, triangle_max, unit};
 use host_tests::model_file::{bake_to_vec, ModelFile};
-use host_tests::reference::{add, dist, scale, sub, RefPatch, V3};
+use host_tests::reference::RefPatch;
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::{BakeSettings, BakedModel, StopReason, Tolerance, BOUNDARY_MARGIN};
-use spline_tess::{DomainMesh, EdgeLink, GridPoint, MeshTriangle, MeshVertex, Side};
+use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
 
 const DENSE: usize = 64;
 const RELATIVE: f32 = 1e-3;
@@ -19,36 +20,6 @@ const SETTINGS: BakeSettings = BakeSettings {
     max_curve_samples: 256,
     max_interior_samples: 1024,
 };
-
-/// The largest distance between the patch and the triangle's interpolant, densely sampled.
-fn true_max(r: &RefPatch, tri: [GridPoint; 3]) -> f64 {
-    let m = GridPoint::MAX as f64;
-    let uv = tri.map(|p| (p.u as f64 / m, p.v as f64 / m));
-    let pos = uv.map(|(u, v)| r.point(u, v));
-    let (d1, d2) = (sub(pos[1], pos[0]), sub(pos[2], pos[0]));
-    let mut best = 0.0f64;
-    for i in 0..=DENSE {
-        for j in 0..=DENSE - i {
-            let (s, t) = (i as f64 / DENSE as f64, j as f64 / DENSE as f64);
-            let u = uv[0].0 + s * (uv[1].0 - uv[0].0) + t * (uv[2].0 - uv[0].0);
-            let v = uv[0].1 + s * (uv[1].1 - uv[0].1) + t * (uv[2].1 - uv[0].1);
-            let linear: V3 = add(pos[0], add(scale(d1, s), scale(d2, t)));
-            best = best.max(dist(r.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0)), linear));
-        }
-    }
-    best
-}
-
-/// Where curve parameter `t` lands on `side`, for an edge running `reversed`.
-fn on_side(side: Side, t: u16, reversed: bool) -> GridPoint {
-    let e = if reversed { GridPoint::MAX - t } else { t };
-    match side {
-        Side::V0 => GridPoint::new(e, 0),
-        Side::U1 => GridPoint::new(GridPoint::MAX, e),
-        Side::V1 => GridPoint::new(e, GridPoint::MAX),
-        Side::U0 => GridPoint::new(0, e),
-    }
-}
 
 struct Report {
     samples: usize,
@@ -77,19 +48,17 @@ fn check_model(path: &std::path::Path) -> Report {
         let mut vs = vec![MeshVertex::default(); n];
         let mut ts = vec![MeshTriangle::default(); DomainMesh::triangles_for(n)];
         let mut mesh = DomainMesh::with_metric(&mut vs, &mut ts, bp.metric).unwrap();
-        for (side, link) in Side::ALL.into_iter().zip(bp.edges) {
-            if let EdgeLink::Curve { curve, reversed } = link {
-                for s in baked.curve(curve as usize).unwrap().samples.iter() {
-                    mesh.insert(on_side(side, s.t, reversed)).unwrap();
-                }
-            }
+        for p in boundary_points(&baked, &bp) {
+            mesh.insert(p).unwrap();
         }
         let mut cache: HashMap<[GridPoint; 3], f64> = HashMap::new();
         let mut current = |mesh: &DomainMesh<'_>| -> f64 {
             mesh.triangles()
                 .map(|t| {
                     let c = t.map(|v| mesh.point(v).unwrap());
-                    *cache.entry(c).or_insert_with(|| true_max(&r, c))
+                    *cache
+                        .entry(c)
+                        .or_insert_with(|| triangle_max(&r, c.map(unit), DENSE))
                 })
                 .fold(0.0, f64::max)
         };
