@@ -168,6 +168,13 @@ pub struct MeshVertex {
     alive: bool,
 }
 
+impl MeshVertex {
+    /// The point of a live slot.
+    pub(crate) fn live_point(&self) -> Option<GridPoint> {
+        self.alive.then_some(self.point)
+    }
+}
+
 impl Default for MeshVertex {
     fn default() -> Self {
         MeshVertex {
@@ -188,6 +195,15 @@ pub struct MeshTriangle {
     /// next free slot.
     n: [u16; 3],
     alive: bool,
+}
+
+impl MeshTriangle {
+    /// Vertices (counter-clockwise) and neighbours (`n[i]` across the edge opposite `v[i]`,
+    /// `None` on the square's boundary) of a live slot.
+    pub(crate) fn live_parts(&self) -> Option<([u16; 3], [Option<u16>; 3])> {
+        self.alive
+            .then(|| (self.v, self.n.map(|n| (n != NONE).then_some(n))))
+    }
 }
 
 impl Default for MeshTriangle {
@@ -280,6 +296,17 @@ impl core::error::Error for RemoveError {}
 /// the triangle outside it (or `NONE` on the square's boundary).
 type RimEdge = (u16, u16, u16);
 
+/// The state of a [`DomainMesh`] besides its slots (the run time keeps one per patch).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct MeshHeader {
+    free_vertex: u16,
+    free_triangle: u16,
+    vertex_count: u16,
+    triangle_count: u32,
+    hint: u16,
+    metric: Metric,
+}
+
 /// A Delaunay triangulation of the unit square in caller storage.
 ///
 /// ```
@@ -311,6 +338,37 @@ pub struct DomainMesh<'a> {
 }
 
 impl<'a> DomainMesh<'a> {
+    /// The mesh's own state besides its slots, to rebuild it later over the same storage.
+    pub(crate) fn header(&self) -> MeshHeader {
+        MeshHeader {
+            free_vertex: self.free_vertex,
+            free_triangle: self.free_triangle,
+            vertex_count: self.vertex_count as u16,
+            triangle_count: self.triangle_count as u32,
+            hint: self.hint,
+            metric: self.metric,
+        }
+    }
+
+    /// The mesh whose slots are `vertices` and `triangles` and whose state is `header` (as
+    /// saved by [`DomainMesh::header`] over the same slots).
+    pub(crate) fn resume(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+        header: MeshHeader,
+    ) -> Self {
+        DomainMesh {
+            vertices,
+            triangles,
+            free_vertex: header.free_vertex,
+            free_triangle: header.free_triangle,
+            vertex_count: header.vertex_count as usize,
+            triangle_count: header.triangle_count as usize,
+            hint: header.hint,
+            metric: header.metric,
+        }
+    }
+
     /// Triangle slots enough for `vertices` vertex slots: `2 * vertices - 6` (at least 2).
     pub const fn triangles_for(vertices: usize) -> usize {
         if vertices < 4 {

@@ -79,6 +79,9 @@ mod model;
 mod nurbs;
 pub mod parse;
 mod patch;
+mod sink;
+pub mod tessellator;
+mod view;
 
 pub use bound::{Aabb, BoundingSphere};
 pub use domain::{
@@ -94,6 +97,9 @@ pub use nurbs::{
     DecomposeError, DecompositionSize, Direction, NurbsError, NurbsSurface, ParamRect,
 };
 pub use patch::{BezierPatch, PatchError, Side};
+pub use sink::{MeshIndex, MeshSize, TriangleSink, Vertex, WriteError};
+pub use tessellator::{FrameStats, Tessellator};
+pub use view::{Camera, CameraError, Projection, View};
 
 /// The README's examples, run as doc tests.
 #[cfg(doctest)]

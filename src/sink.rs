@@ -1,0 +1,112 @@
+//! Where triangles go: caller buffers (indexed) or a streaming [`TriangleSink`].
+
+use core::fmt;
+
+/// One output vertex.
+///
+/// A vertex on a boundary curve is shared by every patch along the curve; it carries the
+/// parameters and index of the patch that owns the curve (the one whose edge defines it), and
+/// a vertex at a patch corner those of the first patch that has the corner.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Vertex {
+    /// Position in model space.
+    pub position: [f32; 3],
+    /// Unit surface normal.
+    pub normal: [f32; 3],
+    /// The patch's own parameters `(u, v)` in `[0, 1]`.
+    pub uv: [f32; 2],
+    /// Index of the patch the parameters belong to.
+    pub patch: u32,
+}
+
+/// An index type for triangle buffers: `u16` or `u32`.
+pub trait MeshIndex: Copy + fmt::Debug + Default + private::Sealed {
+    /// Largest vertex count the type can index.
+    const LIMIT: usize;
+    /// `i` as an index (`i < LIMIT`).
+    fn from_index(i: u32) -> Self;
+    /// The index as a `u32`.
+    fn to_u32(self) -> u32;
+}
+
+impl MeshIndex for u16 {
+    const LIMIT: usize = u16::MAX as usize + 1;
+    fn from_index(i: u32) -> Self {
+        i as u16
+    }
+    fn to_u32(self) -> u32 {
+        self as u32
+    }
+}
+
+impl MeshIndex for u32 {
+    const LIMIT: usize = u32::MAX as usize;
+    fn from_index(i: u32) -> Self {
+        i
+    }
+    fn to_u32(self) -> u32 {
+        self
+    }
+}
+
+mod private {
+    pub trait Sealed {}
+    impl Sealed for u16 {}
+    impl Sealed for u32 {}
+}
+
+/// Receives a frame's triangles one at a time, with their vertices, so that a consumer (a
+/// rasterizer) needs no mesh buffer.
+///
+/// Triangles are counter-clockwise in the patch's `(u, v)` domain, so with the patch's normal
+/// `S_u x S_v` they are counter-clockwise seen from the side the normal points to. A vertex
+/// shared by several triangles is passed to each of them with the same bits.
+pub trait TriangleSink {
+    /// One triangle of patch `patch`.
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]);
+}
+
+/// Numbers of vertices and triangles of a frame's mesh.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MeshSize {
+    /// Vertices.
+    pub vertices: usize,
+    /// Triangles.
+    pub triangles: usize,
+}
+
+/// Why an indexed mesh could not be written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum WriteError {
+    /// The buffers are too small for the mesh; they are untouched.
+    BuffersTooSmall {
+        /// What the mesh needs.
+        needed: MeshSize,
+    },
+    /// The index type cannot address this many vertices (use `u32`); the buffers are
+    /// untouched.
+    IndexOverflow {
+        /// Vertices of the mesh.
+        vertices: usize,
+    },
+}
+
+impl fmt::Display for WriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WriteError::BuffersTooSmall { needed } => write!(
+                f,
+                "buffers too small: the mesh needs {} vertices and {} triangles",
+                needed.vertices, needed.triangles
+            ),
+            WriteError::IndexOverflow { vertices } => {
+                write!(f, "{vertices} vertices do not fit the index type")
+            }
+        }
+    }
+}
+
+impl core::error::Error for WriteError {}

@@ -1,0 +1,542 @@
+//! Output: the frame's mesh as indexed buffers or as a stream of triangles.
+//!
+//! Vertices come in a fixed order: the corner nodes (all of them, also those of culled
+//! patches), then every curve used by a visible patch from its start to its end, then per
+//! visible patch its interior domain vertices, the points on its interior edges and the
+//! points inside its refined triangles. Every refined point's parameter is an exact integer
+//! combination of grid coordinates divided once, so it does not depend on which triangle
+//! asks for it, nor on the history of the mesh.
+
+use super::pattern::{self, Local};
+use super::{along, common_side, Tessellator, CORNER_UV};
+use crate::domain::GridPoint;
+use crate::model::EdgeLink;
+use crate::patch::Side;
+use crate::sink::{MeshIndex, MeshSize, TriangleSink, Vertex, WriteError};
+
+/// Vertex and triangle counts of the current frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct MeshCounts {
+    pub(crate) vertices: u32,
+    pub(crate) triangles: u32,
+}
+
+/// Where an output point is and how to compute it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Point {
+    /// A corner node.
+    Node(u32),
+    /// Curve `curve` at parameter `num / den`; `j` is its place along the curve's vertices.
+    Curve { curve: u32, j: u32, num: u32, den: u32 },
+    /// An interior domain vertex.
+    Vertex { id: u16, p: GridPoint },
+    /// Point `r` (from the edge's smaller end) of interior edge `edge` of triangle `slot`.
+    Edge { slot: u16, edge: u8, r: u32, u: u32, v: u32, den: u32 },
+    /// Inner point `k` of the current triangle.
+    Face { k: u32, u: u32, v: u32, den: u32 },
+}
+
+const MAX: u32 = GridPoint::MAX as u32;
+
+/// One visible patch's view for the traversal.
+struct PatchView<'t, 'm, 's> {
+    vo: usize,
+    to: usize,
+    tc: usize,
+    edges: [EdgeLink; 4],
+    nodes: [u32; 4],
+    tess: &'t Tessellator<'m, 's>,
+}
+
+impl PatchView<'_, '_, '_> {
+    fn point_of(&self, id: u16) -> GridPoint {
+        self.tess.storage.vertices[self.vo + id as usize]
+            .live_point()
+            .unwrap_or_default()
+    }
+
+    fn triangle(&self, t: usize) -> Option<([u16; 3], [Option<u16>; 3])> {
+        self.tess.storage.triangles[self.to + t].live_parts()
+    }
+
+    fn factor(&self, t: usize) -> u8 {
+        self.tess.storage.triangle_states[self.to + t].factor.max(1)
+    }
+
+    /// The node a collapsed side maps to.
+    fn side_node(&self, side: Side) -> u32 {
+        self.nodes[side.index()]
+    }
+
+    /// Curve parameter and place of a boundary point on a curve side.
+    fn curve_point(&self, curve: u32, reversed: bool, side: Side, p: GridPoint) -> (u32, u32) {
+        let e = along(side, p);
+        let t = if reversed { GridPoint::MAX - e } else { e } as u32;
+        let cs = self.tess.storage.curves[curve as usize];
+        let f = cs.factor.max(1) as u32;
+        let j = if t == 0 {
+            0
+        } else if t == MAX {
+            (cs.count as u32 + 1) * f
+        } else {
+            let off = cs.order_offset as usize;
+            let order = &self.tess.storage.curve_order[off..off + cs.count as usize];
+            (order.partition_point(|&x| (x as u32) < t) as u32 + 1) * f
+        };
+        (t, j)
+    }
+
+    /// A domain vertex as an output point.
+    fn vertex(&self, id: u16) -> Point {
+        let p = self.point_of(id);
+        if id < 4 {
+            return Point::Node(self.nodes[id as usize]);
+        }
+        let side = if p.v == 0 {
+            Some(Side::V0)
+        } else if p.u == GridPoint::MAX {
+            Some(Side::U1)
+        } else if p.v == GridPoint::MAX {
+            Some(Side::V1)
+        } else if p.u == 0 {
+            Some(Side::U0)
+        } else {
+            None
+        };
+        match side {
+            None => Point::Vertex { id, p },
+            Some(side) => match self.edges[side.index()] {
+                EdgeLink::Collapsed => Point::Node(self.side_node(side)),
+                EdgeLink::Curve { curve, reversed } => {
+                    let (t, j) = self.curve_point(curve, reversed, side, p);
+                    Point::Curve {
+                        curve,
+                        j,
+                        num: t,
+                        den: MAX,
+                    }
+                }
+            },
+        }
+    }
+
+    /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
+    fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
+        let own = self.factor(t);
+        match n[i] {
+            Some(nb) => own.max(self.factor(nb as usize)),
+            None => {
+                let (a, b) = (self.point_of(v[(i + 1) % 3]), self.point_of(v[(i + 2) % 3]));
+                match common_side(a, b).map(|s| self.edges[s.index()]) {
+                    Some(EdgeLink::Curve { curve, .. }) => {
+                        self.tess.storage.curves[curve as usize].factor.max(1)
+                    }
+                    _ => own,
+                }
+            }
+        }
+    }
+
+    /// Every refined triangle of domain triangle `t`, as output points; degenerate ones (two
+    /// corners on one collapsed edge) are left out. `faces` receives the inner points first.
+    fn refine(
+        &self,
+        t: usize,
+        mut faces: impl FnMut(Point),
+        mut out: impl FnMut([Point; 3]),
+    ) {
+        let Some((v, n)) = self.triangle(t) else {
+            return;
+        };
+        let pts = v.map(|id| self.point_of(id));
+        // Canonical rotation: the smallest point first.
+        let rot = (0..3).min_by_key(|&k| pts[k]).unwrap_or(0);
+        let vr = [0, 1, 2].map(|k| v[(rot + k) % 3]);
+        let pr = [0, 1, 2].map(|k| pts[(rot + k) % 3]);
+        // Ring side s runs vr[s] -> vr[s+1]: the original edge opposite vr[s+2].
+        let edge_of = |s: usize| (rot + s + 2) % 3;
+        let nf = self.factor(t);
+        let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
+        let corner = [0, 1, 2].map(|k| self.vertex(vr[k]));
+        let lattice = |a: u32, b: u32, den_n: u32| {
+            let i = den_n - a - b;
+            let u = i * pr[0].u as u32 + a * pr[1].u as u32 + b * pr[2].u as u32;
+            let w = i * pr[0].v as u32 + a * pr[1].v as u32 + b * pr[2].v as u32;
+            (u, w, den_n * MAX)
+        };
+        let face = |p: Local| -> Point {
+            let k = pattern::inner_index(nf, p).unwrap_or(0);
+            let (u, w, den) = match p {
+                Local::Lattice { a, b } => lattice(a as u32, b as u32, nf as u32),
+                _ => lattice(1, 1, 3),
+            };
+            Point::Face { k, u, v: w, den }
+        };
+        let inner = pattern::inner_points(nf, e);
+        if inner > 0 {
+            if pattern::is_uniform(nf, e) || nf >= 3 {
+                for b in 1..nf.saturating_sub(1) {
+                    for a in 1..nf - b {
+                        faces(face(Local::Lattice { a, b }));
+                    }
+                }
+            } else {
+                faces(face(Local::Centroid));
+            }
+        }
+        let side_point = |s: u8, r: u8| -> Point {
+            let s = s as usize;
+            let f = e[s] as u32;
+            let (a, b) = (pr[s], pr[(s + 1) % 3]);
+            let i = edge_of(s);
+            match n[i] {
+                Some(_) => {
+                    let (lo, hi, r) = if a < b {
+                        (a, b, r as u32)
+                    } else {
+                        (b, a, f - r as u32)
+                    };
+                    Point::Edge {
+                        slot: t as u16,
+                        edge: i as u8,
+                        r,
+                        u: (f - r) * lo.u as u32 + r * hi.u as u32,
+                        v: (f - r) * lo.v as u32 + r * hi.v as u32,
+                        den: f * MAX,
+                    }
+                }
+                None => {
+                    let side = common_side(a, b).unwrap_or(Side::V0);
+                    match self.edges[side.index()] {
+                        EdgeLink::Collapsed => Point::Node(self.side_node(side)),
+                        EdgeLink::Curve { curve, reversed } => {
+                            let (ta, ja) = self.curve_point(curve, reversed, side, a);
+                            let (tb, jb) = self.curve_point(curve, reversed, side, b);
+                            let r = r as u32;
+                            let (lo, hi, rl) = if ta < tb { (ta, tb, r) } else { (tb, ta, f - r) };
+                            Point::Curve {
+                                curve,
+                                j: ja.min(jb) + rl,
+                                num: (f - rl) * lo + rl * hi,
+                                den: f * MAX,
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        pattern::for_each_triangle(nf, e, |tri| {
+            let p = tri.map(|l| match l {
+                Local::Corner(k) => corner[k as usize],
+                Local::Side { side, r } => side_point(side, r),
+                other => face(other),
+            });
+            let same = |x: Point, y: Point| matches!((x, y), (Point::Node(a), Point::Node(b)) if a == b);
+            if same(p[0], p[1]) || same(p[1], p[2]) || same(p[2], p[0]) {
+                return;
+            }
+            out(p);
+        });
+    }
+}
+
+impl<'m, 's> Tessellator<'m, 's> {
+    fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's>> {
+        let slot = self.storage.patches.get(p)?;
+        if slot.culled {
+            return None;
+        }
+        let bp = self.baked.patch(p)?;
+        Some(PatchView {
+            vo: slot.vertex_offset as usize,
+            to: slot.triangle_offset as usize,
+            tc: slot.triangle_capacity as usize,
+            edges: bp.edges,
+            nodes: slot.nodes,
+            tess: self,
+        })
+    }
+
+    /// Vertex data of an output point.
+    fn vertex_data(&self, p: Point, patch: usize) -> Vertex {
+        let (patch, u, v) = match p {
+            Point::Node(n) => {
+                let (owner, k) = self.node_owner(n);
+                let (u, v) = CORNER_UV[k];
+                (owner, u, v)
+            }
+            Point::Curve { curve, num, den, .. } => {
+                let t = num as f32 / den as f32;
+                match self.baked.curve(curve as usize) {
+                    Some(bc) => {
+                        let (u, v) = match bc.side {
+                            Side::V0 => (t, 0.0),
+                            Side::U1 => (1.0, t),
+                            Side::V1 => (t, 1.0),
+                            Side::U0 => (0.0, t),
+                        };
+                        (bc.patch as usize, u, v)
+                    }
+                    None => (patch, t, 0.0),
+                }
+            }
+            Point::Vertex { p, .. } => (patch, p.u as f32 / MAX as f32, p.v as f32 / MAX as f32),
+            Point::Edge { u, v, den, .. } | Point::Face { u, v, den, .. } => {
+                (patch, u as f32 / den as f32, v as f32 / den as f32)
+            }
+        };
+        let s = self
+            .patches
+            .patch(patch)
+            .map(|bp| bp.evaluate(u, v))
+            .map(|e| (e.position.to_array(), e.normal.to_array()))
+            .unwrap_or_default();
+        Vertex {
+            position: s.0,
+            normal: s.1,
+            uv: [u, v],
+            patch: patch as u32,
+        }
+    }
+
+    /// The patch and corner that first has node `n`.
+    fn node_owner(&self, n: u32) -> (usize, usize) {
+        let count = self.baked.patch_count();
+        let patches = &self.storage.patches[..count];
+        // Nodes are numbered in order of first appearance, so owners are sorted.
+        let p = patches
+            .partition_point(|s| s.first_node <= n)
+            .saturating_sub(1);
+        let k = patches
+            .get(p)
+            .and_then(|s| s.nodes.iter().position(|&x| x == n))
+            .unwrap_or(0);
+        (p, k)
+    }
+
+    /// Counts the frame's mesh (and fills the scratch tables as [`write_mesh`] would).
+    pub(crate) fn count(&mut self) -> MeshCounts {
+        self.emit::<u32>(None).unwrap_or_default()
+    }
+
+    /// Writes the frame's mesh: vertices, then triangles as index triples
+    /// ([`MeshIndex`]: `u16` or `u32`). Returns the mesh's size; on an error the buffers are
+    /// untouched.
+    pub fn write_mesh<I: MeshIndex>(
+        &mut self,
+        vertices: &mut [Vertex],
+        triangles: &mut [[I; 3]],
+    ) -> Result<MeshSize, WriteError> {
+        let needed = self.mesh_size();
+        if vertices.len() < needed.vertices || triangles.len() < needed.triangles {
+            return Err(WriteError::BuffersTooSmall { needed });
+        }
+        if needed.vertices > I::LIMIT {
+            return Err(WriteError::IndexOverflow {
+                vertices: needed.vertices,
+            });
+        }
+        self.emit(Some((vertices, triangles)));
+        Ok(needed)
+    }
+
+    /// The traversal behind [`write_mesh`] and the counts: assigns indices in the scratch
+    /// tables and, with buffers, writes.
+    fn emit<I: MeshIndex>(
+        &mut self,
+        mut out: Option<(&mut [Vertex], &mut [[I; 3]])>,
+    ) -> Option<MeshCounts> {
+        let baked = self.baked;
+        let mut next = self.nodes;
+        if let Some((vs, _)) = out.as_mut() {
+            for n in 0..self.nodes {
+                vs[n as usize] = self.vertex_data(Point::Node(n), 0);
+            }
+        }
+        // Curves.
+        for k in 0..baked.curve_count() {
+            let cs = self.storage.curves[k];
+            if !cs.used {
+                continue;
+            }
+            self.storage.curves[k].base = next;
+            let f = cs.factor.max(1) as u32;
+            let cnt = cs.count as u32;
+            if let Some((vs, _)) = out.as_mut() {
+                let off = cs.order_offset as usize;
+                for s in 0..=cnt {
+                    let t0 = if s == 0 {
+                        0
+                    } else {
+                        self.storage.curve_order[off + s as usize - 1] as u32
+                    };
+                    let t1 = if s == cnt {
+                        MAX
+                    } else {
+                        self.storage.curve_order[off + s as usize] as u32
+                    };
+                    for r in 0..f {
+                        let j = s * f + r;
+                        if j == 0 {
+                            continue;
+                        }
+                        let p = Point::Curve {
+                            curve: k as u32,
+                            j,
+                            num: (f - r) * t0 + r * t1,
+                            den: f * MAX,
+                        };
+                        vs[(next + j - 1) as usize] = self.vertex_data(p, 0);
+                    }
+                }
+            }
+            next += (cnt + 1) * f - 1;
+        }
+        let mut triangles = 0u32;
+        let (mut vs_out, mut ts_out) = match out {
+            Some((vs, ts)) => (Some(vs), Some(ts)),
+            None => (None, None),
+        };
+        let scratch = core::mem::take(&mut self.storage.scratch);
+        for p in 0..baked.patch_count() {
+            let Some(view) = self.patch_view(p) else {
+                continue;
+            };
+            let vc = self.storage.patches[p].vertex_capacity as usize;
+            let (vidx, ebase) = scratch.split_at_mut(vc);
+            // Domain vertices.
+            for id in 0..vc {
+                if self.storage.vertices[view.vo + id].live_point().is_none() {
+                    continue;
+                }
+                let point = view.vertex(id as u16);
+                vidx[id] = match point {
+                    Point::Node(n) => n,
+                    Point::Curve { curve, j, .. } => self.curve_index(curve, j),
+                    _ => {
+                        if let Some(vs) = vs_out.as_mut() {
+                            vs[next as usize] = self.vertex_data(point, p);
+                        }
+                        next += 1;
+                        next - 1
+                    }
+                };
+            }
+            // Interior edges: points written once, by the triangle with the smaller slot.
+            for t in 0..view.tc {
+                let Some((v, n)) = view.triangle(t) else {
+                    continue;
+                };
+                for i in 0..3 {
+                    let Some(nb) = n[i] else { continue };
+                    let nb = nb as usize;
+                    if nb < t {
+                        let j = view
+                            .triangle(nb)
+                            .and_then(|(_, nn)| nn.iter().position(|&x| x == Some(t as u16)))
+                            .unwrap_or(0);
+                        ebase[3 * t + i] = ebase[3 * nb + j];
+                        continue;
+                    }
+                    ebase[3 * t + i] = next;
+                    let f = view.edge_factor(t, v, n, i) as u32;
+                    if f <= 1 {
+                        continue;
+                    }
+                    if let Some(vs) = vs_out.as_mut() {
+                        let (a, b) = (view.point_of(v[(i + 1) % 3]), view.point_of(v[(i + 2) % 3]));
+                        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                        for r in 1..f {
+                            let point = Point::Edge {
+                                slot: t as u16,
+                                edge: i as u8,
+                                r,
+                                u: (f - r) * lo.u as u32 + r * hi.u as u32,
+                                v: (f - r) * lo.v as u32 + r * hi.v as u32,
+                                den: f * MAX,
+                            };
+                            vs[(next + r - 1) as usize] = self.vertex_data(point, p);
+                        }
+                    }
+                    next += f - 1;
+                }
+            }
+            // Refined triangles.
+            for t in 0..view.tc {
+                let face_base = next;
+                let mut faces = 0u32;
+                view.refine(
+                    t,
+                    |point| {
+                        if let Some(vs) = vs_out.as_mut() {
+                            vs[(face_base + faces) as usize] = self.vertex_data(point, p);
+                        }
+                        faces += 1;
+                    },
+                    |tri| {
+                        if let Some(ts) = ts_out.as_mut() {
+                            let index = |q: Point| -> u32 {
+                                match q {
+                                    Point::Node(n) => n,
+                                    Point::Curve { curve, j, .. } => self.curve_index(curve, j),
+                                    Point::Vertex { id, .. } => vidx[id as usize],
+                                    Point::Edge { slot, edge, r, .. } => {
+                                        ebase[3 * slot as usize + edge as usize] + r - 1
+                                    }
+                                    Point::Face { k, .. } => face_base + k,
+                                }
+                            };
+                            ts[triangles as usize] = tri.map(|q| I::from_index(index(q)));
+                        }
+                        triangles += 1;
+                    },
+                );
+                next += faces;
+            }
+        }
+        self.storage.scratch = scratch;
+        Some(MeshCounts {
+            vertices: next,
+            triangles,
+        })
+    }
+
+    /// Output index of place `j` on curve `curve` (`0` and the end are nodes).
+    fn curve_index(&self, curve: u32, j: u32) -> u32 {
+        let cs = self.storage.curves[curve as usize];
+        let f = cs.factor.max(1) as u32;
+        let end = (cs.count as u32 + 1) * f;
+        let bc = self.baked.curve(curve as usize);
+        if j == 0 || j >= end {
+            // The curve's end points are corners of its owner.
+            let (p, side) = bc.map_or((0, Side::V0), |b| (b.patch as usize, b.side));
+            let k = match (side, j == 0) {
+                (Side::V0, true) | (Side::U0, true) => 0,
+                (Side::V0, false) | (Side::U1, true) => 1,
+                (Side::U1, false) | (Side::V1, false) => 2,
+                (Side::V1, true) | (Side::U0, false) => 3,
+            };
+            return self.storage.patches[p].nodes[k];
+        }
+        cs.base + j - 1
+    }
+
+    /// Hands every triangle of the frame, with its vertices, to `sink`.
+    pub fn stream(&self, sink: &mut impl TriangleSink) {
+        for p in 0..self.baked.patch_count() {
+            let Some(view) = self.patch_view(p) else {
+                continue;
+            };
+            for t in 0..view.tc {
+                view.refine(
+                    t,
+                    |_| {},
+                    |tri| {
+                        let [a, b, c] = tri.map(|q| self.vertex_data(q, p));
+                        sink.triangle(p as u32, [&a, &b, &c]);
+                    },
+                );
+            }
+        }
+    }
+}

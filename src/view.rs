@@ -1,0 +1,308 @@
+//! The camera, and how large an object-space deviation one pixel allows near a patch.
+//!
+//! A [`View`] turns into one number per patch: `c`, the largest object-space deviation that
+//! projects to at most the pixel tolerance anywhere on the patch. It is derived from the
+//! patch's bounding sphere, conservatively:
+//!
+//! - **Perspective.** A displacement `d` at view depth `z` and screen slope `(a, b) = (x/z, y/z)`
+//!   moves the projection by at most `f * |d| * sqrt(1 + a² + b²) / z` pixels, with
+//!   `f = (height / 2) / tan(fov / 2)` (the largest singular value of the projection's Jacobian).
+//!   Over the sphere, `z` is at least `z_min` (its nearest depth) and the slopes are at most
+//!   those of its silhouette, further capped at the frustum's own, since only the visible part
+//!   is drawn. So `c = tolerance * z_min / (f * sqrt(1 + a_max² + b_max²))`.
+//! - **Near the eye.** A patch whose sphere reaches in front of the near plane (partly or
+//!   wholly behind the eye, or with the eye inside its bound) takes `z_min = near`: everything
+//!   closer is clipped, so the bound holds for what is drawn. This is the finest level: it asks
+//!   for the most samples and, once they run out, refinement (which is capped; the frame
+//!   statistics then report a predicted error above the tolerance).
+//! - **Orthographic.** One pixel is `height / viewport height` object units everywhere.
+//!
+//! Patches whose sphere lies wholly outside one of the frustum's planes are culled.
+
+use core::fmt;
+
+use glam::Vec3;
+
+use crate::bound::BoundingSphere;
+use crate::math::{normalize, sqrt};
+
+/// How the camera projects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Projection {
+    /// Perspective with a vertical field of view, in degrees (strictly between 0 and 180).
+    Perspective {
+        /// Vertical field of view in degrees.
+        fov_y_degrees: f32,
+    },
+    /// Parallel projection showing `height` object units from the bottom to the top of the
+    /// viewport.
+    Orthographic {
+        /// Object-space height of the view.
+        height: f32,
+    },
+}
+
+/// Why a [`Camera`] cannot be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CameraError {
+    /// A coordinate is NaN or infinite.
+    NotFinite,
+    /// The eye is at the target.
+    EyeAtTarget,
+    /// `up` is zero or parallel to the view direction.
+    BadUp,
+    /// The field of view is not strictly between 0 and 180 degrees, or the orthographic height
+    /// is not positive.
+    BadProjection,
+    /// The near plane is not positive (perspective) or negative (orthographic).
+    BadNear,
+    /// The viewport has no pixels.
+    EmptyViewport,
+}
+
+impl fmt::Display for CameraError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CameraError::NotFinite => "camera coordinate is NaN or infinite",
+            CameraError::EyeAtTarget => "eye and target are the same point",
+            CameraError::BadUp => "up vector is zero or parallel to the view direction",
+            CameraError::BadProjection => "field of view or orthographic height out of range",
+            CameraError::BadNear => "near plane distance out of range",
+            CameraError::EmptyViewport => "viewport has no pixels",
+        })
+    }
+}
+
+impl core::error::Error for CameraError {}
+
+/// A validated camera: position, orientation, projection, near plane and viewport.
+///
+/// ```
+/// use spline_tess::{Camera, Projection, Vec3};
+///
+/// let camera = Camera::new(
+///     Vec3::new(0.0, -10.0, 0.0), // eye
+///     Vec3::ZERO,                  // target
+///     Vec3::Z,                     // up
+///     Projection::Perspective { fov_y_degrees: 60.0 },
+///     0.1,                         // near plane
+///     [320, 240],                  // viewport in pixels
+/// )?;
+/// // The target lands in the middle of the viewport.
+/// let [x, y] = camera.project(Vec3::ZERO).unwrap();
+/// assert!((x - 160.0).abs() < 1e-3 && (y - 120.0).abs() < 1e-3);
+/// # Ok::<(), spline_tess::CameraError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Camera {
+    eye: [f32; 3],
+    forward: [f32; 3],
+    right: [f32; 3],
+    up: [f32; 3],
+    projection: Projection,
+    near: f32,
+    viewport: [u32; 2],
+    /// Pixels per unit of screen slope (perspective) or per object unit (orthographic).
+    focal: f32,
+    /// Largest visible |x/z| and |y/z| (perspective).
+    slope: [f32; 2],
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target`, with `up` giving the screen's vertical.
+    ///
+    /// `near` is the distance of the near clipping plane (perspective: positive; orthographic:
+    /// at least 0, measured from the eye).
+    pub fn new(
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        projection: Projection,
+        near: f32,
+        viewport: [u32; 2],
+    ) -> Result<Self, CameraError> {
+        let extra = match projection {
+            Projection::Perspective { fov_y_degrees } => fov_y_degrees,
+            Projection::Orthographic { height } => height,
+        };
+        if !(eye.is_finite() && target.is_finite() && up.is_finite())
+            || !extra.is_finite()
+            || !near.is_finite()
+        {
+            return Err(CameraError::NotFinite);
+        }
+        if viewport[0] == 0 || viewport[1] == 0 {
+            return Err(CameraError::EmptyViewport);
+        }
+        let forward = normalize(target - eye).ok_or(CameraError::EyeAtTarget)?;
+        let right = normalize(forward.cross(up)).ok_or(CameraError::BadUp)?;
+        let true_up = right.cross(forward);
+        let (w, h) = (viewport[0] as f32, viewport[1] as f32);
+        let (focal, slope) = match projection {
+            Projection::Perspective { fov_y_degrees } => {
+                if !(fov_y_degrees > 0.0 && fov_y_degrees < 180.0) {
+                    return Err(CameraError::BadProjection);
+                }
+                if near <= 0.0 {
+                    return Err(CameraError::BadNear);
+                }
+                let half = libm::tanf(fov_y_degrees.to_radians() * 0.5);
+                let focal = 0.5 * h / half;
+                (focal, [0.5 * w / focal, half])
+            }
+            Projection::Orthographic { height } => {
+                if height <= 0.0 {
+                    return Err(CameraError::BadProjection);
+                }
+                if near < 0.0 {
+                    return Err(CameraError::BadNear);
+                }
+                (h / height, [0.0, 0.0])
+            }
+        };
+        if !(focal.is_finite() && focal > 0.0) {
+            return Err(CameraError::BadProjection);
+        }
+        Ok(Camera {
+            eye: eye.to_array(),
+            forward: forward.to_array(),
+            right: right.to_array(),
+            up: true_up.to_array(),
+            projection,
+            near,
+            viewport,
+            focal,
+            slope,
+        })
+    }
+
+    /// The eye position.
+    pub fn eye(&self) -> Vec3 {
+        Vec3::from_array(self.eye)
+    }
+
+    /// Unit view direction.
+    pub fn forward(&self) -> Vec3 {
+        Vec3::from_array(self.forward)
+    }
+
+    /// The projection.
+    pub fn projection(&self) -> Projection {
+        self.projection
+    }
+
+    /// Near plane distance.
+    pub fn near(&self) -> f32 {
+        self.near
+    }
+
+    /// Viewport `[width, height]` in pixels.
+    pub fn viewport(&self) -> [u32; 2] {
+        self.viewport
+    }
+
+    /// `p` in view coordinates: `(right, up, depth)` relative to the eye.
+    pub fn to_view(&self, p: Vec3) -> Vec3 {
+        let d = p - self.eye();
+        Vec3::new(
+            d.dot(Vec3::from_array(self.right)),
+            d.dot(Vec3::from_array(self.up)),
+            d.dot(self.forward()),
+        )
+    }
+
+    /// Pixel coordinates of `p` (x to the right, y down, origin at the top-left corner);
+    /// `None` when `p` is closer than the near plane.
+    pub fn project(&self, p: Vec3) -> Option<[f32; 2]> {
+        let v = self.to_view(p);
+        if !(v.z >= self.near) {
+            return None;
+        }
+        let (w, h) = (self.viewport[0] as f32, self.viewport[1] as f32);
+        let s = match self.projection {
+            Projection::Perspective { .. } => self.focal / v.z,
+            Projection::Orthographic { .. } => self.focal,
+        };
+        Some([0.5 * w + v.x * s, 0.5 * h - v.y * s])
+    }
+
+    /// The largest object-space length near `sphere` that projects to at most one pixel (see
+    /// the module docs), and whether the sphere lies wholly outside the view.
+    pub(crate) fn pixel_size(&self, sphere: &BoundingSphere) -> (f32, bool) {
+        let c = self.to_view(sphere.center);
+        let r = sphere.radius;
+        match self.projection {
+            Projection::Orthographic { .. } => {
+                let half_h = 0.5 * self.viewport[1] as f32 / self.focal;
+                let half_w = 0.5 * self.viewport[0] as f32 / self.focal;
+                let outside = c.z + r < self.near
+                    || c.x.abs() - r > half_w
+                    || c.y.abs() - r > half_h;
+                (1.0 / self.focal, outside)
+            }
+            Projection::Perspective { .. } => {
+                let [sx, sy] = self.slope;
+                // Distance of the centre outside each side plane (planes through the eye).
+                let side = |x: f32, s: f32| (x.abs() - s * c.z) / sqrt(1.0 + s * s);
+                let outside = c.z + r < self.near || side(c.x, sx) > r || side(c.y, sy) > r;
+                let z_min = (c.z - r).max(self.near);
+                let a = ((c.x.abs() + r) / z_min).min(sx);
+                let b = ((c.y.abs() + r) / z_min).min(sy);
+                let size = z_min / (self.focal * sqrt(1.0 + a * a + b * b));
+                (size, outside)
+            }
+        }
+    }
+}
+
+/// What the tessellation must achieve in a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum View {
+    /// On-screen error at most `tolerance_px` pixels for `camera`; patches outside the view
+    /// are culled.
+    Screen {
+        /// The camera.
+        camera: Camera,
+        /// Largest allowed projected deviation, in pixels.
+        tolerance_px: f32,
+    },
+    /// Object-space deviation at most `tolerance` everywhere, nothing culled (for tests and
+    /// for users that do not display).
+    Object {
+        /// Largest allowed deviation, in model units.
+        tolerance: f32,
+    },
+}
+
+impl View {
+    /// The tolerance as given: pixels for [`View::Screen`], model units for [`View::Object`].
+    pub fn tolerance(&self) -> f32 {
+        match self {
+            View::Screen { tolerance_px, .. } => *tolerance_px,
+            View::Object { tolerance } => *tolerance,
+        }
+    }
+
+    /// The same view with another tolerance.
+    pub fn with_tolerance(self, t: f32) -> View {
+        match self {
+            View::Screen { camera, .. } => View::Screen {
+                camera,
+                tolerance_px: t,
+            },
+            View::Object { .. } => View::Object { tolerance: t },
+        }
+    }
+
+    /// Object-space length per unit of tolerance near `sphere`, and whether it is culled.
+    pub(crate) fn scale(&self, sphere: &BoundingSphere) -> (f32, bool) {
+        match self {
+            View::Screen { camera, .. } => camera.pixel_size(sphere),
+            View::Object { .. } => (1.0, false),
+        }
+    }
+}
