@@ -128,10 +128,12 @@ impl Camera {
             Projection::Perspective { fov_y_degrees } => fov_y_degrees,
             Projection::Orthographic { height } => height,
         };
-        if !(eye.is_finite() && target.is_finite() && up.is_finite())
-            || !extra.is_finite()
-            || !near.is_finite()
-        {
+        let finite = eye.is_finite()
+            && target.is_finite()
+            && up.is_finite()
+            && extra.is_finite()
+            && near.is_finite();
+        if !finite {
             return Err(CameraError::NotFinite);
         }
         if viewport[0] == 0 || viewport[1] == 0 {
@@ -218,7 +220,7 @@ impl Camera {
     /// `None` when `p` is closer than the near plane.
     pub fn project(&self, p: Vec3) -> Option<[f32; 2]> {
         let v = self.to_view(p);
-        if !(v.z >= self.near) {
+        if v.z.is_nan() || v.z < self.near {
             return None;
         }
         let (w, h) = (self.viewport[0] as f32, self.viewport[1] as f32);
@@ -238,9 +240,8 @@ impl Camera {
             Projection::Orthographic { .. } => {
                 let half_h = 0.5 * self.viewport[1] as f32 / self.focal;
                 let half_w = 0.5 * self.viewport[0] as f32 / self.focal;
-                let outside = c.z + r < self.near
-                    || c.x.abs() - r > half_w
-                    || c.y.abs() - r > half_h;
+                let outside =
+                    c.z + r < self.near || c.x.abs() - r > half_w || c.y.abs() - r > half_h;
                 (1.0 / self.focal, outside)
             }
             Projection::Perspective { .. } => {

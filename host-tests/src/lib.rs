@@ -10,6 +10,7 @@ pub mod baked;
 pub mod model_file;
 pub mod peers;
 pub mod reference;
+pub mod runtime;
 
 use std::path::PathBuf;
 

@@ -27,11 +27,23 @@ enum Point {
     /// A corner node.
     Node(u32),
     /// Curve `curve` at parameter `num / den`; `j` is its place along the curve's vertices.
-    Curve { curve: u32, j: u32, num: u32, den: u32 },
+    Curve {
+        curve: u32,
+        j: u32,
+        num: u32,
+        den: u32,
+    },
     /// An interior domain vertex.
     Vertex { id: u16, p: GridPoint },
     /// Point `r` (from the edge's smaller end) of interior edge `edge` of triangle `slot`.
-    Edge { slot: u16, edge: u8, r: u32, u: u32, v: u32, den: u32 },
+    Edge {
+        slot: u16,
+        edge: u8,
+        r: u32,
+        u: u32,
+        v: u32,
+        den: u32,
+    },
     /// Inner point `k` of the current triangle.
     Face { k: u32, u: u32, v: u32, den: u32 },
 }
@@ -143,7 +155,7 @@ impl PatchView<'_, '_, '_> {
         &self,
         t: usize,
         mut faces: impl FnMut(Point),
-        mut out: impl FnMut([Point; 3]),
+        mut out: impl FnMut([Point; 3], [[u32; 3]; 3]),
     ) {
         let Some((v, n)) = self.triangle(t) else {
             return;
@@ -213,7 +225,11 @@ impl PatchView<'_, '_, '_> {
                             let (ta, ja) = self.curve_point(curve, reversed, side, a);
                             let (tb, jb) = self.curve_point(curve, reversed, side, b);
                             let r = r as u32;
-                            let (lo, hi, rl) = if ta < tb { (ta, tb, r) } else { (tb, ta, f - r) };
+                            let (lo, hi, rl) = if ta < tb {
+                                (ta, tb, r)
+                            } else {
+                                (tb, ta, f - r)
+                            };
                             Point::Curve {
                                 curve,
                                 j: ja.min(jb) + rl,
@@ -225,17 +241,42 @@ impl PatchView<'_, '_, '_> {
                 }
             }
         };
+        // The point's own parameters in this patch, as `[u, v, denominator]`.
+        let local = |l: Local| -> [u32; 3] {
+            match l {
+                Local::Corner(k) => [pr[k as usize].u as u32, pr[k as usize].v as u32, MAX],
+                Local::Side { side, r } => {
+                    let s = side as usize;
+                    let (f, r) = (e[s] as u32, r as u32);
+                    let (a, b) = (pr[s], pr[(s + 1) % 3]);
+                    [
+                        (f - r) * a.u as u32 + r * b.u as u32,
+                        (f - r) * a.v as u32 + r * b.v as u32,
+                        f * MAX,
+                    ]
+                }
+                Local::Lattice { a, b } => {
+                    let (u, v, d) = lattice(a as u32, b as u32, nf as u32);
+                    [u, v, d]
+                }
+                Local::Centroid => {
+                    let (u, v, d) = lattice(1, 1, 3);
+                    [u, v, d]
+                }
+            }
+        };
         pattern::for_each_triangle(nf, e, |tri| {
             let p = tri.map(|l| match l {
                 Local::Corner(k) => corner[k as usize],
                 Local::Side { side, r } => side_point(side, r),
                 other => face(other),
             });
-            let same = |x: Point, y: Point| matches!((x, y), (Point::Node(a), Point::Node(b)) if a == b);
+            let same =
+                |x: Point, y: Point| matches!((x, y), (Point::Node(a), Point::Node(b)) if a == b);
             if same(p[0], p[1]) || same(p[1], p[2]) || same(p[2], p[0]) {
                 return;
             }
-            out(p);
+            out(p, tri.map(local));
         });
     }
 }
@@ -265,7 +306,9 @@ impl<'m, 's> Tessellator<'m, 's> {
                 let (u, v) = CORNER_UV[k];
                 (owner, u, v)
             }
-            Point::Curve { curve, num, den, .. } => {
+            Point::Curve {
+                curve, num, den, ..
+            } => {
                 let t = num as f32 / den as f32;
                 match self.baked.curve(curve as usize) {
                     Some(bc) => {
@@ -405,12 +448,12 @@ impl<'m, 's> Tessellator<'m, 's> {
             let vc = self.storage.patches[p].vertex_capacity as usize;
             let (vidx, ebase) = scratch.split_at_mut(vc);
             // Domain vertices.
-            for id in 0..vc {
+            for (id, slot) in vidx.iter_mut().enumerate().take(vc) {
                 if self.storage.vertices[view.vo + id].live_point().is_none() {
                     continue;
                 }
                 let point = view.vertex(id as u16);
-                vidx[id] = match point {
+                *slot = match point {
                     Point::Node(n) => n,
                     Point::Curve { curve, j, .. } => self.curve_index(curve, j),
                     _ => {
@@ -462,6 +505,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                 }
             }
             // Refined triangles.
+            let first_triangle = triangles;
             for t in 0..view.tc {
                 let face_base = next;
                 let mut faces = 0u32;
@@ -473,7 +517,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                         }
                         faces += 1;
                     },
-                    |tri| {
+                    |tri, _| {
                         if let Some(ts) = ts_out.as_mut() {
                             let index = |q: Point| -> u32 {
                                 match q {
@@ -493,6 +537,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                 );
                 next += faces;
             }
+            self.storage.patches[p].triangles = [first_triangle, triangles];
         }
         self.storage.scratch = scratch;
         Some(MeshCounts {
@@ -521,8 +566,17 @@ impl<'m, 's> Tessellator<'m, 's> {
         cs.base + j - 1
     }
 
-    /// Hands every triangle of the frame, with its vertices, to `sink`.
+    /// Hands every triangle of the frame, with its vertices, to `sink`, in the order of
+    /// [`write_mesh`](Self::write_mesh)'s triangles.
     pub fn stream(&self, sink: &mut impl TriangleSink) {
+        self.stream_with_params(|patch, corners, _| sink.triangle(patch, corners));
+    }
+
+    /// Like [`stream`](Self::stream), also passing each corner's parameters `(u, v)` in the
+    /// triangle's own patch (a vertex on a shared curve carries its owner's parameters; these
+    /// are the ones of the patch the triangle belongs to, and for a collapsed edge, the point
+    /// of that edge the triangle's corner sits at).
+    pub fn stream_with_params(&self, mut f: impl FnMut(u32, [&Vertex; 3], [[f32; 2]; 3])) {
         for p in 0..self.baked.patch_count() {
             let Some(view) = self.patch_view(p) else {
                 continue;
@@ -531,9 +585,10 @@ impl<'m, 's> Tessellator<'m, 's> {
                 view.refine(
                     t,
                     |_| {},
-                    |tri| {
+                    |tri, local| {
                         let [a, b, c] = tri.map(|q| self.vertex_data(q, p));
-                        sink.triangle(p as u32, [&a, &b, &c]);
+                        let uv = local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]);
+                        f(p as u32, [&a, &b, &c], uv);
                     },
                 );
             }

@@ -28,8 +28,11 @@
 //! along a curve use the same bits (and, in indexed output, the same index). A collapsed edge
 //! is one vertex, and triangles that would have two corners on it are dropped.
 
+mod budget;
 mod emit;
 mod pattern;
+
+pub use budget::{BudgetError, BudgetFit};
 
 use core::fmt;
 
@@ -89,6 +92,8 @@ pub struct PatchSlot {
     center: [f32; 3],
     radius: f32,
     nodes: [u32; 4],
+    /// The patch's output triangles in the current frame.
+    triangles: [u32; 2],
     /// Nodes created by the patches before this one.
     first_node: u32,
     /// Threshold of the current frame.
@@ -108,6 +113,8 @@ pub struct CurveSlot {
     /// Active samples.
     count: u16,
     c: f32,
+    /// Scratch threshold of the budget prediction.
+    predict_c: f32,
     used: bool,
     factor: u8,
     /// First output vertex of the curve in the current [`Tessellator::write_mesh`].
@@ -163,7 +170,11 @@ impl StorageSize {
 }
 
 /// Vertex and triangle slots of one patch, and its interior cap.
-fn patch_capacity(baked: &BakedModel<'_>, bp: &BakedPatch<'_>, settings: &Settings) -> (usize, usize, u16) {
+fn patch_capacity(
+    baked: &BakedModel<'_>,
+    bp: &BakedPatch<'_>,
+    settings: &Settings,
+) -> (usize, usize, u16) {
     let mut v = 4usize;
     for link in bp.edges {
         if let EdgeLink::Curve { curve, .. } = link {
@@ -236,7 +247,10 @@ impl fmt::Display for TessellatorError {
                 needed.scratch
             ),
             TessellatorError::PatchTooLarge { patch } => {
-                write!(f, "patch {patch} has too many curve samples for one domain mesh")
+                write!(
+                    f,
+                    "patch {patch} has too many curve samples for one domain mesh"
+                )
             }
         }
     }
@@ -369,7 +383,8 @@ pub struct Tessellator<'m, 's> {
 /// Count of samples recorded with a deviation above `c` in a non-increasing list whose value
 /// before the first sample is `initial`.
 fn prefix(initial: f32, len: usize, deviation: impl Fn(usize) -> f32, c: f32) -> usize {
-    if !(initial > c) {
+    // NaN thresholds and deviations count as "not above".
+    if initial.partial_cmp(&c) != Some(core::cmp::Ordering::Greater) {
         return 0;
     }
     // Smallest n in 1..=len with deviation(n - 1) <= c, or len.
@@ -454,7 +469,7 @@ fn estimate(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> f32 {
 
 /// Smallest factor `n <= max` with `deviation / n² <= c`.
 fn factor_for(deviation: f32, c: f32, max: u8) -> u8 {
-    if !(deviation > c) {
+    if deviation.partial_cmp(&c) != Some(core::cmp::Ordering::Greater) {
         return 1;
     }
     let n = libm::ceilf(sqrt(deviation / c));
@@ -588,7 +603,9 @@ impl<'m, 's> Tessellator<'m, 's> {
     /// Position of corner `k` (domain corner order) of patch `p`.
     fn corner_position(&self, p: usize, k: usize) -> Vec3 {
         let (u, v) = CORNER_UV[k];
-        self.patches.patch(p).map_or(Vec3::ZERO, |patch| patch.position(u, v))
+        self.patches
+            .patch(p)
+            .map_or(Vec3::ZERO, |patch| patch.position(u, v))
     }
 
     /// The patches.
@@ -612,6 +629,22 @@ impl<'m, 's> Tessellator<'m, 's> {
             vertices: self.counts.vertices as usize,
             triangles: self.counts.triangles as usize,
         }
+    }
+
+    /// The range of [`write_mesh`](Self::write_mesh)'s triangles that belong to patch `p`
+    /// (empty when culled).
+    pub fn patch_triangles(&self, p: usize) -> core::ops::Range<usize> {
+        match self.storage.patches.get(p) {
+            Some(s) if !s.culled && p < self.baked.patch_count() => {
+                s.triangles[0] as usize..s.triangles[1] as usize
+            }
+            _ => 0..0,
+        }
+    }
+
+    /// True when patch `p` was culled in the current frame.
+    pub fn is_culled(&self, p: usize) -> bool {
+        self.storage.patches.get(p).is_some_and(|s| s.culled)
     }
 
     /// Brings every patch to `view`: inserts and deletes samples, estimates new triangles,
@@ -696,7 +729,9 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
         for k in 0..baked.curve_count() {
             let cs = self.storage.curves[k];
-            let Some(curve) = baked.curve(k) else { continue };
+            let Some(curve) = baked.curve(k) else {
+                continue;
+            };
             if !cs.used {
                 continue;
             }
@@ -730,7 +765,10 @@ impl<'m, 's> Tessellator<'m, 's> {
     /// The mesh of patch `p`, over its storage.
     fn mesh<'b>(storage: &'b mut TessellatorStorage<'s>, slot: &PatchSlot) -> DomainMesh<'b> {
         let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
-        let (to, tc) = (slot.triangle_offset as usize, slot.triangle_capacity as usize);
+        let (to, tc) = (
+            slot.triangle_offset as usize,
+            slot.triangle_capacity as usize,
+        );
         DomainMesh::resume(
             &mut storage.vertices[vo..vo + vc],
             &mut storage.triangles[to..to + tc],
@@ -855,8 +893,11 @@ impl<'m, 's> Tessellator<'m, 's> {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
                 };
-                let corners =
-                    v.map(|id| self.storage.vertices[vo + id as usize].live_point().unwrap_or_default());
+                let corners = v.map(|id| {
+                    self.storage.vertices[vo + id as usize]
+                        .live_point()
+                        .unwrap_or_default()
+                });
                 let state = &mut self.storage.triangle_states[to + t];
                 if state.corners != corners {
                     state.corners = corners;

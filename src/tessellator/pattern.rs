@@ -111,11 +111,7 @@ fn uniform(n: u8, off: u8, m: u8, out: &mut impl FnMut([Local; 3])) {
     for b in 0..m {
         for a in 0..m - b {
             let (x, y) = (a + off, b + off);
-            out([
-                lattice(n, x, y),
-                lattice(n, x + 1, y),
-                lattice(n, x, y + 1),
-            ]);
+            out([lattice(n, x, y), lattice(n, x + 1, y), lattice(n, x, y + 1)]);
             if a + b + 2 <= m {
                 out([
                     lattice(n, x + 1, y),
@@ -215,7 +211,8 @@ fn zip(n: u8, e: [u8; 3], out: &mut impl FnMut([Local; 3])) {
     let inner_len = 3 * (n as u32 - 3);
     let (mut ia, mut ib) = (0u32, 0u32);
     while ia < outer_len || ib < inner_len {
-        let advance_outer = ia < outer_len && (ib == inner_len || outer(e, ia + 1).1.le(inner(n, ib + 1).1));
+        let advance_outer =
+            ia < outer_len && (ib == inner_len || outer(e, ia + 1).1.le(inner(n, ib + 1).1));
         if advance_outer {
             out([outer(e, ia).0, outer(e, ia + 1).0, inner(n, ib).0]);
             ia += 1;

@@ -1,0 +1,129 @@
+//! Host-side helpers for the run-time tessellator: storage in `Vec`s, meshes, and the checks
+//! the tests and figures share.
+
+use std::collections::HashMap;
+
+use spline_tess::bake::BakedModel;
+use spline_tess::tessellator::{
+    CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage, TriangleSlot,
+};
+use spline_tess::{MeshTriangle, MeshVertex, PatchSet, Vertex};
+
+/// Heap storage for a [`Tessellator`].
+pub struct RuntimeStorage {
+    patches: Vec<PatchSlot>,
+    curves: Vec<CurveSlot>,
+    order: Vec<u16>,
+    vertices: Vec<MeshVertex>,
+    triangles: Vec<MeshTriangle>,
+    states: Vec<TriangleSlot>,
+    scratch: Vec<u32>,
+}
+
+impl RuntimeStorage {
+    /// Storage sized for `baked` with `settings`.
+    pub fn new(baked: &BakedModel<'_>, settings: &Settings) -> Self {
+        let s = StorageSize::of(baked, settings);
+        RuntimeStorage {
+            patches: vec![PatchSlot::default(); s.patches],
+            curves: vec![CurveSlot::default(); s.curves],
+            order: vec![0; s.curve_order],
+            vertices: vec![MeshVertex::default(); s.vertices],
+            triangles: vec![MeshTriangle::default(); s.triangles],
+            states: vec![TriangleSlot::default(); s.triangles],
+            scratch: vec![0; s.scratch],
+        }
+    }
+
+    /// A tessellator over this storage.
+    pub fn tessellator<'m>(
+        &mut self,
+        patches: PatchSet<'m>,
+        baked: BakedModel<'m>,
+        settings: Settings,
+    ) -> Tessellator<'m, '_> {
+        let storage = TessellatorStorage {
+            patches: &mut self.patches,
+            curves: &mut self.curves,
+            curve_order: &mut self.order,
+            vertices: &mut self.vertices,
+            triangles: &mut self.triangles,
+            triangle_states: &mut self.states,
+            scratch: &mut self.scratch,
+        };
+        Tessellator::new(patches, baked, settings, storage).expect("storage sized by StorageSize")
+    }
+}
+
+/// An indexed mesh.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Vertices.
+    pub vertices: Vec<Vertex>,
+    /// Triangles.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// The current frame as an indexed mesh.
+pub fn indexed(tess: &mut Tessellator<'_, '_>) -> Mesh {
+    let size = tess.mesh_size();
+    let mut mesh = Mesh {
+        vertices: vec![Vertex::default(); size.vertices],
+        triangles: vec![[0; 3]; size.triangles],
+    };
+    tess.write_mesh(&mut mesh.vertices, &mut mesh.triangles)
+        .expect("buffers sized by mesh_size");
+    mesh
+}
+
+/// One streamed triangle: its patch, vertices and own-patch parameters.
+#[derive(Clone, Debug)]
+pub struct Streamed {
+    /// The patch.
+    pub patch: u32,
+    /// Vertices.
+    pub corners: [Vertex; 3],
+    /// Parameters in the patch.
+    pub uv: [[f32; 2]; 3],
+}
+
+/// The current frame as streamed triangles.
+pub fn streamed(tess: &Tessellator<'_, '_>) -> Vec<Streamed> {
+    let mut out = Vec::new();
+    tess.stream_with_params(|patch, c, uv| {
+        out.push(Streamed {
+            patch,
+            corners: [*c[0], *c[1], *c[2]],
+            uv,
+        })
+    });
+    out
+}
+
+/// The frame's triangles as a sorted list of corner sets `(patch, u bits, v bits)`.
+pub fn triangle_set(tris: &[Streamed]) -> Vec<[(u32, u32, u32); 3]> {
+    let mut set: Vec<[(u32, u32, u32); 3]> = tris
+        .iter()
+        .map(|t| {
+            let mut c = t.uv.map(|[u, v]| (t.patch, u.to_bits(), v.to_bits()));
+            c.sort();
+            c
+        })
+        .collect();
+    set.sort();
+    set
+}
+
+/// Edge use counts of an indexed mesh, keyed by sorted vertex pair, with one triangle per
+/// edge for reporting.
+pub fn edge_uses(mesh: &Mesh) -> HashMap<(u32, u32), (usize, usize)> {
+    let mut uses: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            uses.entry(key).or_insert((0, k)).0 += 1;
+        }
+    }
+    uses
+}

@@ -1,0 +1,378 @@
+//! The run time on every model, along a camera path (far, mid, near, grazing, eye inside the
+//! model's bound, looking away so that most patches are behind) and in object-space mode:
+//!
+//! - every triangle's deviation, sampled densely with the f64 reference and projected with the
+//!   camera, is at most the tolerance (or the larger error the frame itself predicts, where
+//!   refinement hit its cap);
+//! - watertight: an edge used by one triangle lies on an open model curve (or one whose other
+//!   patch is culled), no edge is used by more than two, and no two vertices share a position;
+//! - the streamed triangles are the indexed ones, vertex for vertex;
+//! - history independence: after every step of the path, the mesh equals the one a fresh
+//!   tessellator builds for that view alone;
+//! - budget mode: the budget is never exceeded and 1% less tolerance would exceed it.
+
+use std::collections::{HashMap, HashSet};
+
+use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::reference::RefPatch;
+use host_tests::runtime::{edge_uses, indexed, streamed, triangle_set, RuntimeStorage, Streamed};
+use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::tessellator::Settings;
+use spline_tess::{Camera, EdgeLink, FrameStats, Projection, Vec3, View};
+
+const BAKE: BakeSettings = BakeSettings {
+    tolerance: Tolerance::Relative(1e-3),
+    max_curve_samples: 256,
+    max_interior_samples: 1024,
+};
+/// Barycentric steps of the dense deviation check.
+const DENSE: usize = 8;
+const VIEWPORT: [u32; 2] = [160, 120];
+
+/// An f64 copy of a camera, for measuring.
+struct Meter {
+    eye: [f64; 3],
+    basis: [[f64; 3]; 3],
+    focal: f64,
+    perspective: bool,
+    near: f64,
+}
+
+fn norm(a: [f64; 3]) -> [f64; 3] {
+    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+impl Meter {
+    fn new(eye: Vec3, target: Vec3, up: Vec3, fov: f64, near: f64) -> Meter {
+        let w = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
+        let f = norm(sub(w(target), w(eye)));
+        let r = norm(cross(f, w(up)));
+        let u = cross(r, f);
+        Meter {
+            eye: w(eye),
+            basis: [r, u, f],
+            focal: 0.5 * VIEWPORT[1] as f64 / (fov.to_radians() * 0.5).tan(),
+            perspective: true,
+            near,
+        }
+    }
+
+    /// Pixel position, or `None` when clipped or outside the viewport.
+    fn project(&self, p: [f64; 3]) -> Option<[f64; 2]> {
+        let d = sub(p, self.eye);
+        let (x, y, z) = (
+            dot(d, self.basis[0]),
+            dot(d, self.basis[1]),
+            dot(d, self.basis[2]),
+        );
+        if self.perspective && z < self.near {
+            return None;
+        }
+        let s = if self.perspective {
+            self.focal / z
+        } else {
+            self.focal
+        };
+        let (px, py) = (
+            0.5 * VIEWPORT[0] as f64 + x * s,
+            0.5 * VIEWPORT[1] as f64 - y * s,
+        );
+        let inside = px >= 0.0 && px <= VIEWPORT[0] as f64 && py >= 0.0 && py <= VIEWPORT[1] as f64;
+        inside.then_some([px, py])
+    }
+}
+
+struct Step {
+    label: &'static str,
+    view: View,
+    meter: Option<Meter>,
+}
+
+fn camera_path(center: Vec3, diag: f32, floor: f32) -> Vec<Step> {
+    let dir = Vec3::new(1.0, -2.0, 0.7).normalize();
+    let near = 0.02 * diag;
+    let camera = |label, eye: Vec3, target: Vec3, fov: f32, tol: f32| {
+        let cam = Camera::new(
+            eye,
+            target,
+            Vec3::Z,
+            Projection::Perspective { fov_y_degrees: fov },
+            near,
+            VIEWPORT,
+        )
+        .unwrap();
+        Step {
+            label,
+            view: View::Screen {
+                camera: cam,
+                tolerance_px: tol,
+            },
+            meter: Some(Meter::new(eye, target, Vec3::Z, fov as f64, near as f64)),
+        }
+    };
+    let low = Vec3::new(center.x, center.y, floor + 0.05 * diag);
+    vec![
+        camera("far", center + dir * (3.0 * diag), center, 40.0, 1.0),
+        camera("mid", center + dir * (1.2 * diag), center, 40.0, 0.5),
+        camera("near", center + dir * (0.6 * diag), center, 50.0, 1.0),
+        camera("grazing", low + Vec3::X * (1.5 * diag), low, 40.0, 1.0),
+        camera("inside", center, center + Vec3::X, 60.0, 2.0),
+        camera(
+            "behind",
+            center + dir * (0.4 * diag),
+            center + dir * (3.0 * diag),
+            60.0,
+            1.0,
+        ),
+        Step {
+            label: "object",
+            view: View::Object {
+                tolerance: 2e-3 * diag,
+            },
+            meter: None,
+        },
+        camera("far again", center + dir * (3.0 * diag), center, 40.0, 1.0),
+    ]
+}
+
+/// Largest measured deviation over the allowed one, over every triangle of the frame.
+fn worst_deviation(refs: &[RefPatch], tris: &[Streamed], meter: Option<&Meter>) -> f64 {
+    let mut worst = 0.0f64;
+    for t in tris {
+        let r = &refs[t.patch as usize];
+        let pos = t.corners.map(|c| c.position.map(|x| x as f64));
+        let uv = t.uv.map(|[u, v]| [u as f64, v as f64]);
+        for i in 0..=DENSE {
+            for j in 0..=DENSE - i {
+                let (a, b) = (i as f64 / DENSE as f64, j as f64 / DENSE as f64);
+                let c = 1.0 - a - b;
+                let u = uv[0][0] * c + uv[1][0] * a + uv[2][0] * b;
+                let v = uv[0][1] * c + uv[1][1] * a + uv[2][1] * b;
+                let s = r.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
+                let l = [0, 1, 2].map(|k| pos[0][k] * c + pos[1][k] * a + pos[2][k] * b);
+                let d = match meter {
+                    None => host_tests::reference::dist(s, l),
+                    Some(m) => match (m.project(s), m.project(l)) {
+                        (Some(p), Some(q)) => {
+                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
+                        }
+                        _ => 0.0,
+                    },
+                };
+                worst = worst.max(d);
+            }
+        }
+    }
+    worst
+}
+
+/// Watertightness of the indexed mesh; `open(patch, side)` says whether an edge may be
+/// used once there.
+fn check_watertight(
+    label: &str,
+    mesh: &host_tests::runtime::Mesh,
+    tris: &[Streamed],
+    open: &dyn Fn(u32, usize) -> bool,
+) {
+    let uses = edge_uses(mesh);
+    // Coincident patches (the teacup's bottom is two patches on top of each other, facing
+    // opposite ways) make coincident triangles; an edge may be used by more than two
+    // triangles only through such duplicates.
+    let mut sets: HashMap<(u32, u32), HashSet<[u32; 3]>> = HashMap::new();
+    for t in &mesh.triangles {
+        let mut key = *t;
+        key.sort();
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            sets.entry((a.min(b), a.max(b))).or_default().insert(key);
+        }
+    }
+    for (&(a, b), &(n, k)) in &uses {
+        let distinct = sets[&(a, b)].len();
+        assert!(
+            distinct <= 2 && (n <= 2 || n == 2 * distinct),
+            "{label}: edge {a}-{b} used by {n} triangles, {distinct} distinct"
+        );
+        if n == 1 {
+            let t = &tris[k];
+            let pa = mesh.vertices[a as usize].position;
+            let ia = t.corners.iter().position(|c| c.position == pa).unwrap();
+            let pb = mesh.vertices[b as usize].position;
+            let ib = t.corners.iter().position(|c| c.position == pb).unwrap();
+            let (x, y) = (t.uv[ia], t.uv[ib]);
+            let side = if x[1] == 0.0 && y[1] == 0.0 {
+                0
+            } else if x[0] == 1.0 && y[0] == 1.0 {
+                1
+            } else if x[1] == 1.0 && y[1] == 1.0 {
+                2
+            } else if x[0] == 0.0 && y[0] == 0.0 {
+                3
+            } else {
+                panic!(
+                    "{label}: interior edge {x:?}-{y:?} of patch {} used once",
+                    t.patch
+                )
+            };
+            assert!(
+                open(t.patch, side),
+                "{label}: edge on shared side {side} of patch {} used once",
+                t.patch
+            );
+        }
+    }
+    let mut seen: HashMap<[u32; 3], u32> = HashMap::new();
+    for (i, v) in mesh.vertices.iter().enumerate() {
+        if let Some(j) = seen.insert(v.position.map(f32::to_bits), i as u32) {
+            // Nodes of culled patches are written but unused; only used vertices count.
+            let used = |x: u32| mesh.triangles.iter().any(|t| t.contains(&x));
+            assert!(
+                !(used(i as u32) && used(j)),
+                "{label}: vertices {j} and {i} share a position {:?}",
+                v.position
+            );
+        }
+    }
+}
+
+fn run_model(path: &std::path::Path) {
+    let label = name(path);
+    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    let bytes = file.with_model(|m| bake_to_vec(m, &BAKE)).unwrap().unwrap();
+    let uses: Vec<u32> = file
+        .with_model(|m| m.topology.curves().iter().map(|c| c.uses).collect())
+        .unwrap();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let patches = file.patches();
+    let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
+    let aabb = patches.aabb().unwrap();
+    let (center, diag) = (aabb.center(), aabb.diagonal());
+    let settings = Settings::default();
+    let mut storage = RuntimeStorage::new(&baked, &settings);
+    let mut tess = storage.tessellator(patches, baked, settings);
+    let mut users: HashMap<u32, Vec<u32>> = HashMap::new();
+    for p in 0..baked.patch_count() {
+        for link in baked.patch(p).unwrap().edges {
+            if let EdgeLink::Curve { curve, .. } = link {
+                users.entry(curve).or_default().push(p as u32);
+            }
+        }
+    }
+    for step in camera_path(center, diag, aabb.min.z) {
+        let what = format!("{label} {}", step.label);
+        let stats: FrameStats = tess.update(&step.view).unwrap();
+        let mesh = indexed(&mut tess);
+        let tris = streamed(&tess);
+        assert_eq!(mesh.triangles.len(), tris.len(), "{what}");
+        assert_eq!(stats.triangles, tris.len(), "{what}");
+        for (t, s) in mesh.triangles.iter().zip(&tris) {
+            for k in 0..3 {
+                assert_eq!(
+                    mesh.vertices[t[k] as usize], s.corners[k],
+                    "{what}: stream != indexed"
+                );
+            }
+        }
+        let open = |p: u32, side: usize| match baked.patch(p as usize).unwrap().edges[side] {
+            EdgeLink::Collapsed => false,
+            EdgeLink::Curve { curve, .. } => {
+                uses[curve as usize] == 1
+                    || users[&curve]
+                        .iter()
+                        .any(|&q| q != p && tess.is_culled(q as usize))
+            }
+        };
+        check_watertight(&what, &mesh, &tris, &open);
+        let allowed = step.view.tolerance().max(stats.max_predicted_error) as f64;
+        let worst = worst_deviation(&refs, &tris, step.meter.as_ref());
+        let slack = if step.meter.is_some() {
+            1e-3
+        } else {
+            1e-6 * diag as f64
+        };
+        println!(
+            "{what}: {} triangles, {} vertices, +{} -{}, {} estimated, {} refined, {} culled, \
+             predicted {:.3}, measured {:.3} (allowed {:.3})",
+            stats.triangles,
+            stats.vertices,
+            stats.inserted,
+            stats.deleted,
+            stats.estimated,
+            stats.refined_patches,
+            stats.culled_patches,
+            stats.max_predicted_error,
+            worst,
+            allowed
+        );
+        assert!(
+            worst <= allowed * 1.001 + slack,
+            "{what}: deviation {worst} > {allowed}"
+        );
+        // History independence.
+        let mut fresh_storage = RuntimeStorage::new(&baked, &settings);
+        let mut fresh = fresh_storage.tessellator(patches, baked, settings);
+        fresh.update(&step.view).unwrap();
+        let a: HashSet<_> = triangle_set(&tris).into_iter().collect();
+        let b: HashSet<_> = triangle_set(&streamed(&fresh)).into_iter().collect();
+        assert!(
+            a == b,
+            "{what}: incremental mesh differs from a fresh build"
+        );
+    }
+    // Budget mode on the mid view.
+    let mid = &camera_path(center, diag, aabb.min.z)[1];
+    let full = tess.update_unrefined(&mid.view).unwrap().triangles;
+    for budget in [full / 3, full / 2, full + 10] {
+        let (stats, fit) = tess.update_to_budget(&mid.view, budget).unwrap();
+        assert!(
+            stats.triangles <= budget,
+            "{label}: {} > budget {budget}",
+            stats.triangles
+        );
+        assert_eq!(
+            stats.triangles, fit.triangles,
+            "{label}: prediction is exact"
+        );
+        if !fit.exhausted {
+            let finer = tess
+                .update_unrefined(&mid.view.with_tolerance(fit.tolerance * 0.99))
+                .unwrap();
+            assert!(
+                finer.triangles > budget,
+                "{label}: tolerance not minimal within 1%"
+            );
+        }
+    }
+}
+
+#[test]
+fn bpt_models_along_a_camera_path() {
+    for path in bpt_models() {
+        run_model(&path);
+    }
+}
+
+#[test]
+fn nurbs_fixtures_along_a_camera_path() {
+    for path in nurbs_fixtures() {
+        run_model(&path);
+    }
+}

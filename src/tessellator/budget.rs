@@ -1,0 +1,205 @@
+//! Budget mode: the smallest tolerance whose mesh fits a triangle count.
+//!
+//! The count is predicted exactly from the prefix lengths, without touching a mesh: a
+//! triangulation of the square with `n` interior and `b` boundary vertices (corners included)
+//! has `2n + b - 2` triangles, and each side without samples whose two corners are one point (a
+//! collapsed edge, or a closed loop) loses the one triangle that has both corners, which is
+//! flat. Prefix lengths only grow as the tolerance shrinks, so the count is monotone and
+//! a bisection on the tolerance (in ratio, to 0.1%) finds the smallest one that fits. Budget
+//! frames are not refined: the mesh is the samples' triangulation, so the prediction is the
+//! count written (and [`FrameStats::max_predicted_error`] says how far the samples reach).
+
+use core::fmt;
+
+use glam::Vec3;
+
+use super::{prefix, FrameStats, Tessellator, UpdateError};
+use crate::bound::BoundingSphere;
+use crate::model::EdgeLink;
+use crate::view::View;
+
+/// The result of fitting a budget.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BudgetFit {
+    /// The smallest tolerance (within 0.1%) whose mesh fits, in the view's units.
+    pub tolerance: f32,
+    /// Triangles of that mesh.
+    pub triangles: usize,
+    /// True when every sample is in and the budget still holds: no smaller tolerance
+    /// changes the mesh.
+    pub exhausted: bool,
+}
+
+/// Why no tolerance fits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum BudgetError {
+    /// Even with no samples (two triangles per patch) the mesh exceeds the budget.
+    TooSmall {
+        /// The smallest possible triangle count for this view.
+        minimum: usize,
+    },
+    /// Updating to the fitted tolerance failed.
+    Update(UpdateError),
+}
+
+impl fmt::Display for BudgetError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BudgetError::TooSmall { minimum } => {
+                write!(
+                    f,
+                    "budget too small: this view needs at least {minimum} triangles"
+                )
+            }
+            BudgetError::Update(e) => write!(f, "update failed: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for BudgetError {}
+
+/// The domain corners at the ends of each side, in [`Side::ALL`](crate::Side::ALL) order.
+const SIDE_CORNERS: [(usize, usize); 4] = [(0, 1), (1, 2), (3, 2), (0, 3)];
+
+impl Tessellator<'_, '_> {
+    /// Triangles of the unrefined mesh for `view`, predicted from prefix lengths alone.
+    pub fn predict_triangles(&mut self, view: &View) -> usize {
+        let baked = self.baked;
+        let tol = view.tolerance();
+        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
+            c.predict_c = f32::INFINITY;
+        }
+        for p in 0..baked.patch_count() {
+            let slot = self.storage.patches[p];
+            let (scale, culled) = view.scale(&BoundingSphere {
+                center: Vec3::from_array(slot.center),
+                radius: slot.radius,
+            });
+            if culled {
+                continue;
+            }
+            if let Some(bp) = baked.patch(p) {
+                for link in bp.edges {
+                    if let EdgeLink::Curve { curve, .. } = link {
+                        let c = &mut self.storage.curves[curve as usize].predict_c;
+                        *c = c.min(tol * scale);
+                    }
+                }
+            }
+        }
+        let mut total = 0usize;
+        for p in 0..baked.patch_count() {
+            let slot = self.storage.patches[p];
+            let (scale, culled) = view.scale(&BoundingSphere {
+                center: Vec3::from_array(slot.center),
+                radius: slot.radius,
+            });
+            let Some(bp) = baked.patch(p) else { continue };
+            if culled {
+                continue;
+            }
+            let samples = bp.samples;
+            let n = prefix(
+                bp.initial_deviation,
+                samples.len(),
+                |i| samples.get(i).map_or(0.0, |s| s.deviation),
+                tol * scale,
+            )
+            .min(slot.interior_cap as usize);
+            let mut b = 4usize;
+            let mut dropped = 0usize;
+            for (s, link) in bp.edges.into_iter().enumerate() {
+                let on_side = match link {
+                    EdgeLink::Curve { curve, .. } => match baked.curve(curve as usize) {
+                        Some(bc) => prefix(
+                            bc.initial_deviation,
+                            bc.samples.len(),
+                            |i| bc.samples.get(i).map_or(0.0, |s| s.deviation),
+                            self.storage.curves[curve as usize].predict_c,
+                        ),
+                        None => 0,
+                    },
+                    EdgeLink::Collapsed => 0,
+                };
+                b += on_side;
+                // A side without samples whose corners are one point (collapsed, or a
+                // closed loop) gives one flat triangle, which is dropped.
+                let (x, y) = SIDE_CORNERS[s];
+                if on_side == 0 && slot.nodes[x] == slot.nodes[y] {
+                    dropped += 1;
+                }
+            }
+            total += (2 * n + b - 2).saturating_sub(dropped);
+        }
+        total
+    }
+
+    /// The smallest tolerance, for `view`'s camera, whose unrefined mesh has at most
+    /// `max_triangles` triangles (the view's own tolerance is ignored).
+    pub fn fit_budget(
+        &mut self,
+        view: &View,
+        max_triangles: usize,
+    ) -> Result<BudgetFit, BudgetError> {
+        let count = |t: f32, s: &mut Self| s.predict_triangles(&view.with_tolerance(t));
+        let (mut lo, mut hi) = (f32::MIN_POSITIVE, f32::MAX);
+        let minimum = count(hi, self);
+        if minimum > max_triangles {
+            return Err(BudgetError::TooSmall { minimum });
+        }
+        let full = count(lo, self);
+        if full <= max_triangles {
+            // Everything fits: the largest tolerance that still takes every sample.
+            while hi > lo * 1.001 {
+                let mid = geometric_mean(lo, hi);
+                if count(mid, self) == full {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return Ok(BudgetFit {
+                tolerance: lo,
+                triangles: full,
+                exhausted: true,
+            });
+        }
+        // `lo` does not fit, `hi` does.
+        let mut fits = minimum;
+        while hi > lo * 1.001 {
+            let mid = geometric_mean(lo, hi);
+            let c = count(mid, self);
+            if c <= max_triangles {
+                hi = mid;
+                fits = c;
+            } else {
+                lo = mid;
+            }
+        }
+        Ok(BudgetFit {
+            tolerance: hi,
+            triangles: fits,
+            exhausted: false,
+        })
+    }
+
+    /// Fits the budget for `view`'s camera and updates to that tolerance without refinement.
+    pub fn update_to_budget(
+        &mut self,
+        view: &View,
+        max_triangles: usize,
+    ) -> Result<(FrameStats, BudgetFit), BudgetError> {
+        let fit = self.fit_budget(view, max_triangles)?;
+        let stats = self
+            .update_unrefined(&view.with_tolerance(fit.tolerance))
+            .map_err(BudgetError::Update)?;
+        Ok((stats, fit))
+    }
+}
+
+/// The geometric mean of two positive numbers, computed without overflow.
+fn geometric_mean(a: f32, b: f32) -> f32 {
+    crate::math::sqrt(a) * crate::math::sqrt(b)
+}
