@@ -284,11 +284,8 @@ fn run_model(path: &std::path::Path) {
         assert_eq!(mesh.triangles.len(), tris.len(), "{what}");
         assert_eq!(stats.triangles, tris.len(), "{what}");
         for (t, s) in mesh.triangles.iter().zip(&tris) {
-            for k in 0..3 {
-                assert_eq!(
-                    mesh.vertices[t[k] as usize], s.corners[k],
-                    "{what}: stream != indexed"
-                );
+            for (&i, c) in t.iter().zip(&s.corners) {
+                assert_eq!(mesh.vertices[i as usize], *c, "{what}: stream != indexed");
             }
         }
         let open = |p: u32, side: usize| match baked.patch(p as usize).unwrap().edges[side] {
