@@ -3,3 +3,4 @@
 #![allow(dead_code)]
 
 pub mod model_file;
+pub mod runtime_storage;

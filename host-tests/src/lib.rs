@@ -11,6 +11,8 @@ pub mod model_file;
 pub mod peers;
 pub mod reference;
 pub mod runtime;
+#[path = "../../examples/common/runtime_storage.rs"]
+pub mod runtime_storage;
 
 use std::path::PathBuf;
 

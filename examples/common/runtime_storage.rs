@@ -1,0 +1,54 @@
+//! Heap storage for the run-time tessellator, for host programs: the examples, and host-tests
+//! (which include this file).
+
+use spline_tess::bake::BakedModel;
+use spline_tess::tessellator::{
+    CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage, TriangleSlot,
+};
+use spline_tess::{MeshTriangle, MeshVertex, PatchSet};
+
+/// Heap storage for a [`Tessellator`].
+pub struct RuntimeStorage {
+    patches: Vec<PatchSlot>,
+    curves: Vec<CurveSlot>,
+    order: Vec<u16>,
+    vertices: Vec<MeshVertex>,
+    triangles: Vec<MeshTriangle>,
+    states: Vec<TriangleSlot>,
+    scratch: Vec<u32>,
+}
+
+impl RuntimeStorage {
+    /// Storage sized for `baked` with `settings`.
+    pub fn new(baked: &BakedModel<'_>, settings: &Settings) -> Self {
+        let s = StorageSize::of(baked, settings);
+        RuntimeStorage {
+            patches: vec![PatchSlot::default(); s.patches],
+            curves: vec![CurveSlot::default(); s.curves],
+            order: vec![0; s.curve_order],
+            vertices: vec![MeshVertex::default(); s.vertices],
+            triangles: vec![MeshTriangle::default(); s.triangles],
+            states: vec![TriangleSlot::default(); s.triangles],
+            scratch: vec![0; s.scratch],
+        }
+    }
+
+    /// A tessellator over this storage.
+    pub fn tessellator<'m>(
+        &mut self,
+        patches: PatchSet<'m>,
+        baked: BakedModel<'m>,
+        settings: Settings,
+    ) -> Tessellator<'m, '_> {
+        let storage = TessellatorStorage {
+            patches: &mut self.patches,
+            curves: &mut self.curves,
+            curve_order: &mut self.order,
+            vertices: &mut self.vertices,
+            triangles: &mut self.triangles,
+            triangle_states: &mut self.states,
+            scratch: &mut self.scratch,
+        };
+        Tessellator::new(patches, baked, settings, storage).expect("storage sized by StorageSize")
+    }
+}

@@ -1,0 +1,309 @@
+//! Tessellates a model for one view or along a camera path, writes the last frame as OBJ, and
+//! prints one JSON line of frame statistics per frame.
+//!
+//! ```text
+//! cargo run --release --example tessellate -- examples/models/teapot.bpt \
+//!     --tolerance 1 --eye 8,-10,6 --target 0,0,1.5 --up 0,0,1 --fov 40 --viewport 1024x768 \
+//!     --obj out/teapot.obj
+//! cargo run --release --example tessellate -- examples/models/teapot.bpt \
+//!     --object-tolerance 0.01 --obj out/teapot.obj
+//! ```
+//!
+//! MODEL is `.bpt` or NURBS `.json`. It is baked on the fly (`--bake-tolerance`, relative to the
+//! bounding-box diagonal, default 1e-3) unless `--baked FILE.bin` gives a bake made by the
+//! `bake` example from the same model. `--path FILE` holds one camera per line,
+//! `ex ey ez tx ty tz ux uy uz fov`, applied in order to the same tessellator (incrementally);
+//! the OBJ is the last frame. `--budget N` fits the tolerance to at most N triangles per frame
+//! (unrefined, see the budget mode). `--near D` sets the near plane (default 1% of the model's
+//! diagonal).
+//!
+//! OBJ: `v`, `vt` (the patch's own parameters; for NURBS, the surface's), `vn`, one `g patch_K`
+//! per patch (for NURBS, K is the surface index: the file holds one surface, so K = 0), and
+//! `f a/a/a b/b/b c/c/c`; vertices on shared curves are shared by index.
+
+mod common;
+
+use std::fmt::Write as _;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use common::model_file::{bake_to_vec, ModelFile};
+use common::runtime_storage::RuntimeStorage;
+use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::tessellator::Settings;
+use spline_tess::{Camera, FrameStats, Projection, Vec3, Vertex, View};
+
+const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
+                     --eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG --viewport WxH) \
+                     [--budget N] [--path FILE] [--baked FILE.bin] [--bake-tolerance REL] \
+                     [--near D] --obj OUT.obj";
+
+#[derive(Default)]
+struct Args {
+    model: String,
+    object_tolerance: Option<f32>,
+    tolerance: Option<f32>,
+    eye: Option<Vec3>,
+    target: Option<Vec3>,
+    up: Option<Vec3>,
+    fov: Option<f32>,
+    viewport: Option<[u32; 2]>,
+    budget: Option<usize>,
+    path: Option<String>,
+    baked: Option<String>,
+    bake_tolerance: Option<f32>,
+    near: Option<f32>,
+    obj: String,
+}
+
+fn vec3(flag: &str, v: Option<String>) -> Result<Vec3, String> {
+    let v = v.ok_or_else(|| format!("{flag} needs X,Y,Z"))?;
+    let parts: Vec<f32> = v
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("{flag}: cannot read `{v}`"))?;
+    match parts.as_slice() {
+        [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
+        _ => Err(format!("{flag}: expected X,Y,Z, got `{v}`")),
+    }
+}
+
+fn value<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, String> {
+    let v = v.ok_or_else(|| format!("{flag} needs a value\n{USAGE}"))?;
+    v.parse()
+        .map_err(|_| format!("{flag}: cannot read `{v}`\n{USAGE}"))
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut a = Args::default();
+    let mut model = None;
+    let mut obj = None;
+    let mut args = std::env::args().skip(1);
+    while let Some(x) = args.next() {
+        match x.as_str() {
+            "--object-tolerance" => a.object_tolerance = Some(value(&x, args.next())?),
+            "--tolerance" => a.tolerance = Some(value(&x, args.next())?),
+            "--eye" => a.eye = Some(vec3(&x, args.next())?),
+            "--target" => a.target = Some(vec3(&x, args.next())?),
+            "--up" => a.up = Some(vec3(&x, args.next())?),
+            "--fov" => a.fov = Some(value(&x, args.next())?),
+            "--viewport" => {
+                let v: String = value(&x, args.next())?;
+                let (w, h) = v
+                    .split_once('x')
+                    .ok_or_else(|| format!("--viewport: expected WxH, got `{v}`"))?;
+                a.viewport = Some([
+                    value("--viewport", Some(w.into()))?,
+                    value("--viewport", Some(h.into()))?,
+                ]);
+            }
+            "--budget" => a.budget = Some(value(&x, args.next())?),
+            "--path" => a.path = Some(value(&x, args.next())?),
+            "--baked" => a.baked = Some(value(&x, args.next())?),
+            "--bake-tolerance" => a.bake_tolerance = Some(value(&x, args.next())?),
+            "--near" => a.near = Some(value(&x, args.next())?),
+            "--obj" => obj = Some(value::<String>(&x, args.next())?),
+            "-h" | "--help" => return Err(USAGE.to_string()),
+            _ if model.is_none() && !x.starts_with("--") => model = Some(x),
+            _ => return Err(format!("unexpected argument `{x}`\n{USAGE}")),
+        }
+    }
+    a.model = model.ok_or(USAGE)?;
+    a.obj = obj.ok_or(format!("--obj is required\n{USAGE}"))?;
+    Ok(a)
+}
+
+/// The views to render, in order.
+fn views(a: &Args, diag: f32) -> Result<Vec<View>, String> {
+    if let Some(t) = a.object_tolerance {
+        return Ok(vec![View::Object { tolerance: t }]);
+    }
+    let tol = a.tolerance.ok_or(format!(
+        "give --object-tolerance or --tolerance with a camera\n{USAGE}"
+    ))?;
+    let viewport = a.viewport.unwrap_or([1024, 768]);
+    let near = a.near.unwrap_or(0.01 * diag);
+    let camera = |eye, target, up, fov: f32| {
+        Camera::new(
+            eye,
+            target,
+            up,
+            Projection::Perspective { fov_y_degrees: fov },
+            near,
+            viewport,
+        )
+        .map(|camera| View::Screen {
+            camera,
+            tolerance_px: tol,
+        })
+        .map_err(|e| format!("camera: {e}"))
+    };
+    match &a.path {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+            let mut out = Vec::new();
+            for (n, line) in text.lines().enumerate() {
+                let line = line.trim();
+                if line.is_empty() || line.starts_with('#') {
+                    continue;
+                }
+                let v: Vec<f32> = line
+                    .split_whitespace()
+                    .map(str::parse)
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| format!("{path}:{}: cannot read `{line}`", n + 1))?;
+                let [ex, ey, ez, tx, ty, tz, ux, uy, uz, fov] = v[..] else {
+                    return Err(format!("{path}:{}: expected 10 numbers", n + 1));
+                };
+                out.push(camera(
+                    Vec3::new(ex, ey, ez),
+                    Vec3::new(tx, ty, tz),
+                    Vec3::new(ux, uy, uz),
+                    fov,
+                )?);
+            }
+            Ok(out)
+        }
+        None => {
+            let need = |x: Option<Vec3>, f: &str| x.ok_or(format!("{f} is required\n{USAGE}"));
+            Ok(vec![camera(
+                need(a.eye, "--eye")?,
+                need(a.target, "--target")?,
+                a.up.unwrap_or(Vec3::Z),
+                a.fov.unwrap_or(45.0),
+            )?])
+        }
+    }
+}
+
+fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
+    format!(
+        "{{\"frame\":{frame},\"tolerance\":{tolerance},\"triangles\":{},\"vertices\":{},\
+         \"inserted\":{},\"deleted\":{},\"estimated\":{},\"refined_patches\":{},\
+         \"culled_patches\":{},\"max_predicted_error\":{},\"ms\":{ms:.3}}}",
+        s.triangles,
+        s.vertices,
+        s.inserted,
+        s.deleted,
+        s.estimated,
+        s.refined_patches,
+        s.culled_patches,
+        s.max_predicted_error
+    )
+}
+
+fn write_obj(
+    path: &str,
+    file: &ModelFile,
+    nurbs: bool,
+    vertices: &[Vertex],
+    groups: &[(usize, std::ops::Range<usize>)],
+    triangles: &[[u32; 3]],
+) -> Result<(), String> {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# spline-tess: {} vertices, {} triangles",
+        vertices.len(),
+        triangles.len()
+    );
+    for v in vertices {
+        let [x, y, z] = v.position;
+        let _ = writeln!(s, "v {x} {y} {z}");
+    }
+    for v in vertices {
+        let r = file.domains[v.patch as usize];
+        let (u, w) = (
+            r.u0 + v.uv[0] * (r.u1 - r.u0),
+            r.v0 + v.uv[1] * (r.v1 - r.v0),
+        );
+        let _ = writeln!(s, "vt {u} {w}");
+    }
+    for v in vertices {
+        let [x, y, z] = v.normal;
+        let _ = writeln!(s, "vn {x} {y} {z}");
+    }
+    let mut current = None;
+    for (patch, range) in groups {
+        let group = if nurbs { 0 } else { *patch };
+        if current != Some(group) {
+            let _ = writeln!(s, "g patch_{group}");
+            current = Some(group);
+        }
+        for t in &triangles[range.clone()] {
+            let [a, b, c] = t.map(|i| i + 1);
+            let _ = writeln!(s, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}");
+        }
+    }
+    if let Some(dir) = std::path::Path::new(path).parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+    }
+    std::fs::write(path, s).map_err(|e| format!("{path}: {e}"))
+}
+
+fn run() -> Result<(), String> {
+    let args = parse_args()?;
+    let file = ModelFile::read(&args.model)?;
+    let nurbs = args.model.ends_with(".json");
+    let bytes = match &args.baked {
+        Some(path) => std::fs::read(path).map_err(|e| format!("{path}: {e}"))?,
+        None => {
+            let settings = BakeSettings {
+                tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
+                max_curve_samples: 256,
+                max_interior_samples: 4096,
+            };
+            file.with_model(|m| bake_to_vec(m, &settings))?
+                .map_err(|e| format!("bake: {e}"))?
+        }
+    };
+    let baked = BakedModel::from_bytes(&bytes).map_err(|e| format!("baked model: {e}"))?;
+    let patches = file.patches();
+    let diag = patches.aabb().map_or(1.0, |b| b.diagonal());
+    let views = views(&args, diag)?;
+    let settings = Settings::default();
+    let mut storage = RuntimeStorage::new(&baked, &settings);
+    let mut tess = storage.tessellator(patches, baked, settings);
+    let (mut vertices, mut triangles) = (Vec::new(), Vec::<[u32; 3]>::new());
+    for (frame, view) in views.iter().enumerate() {
+        let start = Instant::now();
+        let (stats, tolerance) = match args.budget {
+            Some(n) => {
+                let (stats, fit) = tess
+                    .update_to_budget(view, n)
+                    .map_err(|e| format!("frame {frame}: {e}"))?;
+                (stats, fit.tolerance)
+            }
+            None => (
+                tess.update(view)
+                    .map_err(|e| format!("frame {frame}: {e}"))?,
+                view.tolerance(),
+            ),
+        };
+        let size = tess.mesh_size();
+        vertices.resize(size.vertices, Vertex::default());
+        triangles.resize(size.triangles, [0; 3]);
+        tess.write_mesh(&mut vertices, &mut triangles)
+            .map_err(|e| format!("frame {frame}: {e}"))?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        println!("{}", json(frame, tolerance, &stats, ms));
+    }
+    let groups: Vec<_> = (0..tess.patches().len())
+        .map(|p| (p, tess.patch_triangles(p)))
+        .filter(|(_, r)| !r.is_empty())
+        .collect();
+    write_obj(&args.obj, &file, nurbs, &vertices, &groups, &triangles)
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("tessellate: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
