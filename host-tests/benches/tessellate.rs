@@ -26,7 +26,9 @@ fn view(center: Vec3, diag: f32, degrees: f32, tol: f32) -> View {
         eye,
         center,
         Vec3::Z,
-        Projection::Perspective { fov_y_degrees: 40.0 },
+        Projection::Perspective {
+            fov_y_degrees: 40.0,
+        },
         0.01 * diag,
         VIEWPORT,
     )
@@ -98,7 +100,6 @@ fn bench(c: &mut Criterion) {
                 t.update(if flip { &a } else { &b }).unwrap()
             })
         });
-        drop(t);
         group.bench_function("full_update_1px", |bench| {
             bench.iter(|| {
                 let mut t = storage.tessellator(patches, baked, settings);

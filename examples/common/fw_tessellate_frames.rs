@@ -1,0 +1,193 @@
+// What `fw_tessellate` renders, shared (through `#[path]`) with the host test that writes its
+// expected checksums (host-tests/tests/firmware_data.rs): the views, the storage capacities,
+// and one frame's tessellation and checksum. `no_std`, no allocation. Hand-written.
+
+use spline_tess::bake::BakedModel;
+use spline_tess::tessellator::{
+    CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage, TriangleSlot,
+};
+use spline_tess::{Camera, MeshTriangle, MeshVertex, PatchSet, Projection, Vec3, Vertex, View};
+
+/// Bake settings of the firmware's teapot: 2e-3 of the diagonal, small caps.
+pub const BAKE: spline_tess::bake::BakeSettings = spline_tess::bake::BakeSettings {
+    tolerance: spline_tess::bake::Tolerance::Relative(2e-3),
+    max_curve_samples: 16,
+    max_interior_samples: 48,
+};
+
+/// Run-time settings.
+pub const SETTINGS: Settings = Settings {
+    max_interior_samples: 48,
+    max_factor: 8,
+};
+
+/// Capacities of the firmware's storage (the host test checks they cover the bake).
+pub const PATCHES: usize = 32;
+/// Curve slots.
+pub const CURVES: usize = 128;
+/// Curve-order slots.
+pub const ORDER: usize = 128 * 16;
+/// Domain vertex slots.
+pub const VERTICES: usize = 32 * (4 + 4 * 16 + 48);
+/// Domain triangle slots.
+pub const TRIANGLES: usize = 2 * VERTICES;
+/// Output scratch.
+pub const SCRATCH: usize = 4 * (4 + 4 * 16 + 48) * 3;
+/// Output vertices.
+pub const OUT_VERTICES: usize = 6000;
+/// Output triangles.
+pub const OUT_TRIANGLES: usize = 12000;
+
+/// Viewport of the display.
+pub const VIEWPORT: [u32; 2] = [240, 240];
+
+/// The frames: eye, tolerance in pixels. All look at the teapot's middle.
+pub const FRAMES: [([f32; 3], f32); 4] = [
+    ([9.0, -12.0, 7.0], 1.0),
+    ([9.2, -11.85, 7.0], 1.0),
+    ([5.0, -6.5, 4.0], 1.0),
+    ([5.0, -6.5, 4.0], 0.5),
+];
+
+/// The view of frame `k`.
+pub fn view(k: usize) -> Option<View> {
+    let (eye, tol) = FRAMES.get(k).copied()?;
+    let camera = Camera::new(
+        Vec3::from_array(eye),
+        Vec3::new(0.0, 0.0, 1.5),
+        Vec3::Z,
+        Projection::Perspective {
+            fov_y_degrees: 40.0,
+        },
+        0.1,
+        VIEWPORT,
+    )
+    .ok()?;
+    Some(View::Screen {
+        camera,
+        tolerance_px: tol,
+    })
+}
+
+/// True when `size` fits the firmware's capacities.
+pub fn fits(size: &StorageSize) -> bool {
+    size.patches <= PATCHES
+        && size.curves <= CURVES
+        && size.curve_order <= ORDER
+        && size.vertices <= VERTICES
+        && size.triangles <= TRIANGLES
+        && size.scratch <= SCRATCH
+}
+
+/// FNV-1a over 32-bit words.
+pub struct Fnv(pub u32);
+
+impl Fnv {
+    /// Mixes one word in.
+    pub fn word(&mut self, w: u32) {
+        for b in w.to_le_bytes() {
+            self.0 = (self.0 ^ b as u32).wrapping_mul(0x0100_0193);
+        }
+    }
+}
+
+/// Checksum of an indexed mesh: every vertex's bits, then every index.
+pub fn checksum(vertices: &[Vertex], triangles: &[[u16; 3]]) -> u32 {
+    let mut h = Fnv(0x811c_9dc5);
+    for v in vertices {
+        for x in v.position.iter().chain(&v.normal).chain(&v.uv) {
+            h.word(x.to_bits());
+        }
+        h.word(v.patch);
+    }
+    for t in triangles {
+        for &i in t {
+            h.word(i as u32);
+        }
+    }
+    h.0
+}
+
+/// One frame's numbers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Frame {
+    /// Triangles written.
+    pub triangles: u32,
+    /// Vertices written.
+    pub vertices: u32,
+    /// Samples inserted.
+    pub inserted: u32,
+    /// Checksum of the mesh.
+    pub checksum: u32,
+}
+
+/// The firmware's storage, in caller memory (on the device: the stack).
+pub struct Storage {
+    /// Patch slots.
+    pub patches: [PatchSlot; PATCHES],
+    /// Curve slots.
+    pub curves: [CurveSlot; CURVES],
+    /// Curve order.
+    pub order: [u16; ORDER],
+    /// Domain vertices.
+    pub vertices: [MeshVertex; VERTICES],
+    /// Domain triangles.
+    pub triangles: [MeshTriangle; TRIANGLES],
+    /// Cached deviations.
+    pub states: [TriangleSlot; TRIANGLES],
+    /// Output scratch.
+    pub scratch: [u32; SCRATCH],
+}
+
+impl Storage {
+    /// Empty storage.
+    pub fn new() -> Self {
+        Storage {
+            patches: [PatchSlot::default(); PATCHES],
+            curves: [CurveSlot::default(); CURVES],
+            order: [0; ORDER],
+            vertices: [MeshVertex::default(); VERTICES],
+            triangles: [MeshTriangle::default(); TRIANGLES],
+            states: [TriangleSlot::default(); TRIANGLES],
+            scratch: [0; SCRATCH],
+        }
+    }
+
+    /// A tessellator over this storage.
+    pub fn tessellator<'m>(
+        &mut self,
+        patches: PatchSet<'m>,
+        baked: BakedModel<'m>,
+    ) -> Option<Tessellator<'m, '_>> {
+        if !fits(&StorageSize::of(&baked, &SETTINGS)) {
+            return None;
+        }
+        let storage = TessellatorStorage {
+            patches: &mut self.patches,
+            curves: &mut self.curves,
+            curve_order: &mut self.order,
+            vertices: &mut self.vertices,
+            triangles: &mut self.triangles,
+            triangle_states: &mut self.states,
+            scratch: &mut self.scratch,
+        };
+        Tessellator::new(patches, baked, SETTINGS, storage).ok()
+    }
+}
+
+/// Updates `tess` to frame `k` and writes its mesh; `None` on any error.
+pub fn frame(
+    tess: &mut Tessellator<'_, '_>,
+    k: usize,
+    vertices: &mut [Vertex],
+    triangles: &mut [[u16; 3]],
+) -> Option<Frame> {
+    let stats = tess.update(&view(k)?).ok()?;
+    let size = tess.write_mesh(vertices, triangles).ok()?;
+    Some(Frame {
+        triangles: size.triangles as u32,
+        vertices: size.vertices as u32,
+        inserted: stats.inserted as u32,
+        checksum: checksum(&vertices[..size.vertices], &triangles[..size.triangles]),
+    })
+}
