@@ -4,7 +4,7 @@
 //! crack-free triangle meshes, for firmware that drives small displays and for host programs.
 //! The algorithm is Chhugani & Kumar's view-dependent adaptive tessellation (I3D 2001).
 //!
-//! This release holds the foundation every later stage stands on:
+//! What it holds:
 //!
 //! - [`BezierPatch`]: rational Bezier patches of degree 1 to [`MAX_DEGREE`] in u and in v,
 //!   as views over control-point slices, with position, partials, a unit normal that is the
@@ -17,6 +17,13 @@
 //! - [`DomainMesh`]: the fixed-capacity Delaunay triangulation of a patch's (u,v) square with
 //!   insertion and deletion and exact, history-independent decisions, which the bake and the
 //!   run time share.
+//! - [`bake`]: ordered samples per curve and patch by greedy maximum deviation, in a compact
+//!   format read in place from flash;
+//! - [`tessellator`]: the run time. A [`View`] (a [`Camera`] and a pixel tolerance, or an
+//!   object-space tolerance) selects each patch's and curve's prefix of samples, the domain
+//!   meshes are updated in place, triangles past the samples are refined with edge factors
+//!   both sides agree on, and the crack-free mesh is written to caller buffers or streamed to a
+//!   [`TriangleSink`].
 //!
 //! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
 //! states what was needed.
