@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates BENCHMARKS.md: host evaluation speed beside curvo (one run, one machine), the
-# firmware's instructions per evaluation and per patch bake under QEMU icount, the firmware's
-# section sizes, and the bake figures of every model (takes several minutes).
+# firmware's instructions per evaluation, per patch bake and per tessellated frame under QEMU
+# icount, the run-time criterion bench, the firmware's section sizes, and the bake figures of
+# every model (takes about half an hour).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -18,6 +19,9 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 host=$(cargo run -q --release -p host-tests --example eval_speed)
 fw=$(cargo run -q --release --example fw_eval --target thumbv7em-none-eabihf)
 fw_bake=$(cargo run -q --release --example fw_bake --target thumbv7em-none-eabihf)
+fw_tess=$(cargo run -q --release --example fw_tessellate --target thumbv7em-none-eabihf)
+# Criterion's summary lines (name and time interval) and the bench's own triangle counts.
+runtime=$(cargo bench -q -p host-tests --bench tessellate 2>&1 | grep -E 'time:|triangles|degree step')
 bake=$(cargo run -q --release -p host-tests --example bake_figures)
 elf=target/thumbv7em-none-eabihf/release/examples/fw_eval
 sizes=$(arm-none-eabi-size -A "$elf" | awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}')
@@ -72,6 +76,28 @@ grid (2 (n-1)^2 triangles) whose verified deviation is at most the baked one; a 
 more than 512 x 512 counts as 512 (marked \`>\`).
 
 $bake
+
+## Run time on the host
+
+\`cargo bench -p host-tests --bench tessellate\` (criterion): the teapot and Gumbo baked at
+2.5e-4 of the diagonal, viewed whole on 1024x768. *full*: a new tessellator, update and indexed
+write; *step*: one frame after a 1-degree orbit step (update and write); *step_update* and
+*full_update*: the update alone.
+
+\`\`\`text
+$runtime
+\`\`\`
+
+## Run time on the Cortex-M4F
+
+\`cargo run --release --example fw_tessellate --target thumbv7em-none-eabihf\`: the teapot baked
+at 2e-3 of its diagonal (at most 16 samples per curve and 48 per patch interior), four 240x240
+frames (a view, a small orbit step, a dolly in, half the tolerance); instructions cover update
+and indexed write; every frame's checksum equals the host's.
+
+\`\`\`text
+$fw_tess
+\`\`\`
 
 ## Firmware size
 
