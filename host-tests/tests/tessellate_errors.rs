@@ -1,0 +1,206 @@
+//! The run time's typed errors and its behaviour on hostile views: bad tolerances and cameras,
+//! buffers too small (untouched), an index type too narrow, a mismatched bake, short storage,
+//! and random cameras anywhere (inside, behind, far away) without a panic.
+
+use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::models_dir;
+use host_tests::runtime::{edge_uses, indexed, RuntimeStorage};
+use proptest::prelude::*;
+use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::tessellator::{
+    Settings, StorageSize, Tessellator, TessellatorError, TessellatorStorage, UpdateError,
+};
+use spline_tess::{Camera, CameraError, Projection, Vec3, Vertex, View, WriteError};
+
+fn teaspoon() -> (ModelFile, Vec<u8>) {
+    let file = ModelFile::read(models_dir().join("teaspoon.bpt").to_str().unwrap()).unwrap();
+    let settings = BakeSettings {
+        tolerance: Tolerance::Relative(2e-3),
+        max_curve_samples: 64,
+        max_interior_samples: 256,
+    };
+    let bytes = file
+        .with_model(|m| bake_to_vec(m, &settings))
+        .unwrap()
+        .unwrap();
+    (file, bytes)
+}
+
+fn camera(eye: Vec3) -> Result<Camera, CameraError> {
+    Camera::new(
+        eye,
+        Vec3::ZERO,
+        Vec3::Z,
+        Projection::Perspective {
+            fov_y_degrees: 45.0,
+        },
+        0.05,
+        [320, 240],
+    )
+}
+
+#[test]
+fn bad_cameras_are_typed_errors() {
+    let p = Projection::Perspective {
+        fov_y_degrees: 45.0,
+    };
+    let at = |eye, target, up, p, near, vp| Camera::new(eye, target, up, p, near, vp);
+    let (e, t) = (Vec3::new(0.0, -5.0, 0.0), Vec3::ZERO);
+    assert_eq!(
+        at(Vec3::NAN, t, Vec3::Z, p, 0.1, [8, 8]),
+        Err(CameraError::NotFinite)
+    );
+    assert_eq!(
+        at(e, e, Vec3::Z, p, 0.1, [8, 8]),
+        Err(CameraError::EyeAtTarget)
+    );
+    assert_eq!(at(e, t, Vec3::Y, p, 0.1, [8, 8]), Err(CameraError::BadUp));
+    assert_eq!(
+        at(e, t, Vec3::ZERO, p, 0.1, [8, 8]),
+        Err(CameraError::BadUp)
+    );
+    for fov in [0.0, 180.0, -3.0] {
+        let q = Projection::Perspective { fov_y_degrees: fov };
+        assert_eq!(
+            at(e, t, Vec3::Z, q, 0.1, [8, 8]),
+            Err(CameraError::BadProjection)
+        );
+    }
+    let q = Projection::Orthographic { height: 0.0 };
+    assert_eq!(
+        at(e, t, Vec3::Z, q, 0.1, [8, 8]),
+        Err(CameraError::BadProjection)
+    );
+    assert_eq!(at(e, t, Vec3::Z, p, 0.0, [8, 8]), Err(CameraError::BadNear));
+    assert_eq!(
+        at(e, t, Vec3::Z, p, 0.1, [0, 8]),
+        Err(CameraError::EmptyViewport)
+    );
+    assert!(at(e, t, Vec3::Z, p, 0.1, [8, 8]).is_ok());
+}
+
+#[test]
+fn storage_bake_and_tolerance_errors() {
+    let (file, bytes) = teaspoon();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let settings = Settings::default();
+    let need = StorageSize::of(&baked, &settings);
+    // Short storage: the error names every size.
+    let mut st = RuntimeStorage::new(&baked, &settings);
+    let mut t = st.tessellator(file.patches(), baked, settings);
+    for tol in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        assert_eq!(
+            t.update(&View::Object { tolerance: tol }),
+            Err(UpdateError::BadTolerance)
+        );
+    }
+    let mut patches = vec![Default::default(); need.patches];
+    let mut curves = vec![Default::default(); need.curves];
+    let mut order = vec![0u16; need.curve_order];
+    let mut vertices = vec![Default::default(); need.vertices];
+    let mut triangles = vec![Default::default(); need.triangles - 1];
+    let mut states = vec![Default::default(); need.triangles];
+    let mut scratch = vec![0u32; need.scratch];
+    let storage = TessellatorStorage {
+        patches: &mut patches,
+        curves: &mut curves,
+        curve_order: &mut order,
+        vertices: &mut vertices,
+        triangles: &mut triangles,
+        triangle_states: &mut states,
+        scratch: &mut scratch,
+    };
+    let err = Tessellator::new(file.patches(), baked, settings, storage).unwrap_err();
+    assert_eq!(err, TessellatorError::StorageTooSmall { needed: need });
+    assert!(err.to_string().contains("storage too small"));
+    // A bake of another model.
+    let other = ModelFile::read(models_dir().join("teacup.bpt").to_str().unwrap()).unwrap();
+    let mut triangles = vec![Default::default(); need.triangles];
+    let storage = TessellatorStorage {
+        patches: &mut patches,
+        curves: &mut curves,
+        curve_order: &mut order,
+        vertices: &mut vertices,
+        triangles: &mut triangles,
+        triangle_states: &mut states,
+        scratch: &mut scratch,
+    };
+    let err = Tessellator::new(other.patches(), baked, settings, storage).unwrap_err();
+    assert_eq!(err, TessellatorError::ModelMismatch);
+}
+
+#[test]
+fn small_buffers_are_untouched_and_say_what_is_needed() {
+    let (file, bytes) = teaspoon();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let settings = Settings::default();
+    let mut st = RuntimeStorage::new(&baked, &settings);
+    let mut t = st.tessellator(file.patches(), baked, settings);
+    let stats = t.update(&View::Object { tolerance: 1e-3 }).unwrap();
+    let need = t.mesh_size();
+    assert_eq!(
+        (need.vertices, need.triangles),
+        (stats.vertices, stats.triangles)
+    );
+    let marker = Vertex {
+        patch: 7777,
+        ..Vertex::default()
+    };
+    let mut v = vec![marker; need.vertices - 1];
+    let mut tr = vec![[9u32; 3]; need.triangles];
+    let err = t.write_mesh(&mut v, &mut tr).unwrap_err();
+    assert_eq!(err, WriteError::BuffersTooSmall { needed: need });
+    assert!(v.iter().all(|x| *x == marker) && tr.iter().all(|x| *x == [9; 3]));
+    let mut v = vec![marker; need.vertices];
+    let mut tr = vec![[9u32; 3]; need.triangles - 1];
+    assert_eq!(
+        t.write_mesh(&mut v, &mut tr),
+        Err(WriteError::BuffersTooSmall { needed: need })
+    );
+    assert!(v.iter().all(|x| *x == marker));
+    // A mesh past 65 536 vertices cannot use u16 indices.
+    t.update(&View::Object { tolerance: 2e-6 }).unwrap();
+    let need = t.mesh_size();
+    assert!(need.vertices > 65_536, "{need:?}");
+    let mut v = vec![marker; need.vertices];
+    let mut tr = vec![[0u16; 3]; need.triangles];
+    assert_eq!(
+        t.write_mesh(&mut v, &mut tr),
+        Err(WriteError::IndexOverflow {
+            vertices: need.vertices
+        })
+    );
+    assert!(v.iter().all(|x| *x == marker));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Any camera (inside the model, behind it, far away, grazing) and tolerance gives a mesh
+    /// or a typed error, never a panic, and the mesh never uses an edge more than twice.
+    #[test]
+    fn random_views_never_panic(
+        eye in prop::array::uniform3(-40.0f32..40.0),
+        tol in 0.05f32..50.0,
+        budget in 2usize..4000,
+    ) {
+        let (file, bytes) = teaspoon();
+        let baked = BakedModel::from_bytes(&bytes).unwrap();
+        let settings = Settings { max_factor: 4, ..Settings::default() };
+        let mut st = RuntimeStorage::new(&baked, &settings);
+        let mut t = st.tessellator(file.patches(), baked, settings);
+        let Ok(cam) = camera(Vec3::from_array(eye)) else { return Ok(()) };
+        let view = View::Screen { camera: cam, tolerance_px: tol };
+        let stats = t.update(&view).unwrap();
+        let mesh = indexed(&mut t);
+        prop_assert_eq!(mesh.triangles.len(), stats.triangles);
+        prop_assert!(edge_uses(&mesh).values().all(|&(n, _)| n <= 2));
+        match t.update_to_budget(&view, budget) {
+            Ok((s, fit)) => {
+                prop_assert!(s.triangles <= budget);
+                prop_assert!(fit.tolerance > 0.0);
+            }
+            Err(e) => prop_assert!(e.to_string().contains("budget too small")),
+        }
+    }
+}
