@@ -27,6 +27,7 @@ pub use interior::{
     max_deviation, patch_metric, sample_interior, InteriorSample, InteriorSampleError,
     InteriorSampling, TriangleDeviation, BOUNDARY_MARGIN,
 };
+pub(crate) use model::boundary_point;
 pub use model::{
     bake_model, BakeError, BakeScratch, BakeScratchSize, BakeSettings, BakeSummary, Tolerance,
 };

@@ -182,7 +182,9 @@ impl Writer<'_> {
 
 /// The edge parameter `t` of curve parameter `t` on an edge running `reversed`, as a grid
 /// point on `side`.
-fn boundary_point(side: Side, t: u16, reversed: bool) -> GridPoint {
+/// The domain point of curve parameter `t` on `side` (`reversed`: the side runs against the
+/// curve). Shared with the run time.
+pub(crate) fn boundary_point(side: Side, t: u16, reversed: bool) -> GridPoint {
     let e = if reversed { GridPoint::MAX - t } else { t };
     let m = GridPoint::MAX;
     match side {

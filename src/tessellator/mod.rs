@@ -38,7 +38,7 @@ use core::fmt;
 
 use glam::Vec3;
 
-use crate::bake::{BakedModel, BakedPatch};
+use crate::bake::{boundary_point, BakedModel, BakedPatch};
 use crate::bound::BoundingSphere;
 use crate::domain::{DomainMesh, GridPoint, InsertError, MeshHeader, MeshTriangle, MeshVertex};
 use crate::math::{length, sqrt};
@@ -404,18 +404,6 @@ fn prefix(initial: f32, len: usize, deviation: impl Fn(usize) -> f32, c: f32) ->
         }
     }
     lo
-}
-
-/// The domain point of curve parameter `t` on `side`.
-pub(crate) fn side_point(side: Side, t: u16, reversed: bool) -> GridPoint {
-    let e = if reversed { GridPoint::MAX - t } else { t };
-    let m = GridPoint::MAX;
-    match side {
-        Side::V0 => GridPoint::new(e, 0),
-        Side::U1 => GridPoint::new(m, e),
-        Side::V1 => GridPoint::new(e, m),
-        Side::U0 => GridPoint::new(0, e),
-    }
 }
 
 /// The side both points lie on, if any.
@@ -821,7 +809,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             while slot.sides[s] > curve_targets[s] {
                 slot.sides[s] -= 1;
                 if let Some(cs) = bc.samples.get(slot.sides[s] as usize) {
-                    let point = side_point(Side::ALL[s], cs.t, reversed);
+                    let point = boundary_point(Side::ALL[s], cs.t, reversed);
                     if let Some(id) = mesh.find(point) {
                         if mesh.remove(id).is_ok() {
                             stats.deleted += 1;
@@ -841,7 +829,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                 };
                 while slot.sides[s] < curve_targets[s] {
                     if let Some(cs) = bc.samples.get(slot.sides[s] as usize) {
-                        let point = side_point(Side::ALL[s], cs.t, reversed);
+                        let point = boundary_point(Side::ALL[s], cs.t, reversed);
                         if let Err(e) = mesh.insert(point) {
                             result = Err(e);
                             break 'insert;
