@@ -558,7 +558,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             vo += vc;
             to += tc;
         }
-        // Corner nodes: corners at the same position (bit for bit) are one vertex.
+        // Corner nodes: corners with the same control point (bit for bit) are one vertex.
         let mut nodes = 0u32;
         for p in 0..baked.patch_count() {
             self.storage.patches[p].first_node = nodes;
@@ -588,12 +588,14 @@ impl<'m, 's> Tessellator<'m, 's> {
         Ok(())
     }
 
-    /// Position of corner `k` (domain corner order) of patch `p`.
+    /// Control point at corner `k` (domain corner order) of patch `p`: the corner's position,
+    /// read without evaluating the surface (node matching compares every pair of corners).
     fn corner_position(&self, p: usize, k: usize) -> Vec3 {
-        let (u, v) = CORNER_UV[k];
-        self.patches
-            .patch(p)
-            .map_or(Vec3::ZERO, |patch| patch.position(u, v))
+        self.patches.patch(p).map_or(Vec3::ZERO, |patch| {
+            let (du, dv) = (patch.degree_u(), patch.degree_v());
+            let (i, j) = [(0, 0), (du, 0), (du, dv), (0, dv)][k];
+            patch.control_point(i, j)
+        })
     }
 
     /// The patches.
