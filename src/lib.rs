@@ -86,6 +86,8 @@ mod model;
 mod nurbs;
 pub mod parse;
 mod patch;
+#[cfg(feature = "embedded-graphics")]
+pub mod render;
 mod sink;
 pub mod tessellator;
 mod view;

@@ -208,7 +208,11 @@ impl Camera {
 
     /// `p` in view coordinates: `(right, up, depth)` relative to the eye.
     pub fn to_view(&self, p: Vec3) -> Vec3 {
-        let d = p - self.eye();
+        self.rotate_to_view(p - self.eye())
+    }
+
+    /// Direction `d` in view coordinates (rotation only).
+    pub(crate) fn rotate_to_view(&self, d: Vec3) -> Vec3 {
         Vec3::new(
             d.dot(Vec3::from_array(self.right)),
             d.dot(Vec3::from_array(self.up)),
@@ -223,12 +227,58 @@ impl Camera {
         if v.z.is_nan() || v.z < self.near {
             return None;
         }
+        Some(self.view_to_pixel(v))
+    }
+
+    /// Pixel coordinates of a point given in view coordinates (in front of the eye).
+    pub(crate) fn view_to_pixel(&self, v: Vec3) -> [f32; 2] {
         let (w, h) = (self.viewport[0] as f32, self.viewport[1] as f32);
         let s = match self.projection {
             Projection::Perspective { .. } => self.focal / v.z,
             Projection::Orthographic { .. } => self.focal,
         };
-        Some([0.5 * w + v.x * s, 0.5 * h - v.y * s])
+        [0.5 * w + v.x * s, 0.5 * h - v.y * s]
+    }
+
+    #[cfg(feature = "embedded-graphics")]
+    /// Half the viewport's extent in view space: slopes `x/z`, `y/z` at its edges
+    /// (perspective) or object units (orthographic).
+    pub(crate) fn half_extent(&self) -> [f32; 2] {
+        match self.projection {
+            Projection::Perspective { .. } => self.slope,
+            Projection::Orthographic { .. } => [
+                0.5 * self.viewport[0] as f32 / self.focal,
+                0.5 * self.viewport[1] as f32 / self.focal,
+            ],
+        }
+    }
+
+    #[cfg(feature = "embedded-graphics")]
+    /// Pixel rows `[top, bottom]` that `sphere` may cover (conservatively), or `None` when it
+    /// reaches in front of the near plane (its projection is then unbounded).
+    pub(crate) fn sphere_rows(&self, sphere: &BoundingSphere) -> Option<[f32; 2]> {
+        let c = self.to_view(sphere.center);
+        let r = sphere.radius;
+        let h = self.viewport[1] as f32;
+        match self.projection {
+            Projection::Orthographic { .. } => Some([
+                0.5 * h - (c.y + r) * self.focal,
+                0.5 * h - (c.y - r) * self.focal,
+            ]),
+            Projection::Perspective { .. } => {
+                let (z0, z1) = (c.z - r, c.z + r);
+                if !(z0 > self.near) {
+                    return None;
+                }
+                // Over the sphere y <= c.y + r and z0 <= z <= z1, so y/z <= top (and
+                // likewise for the lowest slope).
+                let hi = c.y + r;
+                let top = if hi >= 0.0 { hi / z0 } else { hi / z1 };
+                let lo = c.y - r;
+                let bottom = if lo <= 0.0 { lo / z0 } else { lo / z1 };
+                Some([0.5 * h - top * self.focal, 0.5 * h - bottom * self.focal])
+            }
+        }
     }
 
     /// The largest object-space length near `sphere` that projects to at most one pixel (see

@@ -578,20 +578,35 @@ impl<'m, 's> Tessellator<'m, 's> {
     /// of that edge the triangle's corner sits at).
     pub fn stream_with_params(&self, mut f: impl FnMut(u32, [&Vertex; 3], [[f32; 2]; 3])) {
         for p in 0..self.baked.patch_count() {
-            let Some(view) = self.patch_view(p) else {
-                continue;
-            };
-            for t in 0..view.tc {
-                view.refine(
-                    t,
-                    |_| {},
-                    |tri, local| {
-                        let [a, b, c] = tri.map(|q| self.vertex_data(q, p));
-                        let uv = local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]);
-                        f(p as u32, [&a, &b, &c], uv);
-                    },
-                );
-            }
+            self.stream_patch_with_params(p, &mut f);
+        }
+    }
+
+    /// Hands patch `p`'s triangles of the frame to `sink` (nothing when it is culled or out
+    /// of range), in the order [`stream`](Self::stream) gives them. A renderer that draws in
+    /// bands uses it, with [`patch_bound`](Self::patch_bound), to skip patches off a band.
+    pub fn stream_patch(&self, p: usize, sink: &mut impl TriangleSink) {
+        self.stream_patch_with_params(p, |patch, corners, _| sink.triangle(patch, corners));
+    }
+
+    fn stream_patch_with_params(
+        &self,
+        p: usize,
+        mut f: impl FnMut(u32, [&Vertex; 3], [[f32; 2]; 3]),
+    ) {
+        let Some(view) = self.patch_view(p) else {
+            return;
+        };
+        for t in 0..view.tc {
+            view.refine(
+                t,
+                |_| {},
+                |tri, local| {
+                    let [a, b, c] = tri.map(|q| self.vertex_data(q, p));
+                    let uv = local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]);
+                    f(p as u32, [&a, &b, &c], uv);
+                },
+            );
         }
     }
 }

@@ -632,6 +632,19 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
     }
 
+    /// A sphere around patch `p`'s control points (so around the patch and every triangle
+    /// written for it); `None` when `p` is out of range.
+    pub fn patch_bound(&self, p: usize) -> Option<BoundingSphere> {
+        if p >= self.baked.patch_count() {
+            return None;
+        }
+        let slot = self.storage.patches.get(p)?;
+        Some(BoundingSphere {
+            center: Vec3::from_array(slot.center),
+            radius: slot.radius,
+        })
+    }
+
     /// True when patch `p` was culled in the current frame.
     pub fn is_culled(&self, p: usize) -> bool {
         self.storage.patches.get(p).is_some_and(|s| s.culled)

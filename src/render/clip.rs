@@ -1,0 +1,175 @@
+//! Clipping a triangle in view space, before projection.
+//!
+//! The near plane is a real clip (nothing in front of it can be projected). The four side
+//! planes sit at twice the viewport's half-extent (a guard band): they only keep projected
+//! coordinates small enough for the fixed-point edge functions, and the pixels outside the
+//! viewport are cut by the rasteriser.
+
+use glam::Vec3;
+
+/// Guard band: side planes at this multiple of the viewport's half-extent.
+const GUARD: f32 = 2.0;
+
+/// Corners a triangle can have after five planes.
+pub(crate) const MAX_CORNERS: usize = 8;
+
+/// A corner in view space with its shade.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct ClipVertex {
+    pub view: Vec3,
+    pub shade: f32,
+}
+
+/// A clipped polygon: corners, and whether the edge from corner `k` to `k + 1` lies on the
+/// original triangle's edge that was marked for the wireframe.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Polygon {
+    pub corners: [ClipVertex; MAX_CORNERS],
+    pub wire: [bool; MAX_CORNERS],
+    pub len: usize,
+}
+
+/// The five planes as `n · v + d >= 0`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Frustum {
+    planes: [(Vec3, f32); 5],
+}
+
+impl Frustum {
+    /// The clip planes for near distance `near` and half-extent `half` (slopes when
+    /// `perspective`, object units otherwise).
+    pub fn new(near: f32, half: [f32; 2], perspective: bool) -> Frustum {
+        let [sx, sy] = half.map(|h| GUARD * h);
+        let planes = if perspective {
+            [
+                (Vec3::Z, -near),
+                (Vec3::new(-1.0, 0.0, sx), 0.0),
+                (Vec3::new(1.0, 0.0, sx), 0.0),
+                (Vec3::new(0.0, -1.0, sy), 0.0),
+                (Vec3::new(0.0, 1.0, sy), 0.0),
+            ]
+        } else {
+            [
+                (Vec3::Z, -near),
+                (Vec3::new(-1.0, 0.0, 0.0), sx),
+                (Vec3::new(1.0, 0.0, 0.0), sx),
+                (Vec3::new(0.0, -1.0, 0.0), sy),
+                (Vec3::new(0.0, 1.0, 0.0), sy),
+            ]
+        };
+        Frustum { planes }
+    }
+
+    fn distance(&self, k: usize, v: Vec3) -> f32 {
+        let (n, d) = self.planes[k];
+        n.dot(v) + d
+    }
+
+    /// Clips triangle `t`; `wire[i]` marks the edge from corner `i` to `i + 1`. An empty
+    /// polygon (`len < 3`) when nothing is left.
+    pub fn clip(&self, t: [ClipVertex; 3], wire: [bool; 3]) -> Polygon {
+        let mut poly = Polygon::default();
+        poly.corners[..3].copy_from_slice(&t);
+        poly.wire[..3].copy_from_slice(&wire);
+        poly.len = 3;
+        for k in 0..self.planes.len() {
+            let inside = poly.corners[..poly.len]
+                .iter()
+                .all(|c| self.distance(k, c.view) >= 0.0);
+            if inside {
+                continue;
+            }
+            let mut out = Polygon::default();
+            for i in 0..poly.len {
+                let (a, b) = (poly.corners[i], poly.corners[(i + 1) % poly.len]);
+                let (da, db) = (self.distance(k, a.view), self.distance(k, b.view));
+                if da >= 0.0 {
+                    push(&mut out, a, poly.wire[i]);
+                }
+                if (da >= 0.0) != (db >= 0.0) {
+                    let s = da / (da - db);
+                    let c = ClipVertex {
+                        view: a.view + (b.view - a.view) * s,
+                        shade: a.shade + (b.shade - a.shade) * s,
+                    };
+                    // Entering: the new edge continues the old one; leaving: it runs
+                    // along the plane.
+                    push(&mut out, c, da < 0.0 && poly.wire[i]);
+                }
+            }
+            poly = out;
+            if poly.len < 3 {
+                poly.len = 0;
+                break;
+            }
+        }
+        poly
+    }
+}
+
+fn push(p: &mut Polygon, c: ClipVertex, wire: bool) {
+    if p.len < MAX_CORNERS {
+        p.corners[p.len] = c;
+        p.wire[p.len] = wire;
+        p.len += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(x: f32, y: f32, z: f32) -> ClipVertex {
+        ClipVertex {
+            view: Vec3::new(x, y, z),
+            shade: z,
+        }
+    }
+
+    #[test]
+    fn a_triangle_inside_is_unchanged() {
+        let f = Frustum::new(0.1, [1.0, 1.0], true);
+        let t = [at(0.0, 0.0, 1.0), at(0.5, 0.0, 1.0), at(0.0, 0.5, 2.0)];
+        let p = f.clip(t, [true, false, true]);
+        assert_eq!(p.len, 3);
+        assert_eq!(&p.corners[..3], &t);
+        assert_eq!(&p.wire[..3], &[true, false, true]);
+    }
+
+    #[test]
+    fn the_near_plane_cuts_a_corner_off() {
+        let f = Frustum::new(1.0, [1.0, 1.0], true);
+        let t = [at(0.0, 0.0, 0.5), at(0.5, 0.0, 2.0), at(-0.5, 0.0, 2.0)];
+        let p = f.clip(t, [true; 3]);
+        assert_eq!(p.len, 4);
+        for c in &p.corners[..4] {
+            assert!(c.view.z >= 1.0 - 1e-6);
+            // Shade is interpolated with the position (here it equals z).
+            assert!((c.shade - c.view.z).abs() < 1e-6);
+        }
+        // The edge along the near plane is not a wireframe edge.
+        assert_eq!(p.wire[..4].iter().filter(|&&w| w).count(), 3);
+    }
+
+    #[test]
+    fn a_triangle_behind_the_eye_vanishes() {
+        let f = Frustum::new(0.1, [1.0, 1.0], true);
+        let t = [at(0.0, 0.0, -1.0), at(1.0, 0.0, -1.0), at(0.0, 1.0, -2.0)];
+        assert_eq!(f.clip(t, [true; 3]).len, 0);
+    }
+
+    #[test]
+    fn the_guard_band_bounds_the_slopes() {
+        let f = Frustum::new(0.1, [0.5, 0.5], true);
+        let t = [
+            at(-100.0, 0.0, 1.0),
+            at(100.0, 0.0, 1.0),
+            at(0.0, 100.0, 1.0),
+        ];
+        let p = f.clip(t, [true; 3]);
+        assert!(p.len >= 3);
+        for c in &p.corners[..p.len] {
+            assert!(c.view.x.abs() <= GUARD * 0.5 + 1e-4 && c.view.y.abs() <= GUARD * 0.5 + 1e-4);
+        }
+    }
+}

@@ -1,0 +1,276 @@
+//! Triangle set-up and scanline spans from fixed-point edge functions.
+//!
+//! Vertices snap to 1/16 pixel. A pixel belongs to a triangle when its centre is inside, with
+//! ties on an edge broken by the top-left rule: as if the centre were nudged right by `ε` and
+//! down by `ε²`. That perturbation is the same for every triangle, so triangles that share
+//! edges (and vertices) cover each pixel of their union exactly once. Every inside test is exact
+//! integer arithmetic; only the attributes (depth, shade, distance to the edges) are `f32`.
+
+use core::ops::Range;
+
+/// Subpixel steps per pixel.
+pub(crate) const SUBPIXELS: i64 = 16;
+const HALF: i64 = SUBPIXELS / 2;
+
+/// A corner after projection: pixel position and the attributes interpolated across the
+/// triangle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct ScreenVertex {
+    /// Pixel coordinates (x right, y down).
+    pub xy: [f32; 2],
+    /// Depth key: larger is nearer.
+    pub depth: f32,
+    /// Light intensity in `[0, 1]`.
+    pub shade: f32,
+}
+
+/// A linear function of the pixel column along one row: `at(x) = start + step * (x - x0)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Ramp {
+    pub start: f32,
+    pub step: f32,
+}
+
+impl Ramp {
+    /// Value at `i` pixels from the span's first.
+    #[inline]
+    pub fn at(&self, i: u32) -> f32 {
+        self.start + self.step * i as f32
+    }
+}
+
+/// One row's pixels of a triangle: columns `x0..x1` and the attributes along them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Span {
+    pub x0: i32,
+    pub x1: i32,
+    pub depth: Ramp,
+    pub shade: Ramp,
+    /// Distance in pixels to each edge marked for the wireframe (others: `f32::MAX`).
+    pub edge: [Ramp; 3],
+}
+
+/// A triangle ready for scan conversion.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Triangle {
+    x: [i64; 3],
+    y: [i64; 3],
+    /// `E_i(p) >= bias[i]` for the edge opposite corner `i`.
+    bias: [i64; 3],
+    inv_area: f32,
+    depth: [f32; 3],
+    shade: [f32; 3],
+    /// `1 / (SUBPIXELS * |edge|)` for wireframe edges, 0 for the others.
+    inv_length: [f32; 3],
+    rows: [i32; 2],
+}
+
+fn snap(v: f32) -> i64 {
+    libm::floorf(v * SUBPIXELS as f32 + 0.5) as i64
+}
+
+/// `ceil(a / b)` for `b > 0`.
+fn ceil_div(a: i64, b: i64) -> i64 {
+    -((-a).div_euclid(b))
+}
+
+impl Triangle {
+    /// Sets up a triangle; `None` when it has no area after snapping. `wire[i]` marks the
+    /// edge opposite corner `i` for the wireframe.
+    pub fn new(v: [ScreenVertex; 3], wire: [bool; 3]) -> Option<Triangle> {
+        let mut x = v.map(|p| snap(p.xy[0]));
+        let mut y = v.map(|p| snap(p.xy[1]));
+        let mut v = v;
+        let mut wire = wire;
+        let mut area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
+        if area == 0 {
+            return None;
+        }
+        if area < 0 {
+            x.swap(1, 2);
+            y.swap(1, 2);
+            v.swap(1, 2);
+            wire.swap(1, 2);
+            area = -area;
+        }
+        let mut bias = [0i64; 3];
+        let mut inv_length = [0f32; 3];
+        for i in 0..3 {
+            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+            let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
+            // Top-left: an edge going up (y down) or a horizontal edge going right.
+            bias[i] = if dy < 0 || (dy == 0 && dx > 0) { 0 } else { 1 };
+            if wire[i] {
+                let len = crate::math::sqrt((dx * dx + dy * dy) as f32);
+                inv_length[i] = 1.0 / (SUBPIXELS as f32 * len);
+            }
+        }
+        let top = *y.iter().min()?;
+        let bottom = *y.iter().max()?;
+        let first = ceil_div(top - HALF, SUBPIXELS);
+        let last = (bottom - HALF).div_euclid(SUBPIXELS);
+        let clamp = |r: i64| r.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+        Some(Triangle {
+            x,
+            y,
+            bias,
+            inv_area: 1.0 / area as f32,
+            depth: v.map(|p| p.depth),
+            shade: v.map(|p| p.shade),
+            inv_length,
+            rows: [clamp(first), clamp(last)],
+        })
+    }
+
+    /// First and last pixel row whose centres the triangle may cover.
+    pub fn rows(&self) -> [i32; 2] {
+        self.rows
+    }
+
+    /// Edge `i` as `E(X) = a * X + b` along the row through subpixel height `yc`.
+    fn edge(&self, i: usize, yc: i64) -> (i64, i64) {
+        let (p, q) = ((i + 1) % 3, (i + 2) % 3);
+        let (dx, dy) = (self.x[q] - self.x[p], self.y[q] - self.y[p]);
+        // E(X, Y) = dx * (Y - y_p) - dy * (X - x_p)
+        (-dy, dx * (yc - self.y[p]) + dy * self.x[p])
+    }
+
+    /// The pixels of row `row` inside the triangle, clipped to columns `columns`.
+    pub fn span(&self, row: i32, columns: Range<i32>) -> Option<Span> {
+        let yc = row as i64 * SUBPIXELS + HALF;
+        let (mut lo, mut hi) = (columns.start as i64, columns.end as i64 - 1);
+        let mut lines = [(0i64, 0i64); 3];
+        for (i, line) in lines.iter_mut().enumerate() {
+            let (a, b) = self.edge(i, yc);
+            *line = (a, b);
+            // a * (S * px + H) + b >= bias  <=>  S * a * px >= bias - b - H * a
+            let k = SUBPIXELS * a;
+            let m = self.bias[i] - b - HALF * a;
+            if k > 0 {
+                lo = lo.max(ceil_div(m, k));
+            } else if k < 0 {
+                hi = hi.min((-m).div_euclid(-k));
+            } else if m > 0 {
+                return None;
+            }
+        }
+        if lo > hi {
+            return None;
+        }
+        let xc = lo * SUBPIXELS + HALF;
+        let e = lines.map(|(a, b)| a * xc + b);
+        let w = e.map(|e| e as f32 * self.inv_area);
+        let dw = lines.map(|(a, _)| (SUBPIXELS * a) as f32 * self.inv_area);
+        let lerp = |v: [f32; 3]| Ramp {
+            start: w[0] * v[0] + w[1] * v[1] + w[2] * v[2],
+            step: dw[0] * v[0] + dw[1] * v[1] + dw[2] * v[2],
+        };
+        let mut edge = [Ramp {
+            start: f32::MAX,
+            step: 0.0,
+        }; 3];
+        for i in 0..3 {
+            if self.inv_length[i] > 0.0 {
+                edge[i] = Ramp {
+                    start: e[i] as f32 * self.inv_length[i],
+                    step: (SUBPIXELS * lines[i].0) as f32 * self.inv_length[i],
+                };
+            }
+        }
+        Some(Span {
+            x0: lo as i32,
+            x1: hi as i32 + 1,
+            depth: lerp(self.depth),
+            shade: lerp(self.shade),
+            edge,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corner(x: f32, y: f32) -> ScreenVertex {
+        ScreenVertex {
+            xy: [x, y],
+            depth: 1.0,
+            shade: 1.0,
+        }
+    }
+
+    fn covered(t: &Triangle, width: i32, hits: &mut [u8], rows: i32) {
+        for row in t.rows()[0].max(0)..=t.rows()[1].min(rows - 1) {
+            if let Some(s) = t.span(row, 0..width) {
+                for x in s.x0..s.x1 {
+                    hits[(row * width + x) as usize] += 1;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_square_split_either_way_covers_each_pixel_once() {
+        // Corners on pixel centres: the diagonal and the sides pass through centres.
+        let (a, b, c, d) = (
+            corner(0.5, 0.5),
+            corner(8.5, 0.5),
+            corner(8.5, 8.5),
+            corner(0.5, 8.5),
+        );
+        for tris in [[[a, b, c], [a, c, d]], [[a, b, d], [b, c, d]]] {
+            let mut hits = [0u8; 100];
+            for t in tris {
+                covered(&Triangle::new(t, [false; 3]).unwrap(), 10, &mut hits, 10);
+            }
+            for y in 0..10 {
+                for x in 0..10 {
+                    // Top-left: the top row and left column of centres are in, the others not.
+                    let want = (x < 8 && y < 8) as u8;
+                    assert_eq!(hits[y * 10 + x], want, "pixel {x},{y}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_fan_around_a_pixel_centre_covers_it_once() {
+        let centre = corner(4.5, 4.5);
+        let ring = [
+            corner(0.5, 0.5),
+            corner(4.5, 0.2),
+            corner(8.5, 0.5),
+            corner(8.7, 4.5),
+            corner(8.5, 8.5),
+            corner(4.5, 8.5),
+            corner(0.5, 8.5),
+            corner(0.5, 4.5),
+        ];
+        let mut hits = [0u8; 100];
+        for k in 0..ring.len() {
+            let t = [centre, ring[k], ring[(k + 1) % ring.len()]];
+            covered(&Triangle::new(t, [false; 3]).unwrap(), 10, &mut hits, 10);
+        }
+        assert!(hits.iter().all(|&h| h <= 1));
+        assert_eq!(hits[4 * 10 + 4], 1);
+    }
+
+    #[test]
+    fn degenerate_triangles_are_dropped() {
+        let t = [corner(0.0, 0.0), corner(5.0, 5.0), corner(10.0, 10.0)];
+        assert!(Triangle::new(t, [false; 3]).is_none());
+    }
+
+    #[test]
+    fn attributes_interpolate_at_pixel_centres() {
+        let mut t = [corner(0.5, 0.5), corner(10.5, 0.5), corner(0.5, 10.5)];
+        t[1].depth = 11.0;
+        let tri = Triangle::new(t, [true; 3]).unwrap();
+        let s = tri.span(0, 0..20).unwrap();
+        assert_eq!((s.x0, s.x1), (0, 10));
+        assert!((s.depth.at(0) - 1.0).abs() < 1e-5);
+        assert!((s.depth.at(5) - 6.0).abs() < 1e-5);
+        // Row 0 lies on the top edge: distance 0 to it.
+        assert!(s.edge.iter().any(|e| e.at(3).abs() < 1e-5));
+    }
+}

@@ -1,0 +1,91 @@
+//! Where the renderer's triangles come from: the tessellator itself (streamed, no mesh buffer)
+//! or an indexed mesh in caller buffers.
+
+use core::ops::Range;
+
+use glam::Vec3;
+
+use crate::bound::{Aabb, BoundingSphere};
+use crate::sink::{MeshIndex, TriangleSink, Vertex};
+use crate::tessellator::Tessellator;
+use crate::view::Camera;
+
+/// Triangles the [`Renderer`](super::Renderer) can draw, band by band.
+pub trait TriangleSource {
+    /// A sphere around every triangle (it sets the depth buffer's range); `None` when there is
+    /// nothing to draw.
+    fn bound(&self) -> Option<BoundingSphere>;
+
+    /// Hands `sink` every triangle that may cover pixel rows `rows` for `camera` (handing
+    /// more is allowed: the rasteriser clips to the band). Called once per band, so a source
+    /// should skip what it cheaply can.
+    fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink);
+}
+
+/// The current frame of a tessellator, streamed without a mesh buffer: each band streams only
+/// the patches whose bounding sphere may reach its rows, and evaluates their vertices again.
+impl TriangleSource for Tessellator<'_, '_> {
+    fn bound(&self) -> Option<BoundingSphere> {
+        sphere_around(self.patches().aabb()?)
+    }
+
+    fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
+        for p in 0..self.patches().len() {
+            if self.is_culled(p) {
+                continue;
+            }
+            let reaches = self
+                .patch_bound(p)
+                .and_then(|s| camera.sphere_rows(&s))
+                .is_none_or(|[top, bottom]| {
+                    bottom >= rows.start as f32 - 1.0 && top <= rows.end as f32 + 1.0
+                });
+            if reaches {
+                self.stream_patch(p, sink);
+            }
+        }
+    }
+}
+
+/// An indexed triangle mesh in caller buffers, as [`Tessellator::write_mesh`] writes it.
+/// Triangles with an index out of range are skipped.
+#[derive(Clone, Copy, Debug)]
+pub struct IndexedMesh<'a, I> {
+    /// Vertices.
+    pub vertices: &'a [Vertex],
+    /// Triangles as index triples.
+    pub triangles: &'a [[I; 3]],
+}
+
+impl<I: MeshIndex> TriangleSource for IndexedMesh<'_, I> {
+    fn bound(&self) -> Option<BoundingSphere> {
+        let mut points = self.vertices.iter().map(|v| Vec3::from_array(v.position));
+        let first = points.next()?;
+        let box_ = points.fold(
+            Aabb {
+                min: first,
+                max: first,
+            },
+            Aabb::including,
+        );
+        sphere_around(box_)
+    }
+
+    fn stream_rows(&self, _camera: &Camera, _rows: Range<u32>, sink: &mut impl TriangleSink) {
+        for t in self.triangles {
+            let [a, b, c] = t.map(|i| self.vertices.get(i.to_u32() as usize));
+            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+                sink.triangle(a.patch, [a, b, c]);
+            }
+        }
+    }
+}
+
+/// A sphere through the corners of `box_` (with rounding slack).
+fn sphere_around(box_: Aabb) -> Option<BoundingSphere> {
+    let radius = 0.5 * box_.diagonal() * (1.0 + 4.0 * f32::EPSILON);
+    radius.is_finite().then(|| BoundingSphere {
+        center: box_.center(),
+        radius,
+    })
+}
