@@ -23,11 +23,11 @@
 
 mod common;
 
-use std::fmt::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use common::model_file::{bake_to_vec, ModelFile};
+use common::obj::write_obj;
 use common::runtime_storage::RuntimeStorage;
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::Settings;
@@ -191,57 +191,6 @@ fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
         s.culled_patches,
         s.max_predicted_error
     )
-}
-
-fn write_obj(
-    path: &str,
-    file: &ModelFile,
-    nurbs: bool,
-    vertices: &[Vertex],
-    groups: &[(usize, std::ops::Range<usize>)],
-    triangles: &[[u32; 3]],
-) -> Result<(), String> {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "# spline-tess: {} vertices, {} triangles",
-        vertices.len(),
-        triangles.len()
-    );
-    for v in vertices {
-        let [x, y, z] = v.position;
-        let _ = writeln!(s, "v {x} {y} {z}");
-    }
-    for v in vertices {
-        let r = file.domains[v.patch as usize];
-        let (u, w) = (
-            r.u0 + v.uv[0] * (r.u1 - r.u0),
-            r.v0 + v.uv[1] * (r.v1 - r.v0),
-        );
-        let _ = writeln!(s, "vt {u} {w}");
-    }
-    for v in vertices {
-        let [x, y, z] = v.normal;
-        let _ = writeln!(s, "vn {x} {y} {z}");
-    }
-    let mut current = None;
-    for (patch, range) in groups {
-        let group = if nurbs { 0 } else { *patch };
-        if current != Some(group) {
-            let _ = writeln!(s, "g patch_{group}");
-            current = Some(group);
-        }
-        for t in &triangles[range.clone()] {
-            let [a, b, c] = t.map(|i| i + 1);
-            let _ = writeln!(s, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}");
-        }
-    }
-    if let Some(dir) = std::path::Path::new(path).parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
-    }
-    std::fs::write(path, s).map_err(|e| format!("{path}: {e}"))
 }
 
 fn run() -> Result<(), String> {

@@ -267,7 +267,8 @@ impl Camera {
             ]),
             Projection::Perspective { .. } => {
                 let (z0, z1) = (c.z - r, c.z + r);
-                if !(z0 > self.near) {
+                // (NaN fails too.)
+                if z0.partial_cmp(&self.near) != Some(core::cmp::Ordering::Greater) {
                     return None;
                 }
                 // Over the sphere y <= c.y + r and z0 <= z <= z1, so y/z <= top (and

@@ -2,5 +2,8 @@
 
 #![allow(dead_code)]
 
+pub mod framebuffer;
+pub mod image;
 pub mod model_file;
+pub mod obj;
 pub mod runtime_storage;

@@ -23,7 +23,8 @@ pub trait TriangleSource {
 }
 
 /// The current frame of a tessellator, streamed without a mesh buffer: each band streams only
-/// the patches whose bounding sphere may reach its rows, and evaluates their vertices again.
+/// the patches that may reach its rows (by their projected control points, or their bounding
+/// sphere when a control point is behind the near plane), and evaluates their vertices again.
 impl TriangleSource for Tessellator<'_, '_> {
     fn bound(&self) -> Option<BoundingSphere> {
         sphere_around(self.patches().aabb()?)
@@ -34,9 +35,19 @@ impl TriangleSource for Tessellator<'_, '_> {
             if self.is_culled(p) {
                 continue;
             }
-            let reaches = self
-                .patch_bound(p)
-                .and_then(|s| camera.sphere_rows(&s))
+            // The patch lies in its control points' convex hull (weights are positive), and
+            // in front of the eye the hull projects to the hull of their projections.
+            let hull = self.patches().patch(p).and_then(|patch| {
+                patch
+                    .points()
+                    .iter()
+                    .try_fold([f32::MAX, f32::MIN], |[lo, hi], q| {
+                        let [_, y] = camera.project(Vec3::from_array(*q))?;
+                        Some([lo.min(y), hi.max(y)])
+                    })
+            });
+            let reaches = hull
+                .or_else(|| camera.sphere_rows(&self.patch_bound(p)?))
                 .is_none_or(|[top, bottom]| {
                     bottom >= rows.start as f32 - 1.0 && top <= rows.end as f32 + 1.0
                 });

@@ -50,6 +50,24 @@ enum Point {
 
 const MAX: u32 = GridPoint::MAX as u32;
 
+/// Entries of the evaluated-point cache of [`Tessellator::stream_patch`].
+const STREAM_CACHE: usize = 32;
+
+/// A hash of a point's identity for the stream cache.
+fn point_hash(q: &Point) -> u32 {
+    let words = match *q {
+        Point::Node(n) => [1, n, 0, 0],
+        Point::Curve { curve, j, .. } => [2, curve, j, 0],
+        Point::Vertex { id, .. } => [3, id as u32, 0, 0],
+        Point::Edge { slot, edge, r, .. } => [4, slot as u32, edge as u32, r],
+        Point::Face { u, v, den, .. } => [5, u, v, den],
+    };
+    words
+        .iter()
+        .fold(0x811c_9dc5u32, |h, &w| (h ^ w).wrapping_mul(0x0100_0193))
+        ^ (words[1] >> 7)
+}
+
 /// One visible patch's view for the traversal.
 struct PatchView<'t, 'm, 's> {
     vo: usize,
@@ -597,12 +615,22 @@ impl<'m, 's> Tessellator<'m, 's> {
         let Some(view) = self.patch_view(p) else {
             return;
         };
+        // Neighbouring triangles share corners: a small direct-mapped cache of evaluated
+        // points saves most evaluations (the data depends on the point alone).
+        let mut cache = [(None::<Point>, Vertex::default()); STREAM_CACHE];
+        let mut vertex = |q: Point| -> Vertex {
+            let slot = &mut cache[point_hash(&q) as usize % STREAM_CACHE];
+            if slot.0 != Some(q) {
+                *slot = (Some(q), self.vertex_data(q, p));
+            }
+            slot.1
+        };
         for t in 0..view.tc {
             view.refine(
                 t,
                 |_| {},
                 |tri, local| {
-                    let [a, b, c] = tri.map(|q| self.vertex_data(q, p));
+                    let [a, b, c] = tri.map(&mut vertex);
                     let uv = local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]);
                     f(p as u32, [&a, &b, &c], uv);
                 },
