@@ -11,9 +11,9 @@
 //!
 //! Runs under QEMU `mps2-an386` and exits 0 when every frame matches bit for bit. Per frame it
 //! prints integers only: triangles, pixels drawn, and instructions (QEMU `-icount shift=0`)
-//! to update the tessellation and to render it, and per triangle; at the end the stack's
-//! high-water mark and what it holds (tessellator storage, framebuffer, depth band, all on
-//! the stack here). Built with `--cfg fw_quiet` (see `scripts/footprint.sh`) it prints
+//! to update the tessellation and to render it, and per triangle; at the end the stack the
+//! frames used (painted before the first frame, on top of the tessellator storage, the
+//! framebuffer and the depth band, which sit on the stack here) and those buffers' sizes. Built with `--cfg fw_quiet` (see `scripts/footprint.sh`) it prints
 //! nothing, for size figures without the formatting code.
 //!
 //! On the host, `cargo run --example fw_teapot` runs the same check.
@@ -44,8 +44,9 @@ use embedded_graphics::prelude::RgbColor;
 use spline_tess::bake::BakedModel;
 use spline_tess::PatchSet;
 
-/// One frame's measurements.
+/// One frame's measurements (the instruction counts are printed by the firmware only).
 #[derive(Clone, Copy, Default)]
+#[allow(dead_code)]
 struct Measured {
     triangles: u32,
     pixels: u32,
@@ -55,12 +56,44 @@ struct Measured {
 }
 
 /// Buffer sizes in bytes: tessellator storage, framebuffer, depth band.
+#[cfg_attr(fw_quiet, allow(dead_code))]
 const STORAGE_BYTES: usize = core::mem::size_of::<frames::Storage>();
+#[cfg_attr(fw_quiet, allow(dead_code))]
 const FRAMEBUFFER_BYTES: usize = teapot::PIXELS * core::mem::size_of::<Rgb565>();
+#[cfg_attr(fw_quiet, allow(dead_code))]
 const DEPTH_BYTES: usize = teapot::DEPTH * 2;
 
-/// Runs every frame, reporting each; true when all match the host.
-fn run(mut report: impl FnMut(usize, &Measured, bool), mut clock: impl FnMut() -> u64) -> bool {
+/// Updates and draws frame `k`. Not inlined, so that its stack (and its callees') is
+/// measured apart from the buffers.
+#[inline(never)]
+fn frame(
+    tess: &mut spline_tess::Tessellator<'_, '_>,
+    k: usize,
+    pixels: &mut [Rgb565],
+    depth: &mut [u16],
+    clock: &mut impl FnMut() -> u64,
+) -> Option<Measured> {
+    let t0 = clock();
+    let stats = teapot::update(tess, k)?;
+    let t1 = clock();
+    let drawn = teapot::render(tess, k, pixels, depth)?;
+    let t2 = clock();
+    Some(Measured {
+        triangles: stats.triangles as u32,
+        pixels: drawn.pixels,
+        checksum: teapot::checksum(pixels),
+        update: t1.saturating_sub(t0),
+        render: t2.saturating_sub(t1),
+    })
+}
+
+/// Runs every frame, reporting each; true when all match the host. `mark` is called once the
+/// buffers are in place, before the first frame.
+fn run(
+    mut report: impl FnMut(usize, &Measured, bool),
+    mut clock: impl FnMut() -> u64,
+    mut mark: impl FnMut(),
+) -> bool {
     let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
         return false;
     };
@@ -74,22 +107,10 @@ fn run(mut report: impl FnMut(usize, &Measured, bool), mut clock: impl FnMut() -
     let mut pixels = [Rgb565::BLACK; teapot::PIXELS];
     let mut depth = [0u16; teapot::DEPTH];
     let mut all = true;
+    mark();
     for k in 0..teapot::FRAMES.len() {
-        let t0 = clock();
-        let Some(stats) = teapot::update(&mut tess, k) else {
+        let Some(m) = frame(&mut tess, k, &mut pixels, &mut depth, &mut clock) else {
             return false;
-        };
-        let t1 = clock();
-        let Some(drawn) = teapot::render(&tess, k, &mut pixels, &mut depth) else {
-            return false;
-        };
-        let t2 = clock();
-        let m = Measured {
-            triangles: stats.triangles as u32,
-            pixels: drawn.pixels,
-            checksum: teapot::checksum(&pixels),
-            update: t1.saturating_sub(t0),
-            render: t2.saturating_sub(t1),
         };
         let ok = [m.triangles, m.pixels, m.checksum] == expected::FRAMES[k];
         all &= ok;
@@ -104,7 +125,7 @@ mod firmware;
 
 #[cfg(target_os = "none")]
 mod device {
-    use super::firmware::{finish, instructions, stack_high_water, start_clock};
+    use super::firmware::{finish, instructions, repaint_stack, stack_used_below, start_clock};
     use cortex_m_rt::entry;
     #[cfg(not(fw_quiet))]
     use cortex_m_semihosting::hprintln;
@@ -116,6 +137,7 @@ mod device {
             finish(false)
         };
         start_clock(cp.SYST);
+        let mut sp = 0;
         let ok = super::run(
             |_k, _m, _ok| {
                 #[cfg(not(fw_quiet))]
@@ -131,18 +153,16 @@ mod device {
                 );
             },
             instructions,
+            || sp = repaint_stack(),
         );
-        let _stack = stack_high_water();
+        let _working = stack_used_below(sp);
         #[cfg(not(fw_quiet))]
         hprintln!(
-            "fw_teapot: stack_high_water {} storage {} framebuffer {} depth {} working {}",
-            _stack,
+            "fw_teapot: frame_stack {} storage {} framebuffer {} depth {} (bytes; the frames' stack on top of the three buffers)",
+            _working,
             super::STORAGE_BYTES,
             super::FRAMEBUFFER_BYTES,
             super::DEPTH_BYTES,
-            _stack.saturating_sub(
-                super::STORAGE_BYTES + super::FRAMEBUFFER_BYTES + super::DEPTH_BYTES
-            )
         );
         finish(ok)
     }
@@ -161,6 +181,7 @@ fn main() -> std::process::ExitCode {
             )
         },
         || 0,
+        || {},
     );
     println!(
         "fw_teapot (host): storage {STORAGE_BYTES} framebuffer {FRAMEBUFFER_BYTES} depth {DEPTH_BYTES} bytes"

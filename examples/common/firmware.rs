@@ -52,28 +52,49 @@ pub fn finish(ok: bool) -> ! {
     loop {}
 }
 
-/// Bytes of stack ever used: cortex-m-rt's `paint-stack` fills `_stack_end.._stack_start`
-/// with `0xCCCC_CCCC` at reset; the lowest word that changed marks the deepest use.
+extern "C" {
+    static _stack_end: u32;
+}
+
+fn stack_end() -> usize {
+    // Only the address is taken (no read), which is safe.
+    core::ptr::addr_of!(_stack_end) as usize
+}
+
+/// Paints the free stack (from the bottom of the stack region to a little below the current
+/// stack pointer) with cortex-m-rt's `STACK_PAINT_VALUE`, and returns that stack pointer:
+/// [`stack_used_below`] then measures what runs after this call on top of what is already on
+/// the stack. Interrupts are off while painting.
 #[allow(dead_code)]
-pub fn stack_high_water() -> usize {
-    extern "C" {
-        static _stack_end: u32;
-        static _stack_start: u32;
-    }
-    let (end, start) = (
-        core::ptr::addr_of!(_stack_end) as usize,
-        core::ptr::addr_of!(_stack_start) as usize,
-    );
-    let mut p = end;
-    while p < start {
-        // SAFETY: `end..start` is the stack region the linker script reserves, word aligned
-        // and in RAM; reading it while running on it is fine (the words below the stack
-        // pointer are not in use, the ones above are only read).
+pub fn repaint_stack() -> usize {
+    cortex_m::interrupt::free(|_| {
+        let sp = cortex_m::register::msp::read() as usize;
+        // Leave this function's own frame alone.
+        let top = sp.saturating_sub(256) & !3;
+        let mut p = stack_end();
+        while p < top {
+            // SAFETY: `_stack_end..sp` is the unused part of the stack region the linker
+            // script reserves (word aligned, in RAM); interrupts are off, so nothing uses it
+            // while it is painted.
+            unsafe { core::ptr::write_volatile(p as *mut u32, cortex_m_rt::STACK_PAINT_VALUE) };
+            p += 4;
+        }
+        sp
+    })
+}
+
+/// Bytes of stack used below `sp` since the paint: the lowest word that changed marks the
+/// deepest use.
+#[allow(dead_code)]
+pub fn stack_used_below(sp: usize) -> usize {
+    let mut p = stack_end();
+    while p < sp {
+        // SAFETY: as in `repaint_stack`; reading words below the stack pointer is harmless.
         let w = unsafe { core::ptr::read_volatile(p as *const u32) };
         if w != cortex_m_rt::STACK_PAINT_VALUE {
             break;
         }
         p += 4;
     }
-    start - p
+    sp.saturating_sub(p)
 }
