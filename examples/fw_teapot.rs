@@ -13,8 +13,10 @@
 //! prints integers only: triangles, pixels drawn, and instructions (QEMU `-icount shift=0`)
 //! to update the tessellation and to render it, and per triangle; at the end the stack the
 //! frames used (painted before the first frame, on top of the tessellator storage, the
-//! framebuffer and the depth band, which sit on the stack here) and those buffers' sizes. Built with `--cfg fw_quiet` (see `scripts/footprint.sh`) it prints
-//! nothing, for size figures without the formatting code.
+//! framebuffer and the depth band, which sit on the stack here) and those buffers' sizes.
+//!
+//! For size figures (`scripts/footprint.sh`), `--cfg fw_quiet` builds it without any printing
+//! or panic formatting, and `--cfg fw_quiet --cfg fw_baseline` without the kernel too.
 //!
 //! On the host, `cargo run --example fw_teapot` runs the same check.
 
@@ -129,7 +131,15 @@ mod device {
     use cortex_m_rt::entry;
     #[cfg(not(fw_quiet))]
     use cortex_m_semihosting::hprintln;
+    #[cfg(not(fw_quiet))]
     use panic_semihosting as _;
+
+    /// Quiet builds (size figures) exit with failure on a panic without formatting it.
+    #[cfg(fw_quiet)]
+    #[panic_handler]
+    fn panic(_: &core::panic::PanicInfo) -> ! {
+        finish(false)
+    }
 
     #[entry]
     fn main() -> ! {
@@ -137,6 +147,10 @@ mod device {
             finish(false)
         };
         start_clock(cp.SYST);
+        if cfg!(fw_baseline) {
+            // Size baseline: the start-up, clock and exit code without the kernel.
+            finish(true);
+        }
         let mut sp = 0;
         let ok = super::run(
             |_k, _m, _ok| {
@@ -183,8 +197,25 @@ fn main() -> std::process::ExitCode {
         || 0,
         || {},
     );
+    // What this bake needs at least, against the demo's fixed capacities.
+    if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
+        use core::mem::size_of;
+        use spline_tess::tessellator::{CurveSlot, PatchSlot, StorageSize, TriangleSlot};
+        use spline_tess::{MeshTriangle, MeshVertex};
+        let n = StorageSize::of(&baked, &frames::SETTINGS);
+        let bytes = n.patches * size_of::<PatchSlot>()
+            + n.curves * size_of::<CurveSlot>()
+            + n.curve_order * 2
+            + n.vertices * size_of::<MeshVertex>()
+            + n.triangles * (size_of::<MeshTriangle>() + size_of::<TriangleSlot>())
+            + n.scratch * 4;
+        println!("fw_teapot (host): storage_needed {bytes} bytes ({n:?})");
+    }
     println!(
-        "fw_teapot (host): storage {STORAGE_BYTES} framebuffer {FRAMEBUFFER_BYTES} depth {DEPTH_BYTES} bytes"
+        "fw_teapot (host): storage {STORAGE_BYTES} framebuffer {FRAMEBUFFER_BYTES} depth {DEPTH_BYTES} \
+         baked {} control_points {} bytes",
+        baked::BAKED.len(),
+        core::mem::size_of_val(&data::TEAPOT_POINTS) + core::mem::size_of_val(&data::TEAPOT_HEADERS)
     );
     if ok {
         std::process::ExitCode::SUCCESS

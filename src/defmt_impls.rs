@@ -42,3 +42,43 @@ impl defmt::Format for BoundingSphere {
         )
     }
 }
+
+/// An `embedded-graphics` colour as `rgb(r, g, b)` (embedded-graphics implements the older
+/// defmt 0.3 only).
+#[cfg(feature = "embedded-graphics")]
+struct Rgb(embedded_graphics::pixelcolor::Rgb888);
+
+#[cfg(feature = "embedded-graphics")]
+impl defmt::Format for Rgb {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        use embedded_graphics::pixelcolor::RgbColor;
+        defmt::write!(f, "rgb({}, {}, {})", self.0.r(), self.0.g(), self.0.b())
+    }
+}
+
+#[cfg(feature = "embedded-graphics")]
+impl defmt::Format for crate::render::Wireframe {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(
+            f,
+            "Wireframe {{ color: {}, half_width: {} }}",
+            Rgb(self.color),
+            self.half_width
+        )
+    }
+}
+
+#[cfg(feature = "embedded-graphics")]
+impl defmt::Format for crate::render::Style {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(
+            f,
+            "Style {{ shading: {}, light: {}, color: {}, wireframe: {}, background: {} }}",
+            self.shading,
+            self.light,
+            Rgb(self.color),
+            self.wireframe,
+            self.background.map(Rgb)
+        )
+    }
+}

@@ -109,6 +109,9 @@ impl Default for Light {
 }
 
 /// Triangle edges drawn over the shading.
+///
+/// (With feature `defmt`, this and [`Style`] implement `defmt::Format` by hand:
+/// `embedded-graphics` colours support only the older defmt.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wireframe {
     /// Line colour.
