@@ -69,52 +69,26 @@ fn matches(out: &[u8], summary: &BakeSummary) -> bool {
 }
 
 #[cfg(target_os = "none")]
-mod firmware {
-    use core::sync::atomic::{AtomicU32, Ordering};
+#[path = "common/firmware.rs"]
+mod firmware;
 
-    use cortex_m::peripheral::syst::SystClkSource;
-    use cortex_m::peripheral::SYST;
-    use cortex_m_rt::{entry, exception};
-    use cortex_m_semihosting::{debug, hprintln};
+#[cfg(target_os = "none")]
+mod device {
+    use super::firmware::{finish, instructions, start_clock};
+    use cortex_m_rt::entry;
+    use cortex_m_semihosting::hprintln;
     use panic_semihosting as _;
-
-    const INSTRUCTIONS_PER_TICK: u64 = 40;
-    const RELOAD: u32 = 0x00FF_FFFF;
-    static WRAPS: AtomicU32 = AtomicU32::new(0);
-
-    #[exception]
-    fn SysTick() {
-        WRAPS.fetch_add(1, Ordering::Relaxed);
-    }
-
-    fn finish(ok: bool) -> ! {
-        debug::exit(if ok {
-            debug::EXIT_SUCCESS
-        } else {
-            debug::EXIT_FAILURE
-        });
-        #[allow(clippy::empty_loop)]
-        loop {}
-    }
 
     #[entry]
     fn main() -> ! {
-        let Some(mut cp) = cortex_m::Peripherals::take() else {
+        let Some(cp) = cortex_m::Peripherals::take() else {
             finish(false)
         };
-        cp.SYST.set_clock_source(SystClkSource::Core);
-        cp.SYST.set_reload(RELOAD);
-        cp.SYST.clear_current();
-        cp.SYST.enable_interrupt();
-        cp.SYST.enable_counter();
-        let start = SYST::get_current();
+        start_clock(cp.SYST);
+        let start = instructions();
         let mut out = [0u8; super::OUT];
         let result = super::bake(&mut out);
-        let end = SYST::get_current();
-        let wraps = WRAPS.load(Ordering::Relaxed) as u64;
-        // A cleared counter reads 0 and reloads on the next tick: count that as a full period.
-        let start = if start == 0 { RELOAD + 1 } else { start } as u64;
-        let ticks = (wraps * (RELOAD as u64 + 1) + start).saturating_sub(end as u64);
+        let used = instructions().saturating_sub(start);
         let summary = match result {
             Ok(s) => s,
             Err(_) => {
@@ -130,7 +104,7 @@ mod firmware {
             summary.bytes,
             super::expected::BAKED.len(),
             if ok { "bit-identical" } else { "DIFFERENT" },
-            ticks * INSTRUCTIONS_PER_TICK
+            used
         );
         finish(ok)
     }

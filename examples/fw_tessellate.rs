@@ -57,14 +57,14 @@ fn run(
         let Some(f) = frames::frame(&mut tess, k, &mut vertices, &mut triangles) else {
             return false;
         };
-        let ticks = clock().saturating_sub(start);
+        let used = clock().saturating_sub(start);
         let want = expected::FRAMES[k];
         let ok = [f.triangles, f.vertices, f.inserted, f.checksum] == want;
         all &= ok;
         report(
             k,
             &frames::Frame {
-                checksum: ticks as u32,
+                checksum: used as u32,
                 ..f
             },
             ok,
@@ -74,58 +74,25 @@ fn run(
 }
 
 #[cfg(target_os = "none")]
-mod firmware {
-    use core::sync::atomic::{AtomicU32, Ordering};
+#[path = "common/firmware.rs"]
+mod firmware;
 
-    use cortex_m::peripheral::syst::SystClkSource;
-    use cortex_m::peripheral::SYST;
-    use cortex_m_rt::{entry, exception};
-    use cortex_m_semihosting::{debug, hprintln};
+#[cfg(target_os = "none")]
+mod device {
+    use super::firmware::{finish, instructions, start_clock};
+    use cortex_m_rt::entry;
+    use cortex_m_semihosting::hprintln;
     use panic_semihosting as _;
-
-    const INSTRUCTIONS_PER_TICK: u64 = 40;
-    const RELOAD: u32 = 0x00FF_FFFF;
-    static WRAPS: AtomicU32 = AtomicU32::new(0);
-
-    #[exception]
-    fn SysTick() {
-        WRAPS.fetch_add(1, Ordering::Relaxed);
-    }
-
-    fn finish(ok: bool) -> ! {
-        debug::exit(if ok {
-            debug::EXIT_SUCCESS
-        } else {
-            debug::EXIT_FAILURE
-        });
-        #[allow(clippy::empty_loop)]
-        loop {}
-    }
-
-    /// Ticks since the counter started (monotonic; wraps counted by the interrupt).
-    fn now() -> u64 {
-        loop {
-            let w = WRAPS.load(Ordering::Relaxed);
-            let c = SYST::get_current();
-            if WRAPS.load(Ordering::Relaxed) == w {
-                return (w as u64 + 1) * (RELOAD as u64 + 1) - c as u64;
-            }
-        }
-    }
 
     #[entry]
     fn main() -> ! {
-        let Some(mut cp) = cortex_m::Peripherals::take() else {
+        let Some(cp) = cortex_m::Peripherals::take() else {
             finish(false)
         };
-        cp.SYST.set_clock_source(SystClkSource::Core);
-        cp.SYST.set_reload(RELOAD);
-        cp.SYST.clear_current();
-        cp.SYST.enable_interrupt();
-        cp.SYST.enable_counter();
+        start_clock(cp.SYST);
         let ok = super::run(
             |k, f, ok| {
-                let instructions = f.checksum as u64 * INSTRUCTIONS_PER_TICK;
+                let instructions = f.checksum as u64;
                 hprintln!(
                     "fw_tessellate: frame {} triangles {} vertices {} inserted {} instructions {} per_triangle {} {}",
                     k,
@@ -137,7 +104,7 @@ mod firmware {
                     if ok { "bit-identical" } else { "DIFFERENT" }
                 );
             },
-            now,
+            instructions,
         );
         finish(ok)
     }

@@ -35,6 +35,9 @@ pub fn instructions() -> u64 {
         let w = WRAPS.load(Ordering::Relaxed);
         let c = SYST::get_current();
         if WRAPS.load(Ordering::Relaxed) == w {
+            // The counter reads 0 when just cleared (it reloads on the next tick) and on the
+            // tick of a wrap, once the interrupt has counted it: both are a period's start.
+            let c = if c == 0 { RELOAD + 1 } else { c };
             let ticks = (w as u64 + 1) * (RELOAD as u64 + 1) - c as u64;
             return ticks * INSTRUCTIONS_PER_TICK;
         }
