@@ -92,26 +92,23 @@ fn teapot() -> Option<PatchSet<'static>> {
 }
 
 #[cfg(target_os = "none")]
+#[allow(dead_code)]
+#[path = "common/firmware.rs"]
+mod shared;
+
+#[cfg(target_os = "none")]
 mod firmware {
     use cortex_m::peripheral::syst::SystClkSource;
     use cortex_m::peripheral::SYST;
     use cortex_m_rt::entry;
-    use cortex_m_semihosting::{debug, hprintln};
+    use cortex_m_semihosting::hprintln;
+
+    use super::shared::finish;
     use panic_semihosting as _;
 
     /// SysTick ticks per instruction under `-icount shift=0` on mps2-an386: 25 MHz vs 1 GHz.
     const INSTRUCTIONS_PER_TICK: u64 = 40;
     const SYSTICK_HZ: u64 = 25_000_000;
-
-    fn finish(ok: bool) -> ! {
-        debug::exit(if ok {
-            debug::EXIT_SUCCESS
-        } else {
-            debug::EXIT_FAILURE
-        });
-        #[allow(clippy::empty_loop)]
-        loop {}
-    }
 
     #[entry]
     fn main() -> ! {
