@@ -549,6 +549,19 @@ fn errors_are_typed_and_stop_drawing() {
     Renderer::new(&mut depth)
         .draw(&mesh, &big, &style, &mut display)
         .unwrap();
+    let huge = Camera::new(
+        Vec3::Z * 4.0,
+        Vec3::ZERO,
+        Vec3::Y,
+        Projection::Orthographic { height: 3.0 },
+        0.1,
+        [32, spline_tess::render::MAX_VIEWPORT + 1],
+    )
+    .unwrap();
+    let e = Renderer::new(&mut depth)
+        .draw(&mesh, &huge, &style, &mut Counting::new(32, 32))
+        .unwrap_err();
+    assert_eq!(e, RenderError::ViewportTooLarge);
     // Nothing behind the eye or an empty source draws nothing.
     let empty: IndexedMesh<u16> = IndexedMesh {
         vertices: &[],

@@ -159,15 +159,24 @@ pub enum RenderError<E> {
         /// Depth values needed for one row.
         needed: usize,
     },
+    /// The camera's viewport is wider or taller than [`MAX_VIEWPORT`] pixels (the fixed-point
+    /// edge functions are exact up to there).
+    ViewportTooLarge,
     /// The target failed; drawing stopped there.
     Target(E),
 }
+
+/// Largest viewport width or height the renderer draws, in pixels.
+pub const MAX_VIEWPORT: u32 = 1 << 20;
 
 impl<E: fmt::Debug> fmt::Display for RenderError<E> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RenderError::DepthTooSmall { needed } => {
                 write!(f, "depth buffer smaller than one row ({needed} values)")
+            }
+            RenderError::ViewportTooLarge => {
+                write!(f, "viewport larger than {MAX_VIEWPORT} pixels")
             }
             RenderError::Target(e) => write!(f, "draw target failed: {e:?}"),
         }
@@ -224,6 +233,9 @@ impl<'d> Renderer<'d> {
         D::Color: From<Rgb888>,
     {
         let [vw, vh] = camera.viewport();
+        if vw > MAX_VIEWPORT || vh > MAX_VIEWPORT {
+            return Err(RenderError::ViewportTooLarge);
+        }
         let bb = target.bounding_box();
         let clamp = |v: i64| v.clamp(0, i32::MAX as i64) as i32;
         let x0 = clamp(bb.top_left.x as i64);
