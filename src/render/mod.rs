@@ -381,12 +381,16 @@ where
             shade: shade[i],
         });
         let poly = setup.frustum.clip(t, [wire; 3]);
-        let screen = poly.corners.map(|c| ScreenVertex {
-            xy: camera.view_to_pixel(c.view),
-            depth: setup.depth_key(c.view.z),
-            shade: c.shade,
-        });
+        // Project only the polygon's corners (usually 3 of the 8 slots).
         let n = poly.len;
+        let mut screen = [ScreenVertex::default(); clip::MAX_CORNERS];
+        for (s, c) in screen.iter_mut().zip(&poly.corners[..n]) {
+            *s = ScreenVertex {
+                xy: camera.view_to_pixel(c.view),
+                depth: setup.depth_key(c.view.z),
+                shade: c.shade,
+            };
+        }
         for k in 1..n.saturating_sub(1) {
             let edges = [
                 poly.wire[k],
