@@ -194,9 +194,9 @@ fn fw_tessellate_baked_source() -> String {
     s
 }
 
-/// Every frame of fw_tessellate computed on the host with the same code: triangles, vertices,
-/// samples inserted, checksum.
-fn fw_tessellate_frames() -> Vec<[u32; 4]> {
+/// Runs `f` on a tessellator over the firmware's bake of the teapot, in the firmware's
+/// storage (fw_tessellate and fw_teapot share both).
+fn with_firmware_tessellator<R>(f: impl FnOnce(&mut spline_tess::Tessellator<'_, '_>) -> R) -> R {
     let k = KernelBpt::parse(&teapot_text());
     let bytes = fw_tessellate_bytes();
     let baked = BakedModel::from_bytes(&bytes).unwrap();
@@ -204,15 +204,23 @@ fn fw_tessellate_frames() -> Vec<[u32; 4]> {
     let mut tess = storage
         .tessellator(k.set(), baked)
         .expect("capacities cover the bake");
-    let mut vertices = vec![spline_tess::Vertex::default(); fw_tessellate::OUT_VERTICES];
-    let mut triangles = vec![[0u16; 3]; fw_tessellate::OUT_TRIANGLES];
-    (0..fw_tessellate::FRAMES.len())
-        .map(|f| {
-            let r = fw_tessellate::frame(&mut tess, f, &mut vertices, &mut triangles)
-                .expect("frame fits the buffers");
-            [r.triangles, r.vertices, r.inserted, r.checksum]
-        })
-        .collect()
+    f(&mut tess)
+}
+
+/// Every frame of fw_tessellate computed on the host with the same code: triangles, vertices,
+/// samples inserted, checksum.
+fn fw_tessellate_frames() -> Vec<[u32; 4]> {
+    with_firmware_tessellator(|tess| {
+        let mut vertices = vec![spline_tess::Vertex::default(); fw_tessellate::OUT_VERTICES];
+        let mut triangles = vec![[0u16; 3]; fw_tessellate::OUT_TRIANGLES];
+        (0..fw_tessellate::FRAMES.len())
+            .map(|f| {
+                let r = fw_tessellate::frame(tess, f, &mut vertices, &mut triangles)
+                    .expect("frame fits the buffers");
+                [r.triangles, r.vertices, r.inserted, r.checksum]
+            })
+            .collect()
+    })
 }
 
 fn fw_tessellate_expected_source() -> String {
@@ -259,26 +267,22 @@ use fw_tessellate as frames;
 fn fw_teapot_frames() -> Vec<[u32; 3]> {
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::prelude::RgbColor;
-    let k = KernelBpt::parse(&teapot_text());
-    let bytes = fw_tessellate_bytes();
-    let baked = BakedModel::from_bytes(&bytes).unwrap();
-    let mut storage = Box::new(fw_tessellate::Storage::new());
-    let mut tess = storage
-        .tessellator(k.set(), baked)
-        .expect("capacities cover the bake");
-    let mut pixels = vec![Rgb565::BLACK; fw_teapot::PIXELS];
-    let mut depth = vec![0u16; fw_teapot::DEPTH];
-    (0..fw_teapot::FRAMES.len())
-        .map(|f| {
-            let stats = fw_teapot::update(&mut tess, f).expect("frame updates");
-            let drawn = fw_teapot::render(&tess, f, &mut pixels, &mut depth).expect("frame draws");
-            [
-                stats.triangles as u32,
-                drawn.pixels,
-                fw_teapot::checksum(&pixels),
-            ]
-        })
-        .collect()
+    with_firmware_tessellator(|tess| {
+        let mut pixels = vec![Rgb565::BLACK; fw_teapot::PIXELS];
+        let mut depth = vec![0u16; fw_teapot::DEPTH];
+        (0..fw_teapot::FRAMES.len())
+            .map(|f| {
+                let stats = fw_teapot::update(tess, f).expect("frame updates");
+                let drawn =
+                    fw_teapot::render(tess, f, &mut pixels, &mut depth).expect("frame draws");
+                [
+                    stats.triangles as u32,
+                    drawn.pixels,
+                    fw_teapot::checksum(&pixels),
+                ]
+            })
+            .collect()
+    })
 }
 
 fn fw_teapot_expected_source() -> String {
