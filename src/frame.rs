@@ -10,6 +10,7 @@ use glam::{Vec3, Vec4};
 
 use crate::basis::TensorEval;
 use crate::math::{length, normalize};
+use crate::patch::Side;
 
 /// Below this ratio of partial lengths a partial is treated as vanished and the analytic limit
 /// is used. It only has to catch rounding: along a collapsed row of a polynomial patch the
@@ -46,8 +47,13 @@ fn xyz(v: Vec4) -> Vec3 {
 }
 
 /// Converts homogeneous derivatives to Euclidean ones. `s` and `t` are the parameters scaled to
-/// `[0, 1]` over the piece, used only to orient a limit normal (which edge is nearer).
-pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32) -> Frame {
+/// `[0, 1]` over the surface, used only to pick the nearer edge of a vanishing partial;
+/// `collapsed(side)` tells whether that edge of the surface is collapsed to a point.
+///
+/// The analytic limit is taken only at a collapsed edge. A partial can also be tiny for a
+/// genuine reason (a rational patch whose weights span six orders of magnitude has
+/// `|S_u| / |S_v|` down to `1e-6` in places), and there the direct normal is the right one.
+pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32, collapsed: impl Fn(Side) -> bool) -> Frame {
     let w = ev.a.w;
     let position = xyz(ev.a) / w;
     let partial_u = (xyz(ev.a_u) - position * ev.a_u.w) / w;
@@ -57,42 +63,60 @@ pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32) -> Frame {
     let mv = partial_v.abs().max_element();
     let du = normalize(partial_u);
     let dv = normalize(partial_v);
-    let mut normal = None;
-    if mu > DEGENERATE_RATIO * mv && mv > DEGENERATE_RATIO * mu {
-        if let (Some(du), Some(dv)) = (du, dv) {
+    let direct = || match (du, dv) {
+        (Some(du), Some(dv)) => {
             let n = du.cross(dv);
             if length(n) > DEGENERATE_RATIO {
-                normal = normalize(n);
+                normalize(n)
+            } else {
+                None
             }
         }
+        _ => None,
+    };
+    let mut normal = None;
+    if mu > DEGENERATE_RATIO * mv && mv > DEGENERATE_RATIO * mu {
+        normal = direct();
     } else if mu != mv {
-        let partial_uv =
-            (xyz(ev.a_uv) - position * ev.a_uv.w - partial_v * ev.a_u.w - partial_u * ev.a_v.w) / w;
-        let duv = normalize(partial_uv);
-        let limit = match (mu < mv, duv) {
-            // S_u vanished along v = 0 or v = 1: the normal tends to sign * (S_uv x S_v).
-            (true, Some(duv)) => dv.map(|dv| {
-                let n = duv.cross(dv);
-                if t <= 0.5 {
-                    n
-                } else {
-                    -n
-                }
-            }),
-            (false, Some(duv)) => du.map(|du| {
-                let n = du.cross(duv);
-                if s <= 0.5 {
-                    n
-                } else {
-                    -n
-                }
-            }),
-            (_, None) => None,
+        // The edge along which the vanishing partial would vanish identically.
+        let edge = match (mu < mv, t <= 0.5, s <= 0.5) {
+            (true, true, _) => Side::V0,
+            (true, false, _) => Side::V1,
+            (false, _, true) => Side::U0,
+            (false, _, false) => Side::U1,
         };
-        // The limit is only trusted when its own factors are not parallel.
-        if let Some(n) = limit {
-            if length(n) > DEGENERATE_RATIO {
-                normal = normalize(n);
+        if !collapsed(edge) {
+            normal = direct();
+        } else {
+            let partial_uv =
+                (xyz(ev.a_uv) - position * ev.a_uv.w - partial_v * ev.a_u.w - partial_u * ev.a_v.w)
+                    / w;
+            let duv = normalize(partial_uv);
+            let limit = match (mu < mv, duv) {
+                // S_u vanished along v = 0 or v = 1: the normal tends to sign * (S_uv x S_v).
+                (true, Some(duv)) => dv.map(|dv| {
+                    let n = duv.cross(dv);
+                    if t <= 0.5 {
+                        n
+                    } else {
+                        -n
+                    }
+                }),
+                (false, Some(duv)) => du.map(|du| {
+                    let n = du.cross(duv);
+                    if s <= 0.5 {
+                        n
+                    } else {
+                        -n
+                    }
+                }),
+                (_, None) => None,
+            };
+            // The limit is only trusted when its own factors are not parallel.
+            if let Some(n) = limit {
+                if length(n) > DEGENERATE_RATIO {
+                    normal = normalize(n);
+                }
             }
         }
     }

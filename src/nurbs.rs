@@ -14,7 +14,7 @@ use crate::basis::{blossom, tensor_point, tensor_with_derivatives};
 use crate::frame::{frame, nudge, SurfacePoint};
 use crate::math::{clamp_param, normalize};
 use crate::model::{PatchHeader, PatchSet};
-use crate::patch::{check_degree, first_invalid_weight, first_non_finite};
+use crate::patch::{check_degree, first_invalid_weight, first_non_finite, Side};
 use crate::MAX_DEGREE;
 
 /// A parameter direction of a surface.
@@ -451,7 +451,26 @@ impl<'a> NurbsSurface<'a> {
             u,
             v,
         );
-        frame(&ev, s, t)
+        frame(&ev, s, t, |side| self.is_collapsed(side))
+    }
+
+    /// True when every control point along `side` of the surface is the same point.
+    fn is_collapsed(&self, side: Side) -> bool {
+        let (nu, nv) = (self.count_u(), self.count_v());
+        let at = |k: usize| {
+            let (i, j) = match side {
+                Side::V0 => (k, 0),
+                Side::U1 => (nu - 1, k),
+                Side::V1 => (k, nv - 1),
+                Side::U0 => (0, k),
+            };
+            self.points[i * nv + j]
+        };
+        let n = match side {
+            Side::V0 | Side::V1 => nu,
+            Side::U0 | Side::U1 => nv,
+        };
+        (1..n).all(|k| at(k) == at(0))
     }
 
     fn net_normal(&self) -> Option<Vec3> {

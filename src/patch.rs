@@ -337,7 +337,7 @@ impl<'a> BezierPatch<'a> {
     fn frame_at(&self, u: f32, v: f32) -> crate::frame::Frame {
         let (p, q) = (self.degree_u(), self.degree_v());
         let ev = tensor_with_derivatives(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v);
-        frame(&ev, u, v)
+        frame(&ev, u, v, |side| self.is_collapsed(side))
     }
 
     /// Normal of the control net's diagonals, oriented like `partial_u x partial_v`.

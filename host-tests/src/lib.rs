@@ -13,6 +13,7 @@ pub mod reference;
 pub mod runtime;
 #[path = "../../examples/common/runtime_storage.rs"]
 pub mod runtime_storage;
+pub mod seeds;
 
 use std::path::PathBuf;
 
@@ -167,6 +168,12 @@ impl Rng {
     /// Seeded generator.
     pub fn new(seed: u64) -> Self {
         Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    /// The generator a test uses where it writes `fixed`: seeded with `fixed` unless
+    /// [`seeds::SEED_VAR`] asks for fresh seeds.
+    pub fn for_test(fixed: u64) -> Self {
+        Rng::new(seeds::seed(fixed))
     }
 
     /// Uniform in `[0, 1)`.

@@ -157,7 +157,7 @@ fn candidates(rng: &mut Rng) -> Vec<GridPoint> {
 #[test]
 fn random_histories_give_the_fresh_triangulation() {
     for seed in 0..60 {
-        let mut rng = Rng::new(seed);
+        let mut rng = Rng::for_test(seed);
         let pool = candidates(&mut rng);
         let (mut vs, mut ts) = storage(pool.len() + 4);
         let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
@@ -251,7 +251,7 @@ fn capacities_and_bad_requests_leave_the_mesh_unchanged() {
 /// which insertion and removal handle in place.
 #[test]
 fn high_degree_vertices_insert_and_remove_in_place() {
-    let mut rng = Rng::new(7);
+    let mut rng = Rng::for_test(7);
     let mut boundary = BTreeSet::new();
     for k in 1..200u32 {
         let t = (k * GridPoint::MAX as u32 / 200) as u16;

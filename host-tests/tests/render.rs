@@ -147,7 +147,7 @@ fn random_square(rng: &mut Rng, n: usize) -> (Vec<Vertex>, Vec<[u32; 3]>) {
 
 #[test]
 fn shared_edges_draw_each_pixel_once_and_leave_no_gap() {
-    let mut rng = Rng::new(7);
+    let mut rng = Rng::for_test(7);
     for case in 0..60 {
         let (vs, ts) = random_square(&mut rng, 3 + case % 9);
         let mesh = IndexedMesh {
@@ -220,7 +220,7 @@ fn shared_edges_draw_each_pixel_once_and_leave_no_gap() {
 
 #[test]
 fn a_tilted_square_in_perspective_has_no_overdraw_or_gap() {
-    let mut rng = Rng::new(11);
+    let mut rng = Rng::for_test(11);
     for case in 0..20 {
         let (vs, ts) = random_square(&mut rng, 4 + case % 7);
         let mesh = IndexedMesh {

@@ -5,6 +5,7 @@
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::models_dir;
 use host_tests::runtime::{edge_uses, indexed, RuntimeStorage};
+use host_tests::seeds::proptest_config;
 use proptest::prelude::*;
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::{
@@ -174,7 +175,7 @@ fn small_buffers_are_untouched_and_say_what_is_needed() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(proptest_config(48))]
 
     /// Any camera (inside the model, behind it, far away, grazing) and tolerance gives a mesh
     /// or a typed error, never a panic, and the mesh never uses an edge more than twice.
