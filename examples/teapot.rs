@@ -28,7 +28,7 @@ use std::time::Instant;
 use common::framebuffer::Framebuffer;
 use common::image::Image;
 use common::model_file::{bake_to_vec, ModelFile};
-use common::obj::write_obj;
+use common::obj::{frame_faces, write_obj};
 use common::runtime_storage::RuntimeStorage;
 use embedded_graphics::pixelcolor::Rgb888;
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
@@ -239,19 +239,9 @@ fn run() -> Result<(), String> {
     let mut triangles = vec![[0u32; 3]; size.triangles];
     tess.write_mesh(&mut vertices, &mut triangles)
         .map_err(|e| format!("last frame: {e}"))?;
-    let groups: Vec<_> = (0..tess.patches().len())
-        .map(|p| (p, tess.patch_triangles(p)))
-        .filter(|(_, r)| !r.is_empty())
-        .collect();
+    let faces = frame_faces(&tess, &triangles);
     let obj = args.out.join(format!("{name}.obj"));
-    write_obj(
-        &obj.to_string_lossy(),
-        &file,
-        nurbs,
-        &vertices,
-        &groups,
-        &triangles,
-    )?;
+    write_obj(&obj.to_string_lossy(), &file, nurbs, &vertices, &faces)?;
     println!(
         "# wrote {}/{name}_000.png .. {name}_{:03}.png, {name}_contact.png, {name}.obj",
         args.out.display(),

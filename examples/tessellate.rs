@@ -17,9 +17,11 @@
 //! (unrefined, see the budget mode). `--near D` sets the near plane (default 1% of the model's
 //! diagonal).
 //!
-//! OBJ: `v`, `vt` (the patch's own parameters; for NURBS, the surface's), `vn`, one `g patch_K`
-//! per patch (for NURBS, K is the surface index: the file holds one surface, so K = 0), and
-//! `f a/a/a b/b/b c/c/c`; vertices on shared curves are shared by index.
+//! OBJ: `v` and `vn` per vertex (vertices on shared curves are shared by index, so the mesh is
+//! welded), `vt` per face corner's own parameters (the patch's; for NURBS, the surface's), one
+//! `g patch_K` per patch (for NURBS, K is the surface index: the file holds one surface, so
+//! K = 0), and `f v/vt/vn`. A vertex whose parameters differ between the faces that use it (a
+//! shared curve, a pole, the seam of a closed surface) has one `vt` per face's value.
 
 mod common;
 
@@ -27,7 +29,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use common::model_file::{bake_to_vec, ModelFile};
-use common::obj::write_obj;
+use common::obj::{frame_faces, write_obj};
 use common::runtime_storage::RuntimeStorage;
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::Settings;
@@ -240,11 +242,8 @@ fn run() -> Result<(), String> {
         let ms = start.elapsed().as_secs_f64() * 1e3;
         println!("{}", json(frame, tolerance, &stats, ms));
     }
-    let groups: Vec<_> = (0..tess.patches().len())
-        .map(|p| (p, tess.patch_triangles(p)))
-        .filter(|(_, r)| !r.is_empty())
-        .collect();
-    write_obj(&args.obj, &file, nurbs, &vertices, &groups, &triangles)
+    let faces = frame_faces(&tess, &triangles);
+    write_obj(&args.obj, &file, nurbs, &vertices, &faces)
 }
 
 fn main() -> ExitCode {

@@ -8,6 +8,8 @@
 pub mod baked;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
+#[path = "../../examples/common/obj.rs"]
+pub mod obj;
 pub mod peers;
 pub mod reference;
 pub mod runtime;

@@ -216,6 +216,34 @@ fn quarter_cylinder_lies_on_the_cylinder() {
 }
 
 #[test]
+fn torus_lies_on_the_torus_with_tube_normals() {
+    let f = fixtures()
+        .into_iter()
+        .find(|f| f.name == "rational_torus.json")
+        .unwrap();
+    let s = f.k.surface();
+    let mut rng = Rng::for_test(19);
+    for (u, v) in params(&f.r, &mut rng) {
+        let k = s.evaluate(u, v);
+        let p = widen(k.position);
+        let rho = (p[0] * p[0] + p[1] * p[1]).sqrt();
+        let e = (rho - 2.0).powi(2) + p[2] * p[2] - 0.25;
+        assert!(
+            e.abs() <= 4e-6,
+            "(rho - 2)^2 + z^2 - 1/4 = {e} at ({u}, {v})"
+        );
+        // The normal points from the tube's centre circle to the point.
+        let centre = [2.0 * p[0] / rho, 2.0 * p[1] / rho, 0.0];
+        let radial = reference::sub(p, centre);
+        let cos = reference::dot(widen(k.normal), radial).abs() / reference::norm(radial);
+        assert!(
+            cos > 1.0 - 1e-6,
+            "normal at ({u}, {v}) is not radial: cos {cos}"
+        );
+    }
+}
+
+#[test]
 fn decomposition_is_exact_and_shares_rows() {
     let mut rng = Rng::for_test(17);
     for f in fixtures() {
