@@ -307,6 +307,13 @@ pub(crate) struct MeshHeader {
     metric: Metric,
 }
 
+impl MeshHeader {
+    /// Live triangles of the mesh this header describes.
+    pub(crate) fn triangle_count(&self) -> usize {
+        self.triangle_count as usize
+    }
+}
+
 /// A Delaunay triangulation of the unit square in caller storage.
 ///
 /// ```

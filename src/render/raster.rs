@@ -74,10 +74,21 @@ fn ceil_div(a: i64, b: i64) -> i64 {
     -((-a).div_euclid(b))
 }
 
+/// Largest pixel coordinate, in magnitude, a triangle may have: clipping keeps every corner
+/// within twice the viewport (at most [`MAX_VIEWPORT`](super::MAX_VIEWPORT) pixels), and up
+/// to here the edge functions' products stay far inside `i64`. Only non-finite or
+/// astronomically large input gets past the clip with more.
+const COORDINATE_LIMIT: f32 = (1u32 << 24) as f32;
+
 impl Triangle {
-    /// Sets up a triangle; `None` when it has no area after snapping. `wire[i]` marks the
-    /// edge opposite corner `i` for the wireframe.
+    /// Sets up a triangle; `None` when it has no area after snapping, or when a corner is not
+    /// a finite pixel position within [`COORDINATE_LIMIT`]. `wire[i]` marks the edge opposite
+    /// corner `i` for the wireframe.
     pub fn new(v: [ScreenVertex; 3], wire: [bool; 3]) -> Option<Triangle> {
+        let inside = |c: f32| c.abs() <= COORDINATE_LIMIT; // false for NaN
+        if !v.iter().all(|p| inside(p.xy[0]) && inside(p.xy[1])) {
+            return None;
+        }
         let mut x = v.map(|p| snap(p.xy[0]));
         let mut y = v.map(|p| snap(p.xy[1]));
         let mut v = v;
@@ -259,6 +270,18 @@ mod tests {
     fn degenerate_triangles_are_dropped() {
         let t = [corner(0.0, 0.0), corner(5.0, 5.0), corner(10.0, 10.0)];
         assert!(Triangle::new(t, [false; 3]).is_none());
+    }
+
+    #[test]
+    fn corners_off_the_fixed_point_range_are_dropped() {
+        // What only non-finite or astronomically large input brings past the clip (found by
+        // the `render` fuzz target: the edge function overflowed).
+        for bad in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN, 3.0e7, -1.0e30] {
+            let t = [corner(0.5, 0.5), corner(bad, 0.5), corner(0.5, 8.5)];
+            assert!(Triangle::new(t, [true; 3]).is_none(), "{bad}");
+        }
+        let far = corner(COORDINATE_LIMIT, 0.5);
+        assert!(Triangle::new([corner(0.5, 0.5), far, corner(0.5, 8.5)], [true; 3]).is_some());
     }
 
     #[test]

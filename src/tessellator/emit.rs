@@ -37,7 +37,7 @@ enum Point {
     Vertex { id: u16, p: GridPoint },
     /// Point `r` (from the edge's smaller end) of interior edge `edge` of triangle `slot`.
     Edge {
-        slot: u16,
+        slot: u32,
         edge: u8,
         r: u32,
         u: u32,
@@ -59,7 +59,7 @@ fn point_hash(q: &Point) -> u32 {
         Point::Node(n) => [1, n, 0, 0],
         Point::Curve { curve, j, .. } => [2, curve, j, 0],
         Point::Vertex { id, .. } => [3, id as u32, 0, 0],
-        Point::Edge { slot, edge, r, .. } => [4, slot as u32, edge as u32, r],
+        Point::Edge { slot, edge, r, .. } => [4, slot, edge as u32, r],
         Point::Face { u, v, den, .. } => [5, u, v, den],
     };
     words
@@ -227,7 +227,7 @@ impl PatchView<'_, '_, '_> {
                         (b, a, f - r as u32)
                     };
                     Point::Edge {
-                        slot: t as u16,
+                        slot: t as u32,
                         edge: i as u8,
                         r,
                         u: (f - r) * lo.u as u32 + r * hi.u as u32,
@@ -509,7 +509,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                         let (lo, hi) = if a < b { (a, b) } else { (b, a) };
                         for r in 1..f {
                             let point = Point::Edge {
-                                slot: t as u16,
+                                slot: t as u32,
                                 edge: i as u8,
                                 r,
                                 u: (f - r) * lo.u as u32 + r * hi.u as u32,

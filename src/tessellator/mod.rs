@@ -56,6 +56,15 @@ pub const ESTIMATE_SAFETY: f32 = 1.1;
 /// Barycentric steps of the run-time deviation scan.
 const SCAN: u32 = 6;
 
+/// Largest refinement factor (a refined triangle has at most `MAX_FACTOR²` pieces plus
+/// `3 MAX_FACTOR` along its sides); [`Settings::max_factor`] is capped here.
+pub const MAX_FACTOR: u8 = 64;
+
+/// Largest frame, in triangles, that refinement may produce: comfortably inside the `u32`
+/// indices and counts of the output. A frame whose refinement could exceed it is not refined
+/// (its [`FrameStats::max_predicted_error`] says how far above the tolerance it is).
+const MAX_REFINED_TRIANGLES: u64 = (u32::MAX / 8) as u64;
+
 /// Run-time settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -63,7 +72,8 @@ pub struct Settings {
     /// Interior samples per patch the storage holds, at most (the rest of a patch's list is
     /// never used; refinement takes over).
     pub max_interior_samples: u16,
-    /// Largest refinement factor of a triangle (1 turns refinement off).
+    /// Largest refinement factor of a triangle (1 turns refinement off; values above
+    /// [`MAX_FACTOR`] count as it).
     pub max_factor: u8,
 }
 
@@ -480,7 +490,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             return Err(TessellatorError::ModelMismatch);
         }
         let settings = Settings {
-            max_factor: settings.max_factor.max(1),
+            max_factor: settings.max_factor.clamp(1, MAX_FACTOR),
             ..settings
         };
         let needed = StorageSize::of(&baked, &settings);
@@ -682,6 +692,10 @@ impl<'m, 's> Tessellator<'m, 's> {
                 .map_err(|error| UpdateError::Mesh { patch: p, error })?;
         }
         self.choose_factors(refine, &mut stats);
+        if refine && self.refined_bound() > MAX_REFINED_TRIANGLES {
+            // Only an absurd tolerance asks for this much: draw the samples alone.
+            self.choose_factors(false, &mut stats);
+        }
         self.counts = self.count();
         stats.triangles = self.counts.triangles as usize;
         stats.vertices = self.counts.vertices as usize;
@@ -696,6 +710,19 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
         stats.max_predicted_error = worst * tol;
         Ok(stats)
+    }
+
+    /// An upper bound on the frame's triangles with the chosen factors: a domain triangle
+    /// whose factors are at most `f` is cut into at most `f² + 3f` (see `pattern`).
+    fn refined_bound(&self) -> u64 {
+        self.storage.patches[..self.baked.patch_count()]
+            .iter()
+            .filter(|s| !s.culled)
+            .map(|s| {
+                let f = u64::from(s.factor.max(1));
+                s.mesh.triangle_count() as u64 * (f * f + 3 * f)
+            })
+            .sum()
     }
 
     /// Thresholds, culling, and the curves' target prefixes (sorted parameters kept up to
