@@ -2,8 +2,8 @@
 # Footprint of the firmware demo `fw_teapot` (thumbv7em-none-eabihf, QEMU mps2-an386): code and
 # constant data of the kernel without printing, static RAM, the frames' painted stack, the
 # buffers, the baked teapot, and instructions per frame and per triangle under QEMU icount.
-# Prints a Markdown table; with `--readme` also replaces the block between the footprint
-# markers in README.md. Takes a few minutes (one extra build at opt-level "s").
+# Prints a Markdown table, which `scripts/figures.sh` puts into README.md and BENCHMARKS.md.
+# Takes a few minutes (one extra build at opt-level "s").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -77,13 +77,3 @@ MD
 )
 echo "$table"
 
-if [ "${1:-}" = "--readme" ]; then
-    python3 - "$table" <<'PY'
-import sys
-table = sys.argv[1]
-text = open("README.md").read()
-start, end = "<!-- footprint:start -->", "<!-- footprint:end -->"
-a, b = text.index(start) + len(start), text.index(end)
-open("README.md", "w").write(text[:a] + "\n" + table + "\n" + text[b:])
-PY
-fi

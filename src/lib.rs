@@ -23,7 +23,8 @@
 //!   object-space tolerance) selects each patch's and curve's prefix of samples, the domain
 //!   meshes are updated in place, triangles past the samples are refined with edge factors
 //!   both sides agree on, and the crack-free mesh is written to caller buffers or streamed to a
-//!   [`TriangleSink`].
+//!   [`TriangleSink`];
+//! - `render` (feature `embedded-graphics`): the band renderer for displays.
 //!
 //! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
 //! states what was needed.
@@ -59,8 +60,9 @@
 //! ## Crate features
 //!
 //! - `defmt`: every public type implements `defmt::Format`.
-//! - `embedded-graphics`: drawing onto `embedded_graphics` targets (the renderer; wired, and
-//!   filled in by a later release).
+//! - `embedded-graphics`: `render`, a band-by-band, z-buffered rasteriser that draws a
+//!   tessellator's triangles (streamed, no mesh buffer) or an indexed mesh onto any
+//!   `embedded_graphics` `DrawTarget` with RGB colours, with a caller depth band.
 //!
 //! ## Numbers
 //!

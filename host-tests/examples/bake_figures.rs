@@ -3,7 +3,8 @@
 //! the same verified deviation. One run, one machine; prints a Markdown table.
 //!
 //! ```text
-//! cargo run --release -p host-tests --example bake_figures
+//! cargo run --release -p host-tests --example bake_figures          # 1e-3 and 1e-4
+//! cargo run --release -p host-tests --example bake_figures -- 1e-3  # the tolerances given
 //! ```
 //!
 //! "Verified deviation" is the largest distance, over every triangle, between the surface and
@@ -79,13 +80,22 @@ fn main() {
         .chain(nurbs_fixtures())
         .filter(|p| name(p).contains(&only))
         .collect();
+    let tolerances: Vec<f32> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse().expect("a relative tolerance"))
+        .collect();
+    let tolerances = if tolerances.is_empty() {
+        vec![1e-3, 1e-4]
+    } else {
+        tolerances
+    };
     println!("| model | rel. tol. | patches | curve samples | interior samples | bytes | bake s | stops tol/cap/res | baked triangles | verified deviation | grid triangles | baked / grid |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for path in &models {
         let file = ModelFile::read(path.to_str().unwrap()).unwrap();
         let patches = file.patches();
         let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
-        for rel in [1e-3f32, 1e-4] {
+        for &rel in &tolerances {
             let settings = BakeSettings {
                 tolerance: Tolerance::Relative(rel),
                 max_curve_samples: 256,
