@@ -36,8 +36,9 @@ use spline_tess::{BoundaryCurve, DomainMesh, EdgeLink, MeshTriangle, MeshVertex,
 
 const VERTICES: usize = 4 + 4 * CURVE_CAP + INTERIOR_CAP;
 const TRIANGLES: usize = DomainMesh::triangles_for(VERTICES);
-/// Room for the largest bake these caps allow: header, 4 curves, 1 patch, all samples.
-const OUT: usize = 40 + 4 * 16 + 28 + 4 * CURVE_CAP * 6 + INTERIOR_CAP * 8;
+/// Room for the largest bake these caps allow: header, 4 curves, 1 patch, all samples (the
+/// patch's steps: its interior samples and its curve requests).
+const OUT: usize = 40 + 4 * 16 + 28 + 4 * CURVE_CAP * 6 + (INTERIOR_CAP + 4 * CURVE_CAP) * 8;
 
 /// Bakes the patch into `out`; returns the summary.
 fn bake(out: &mut [u8; OUT]) -> Result<BakeSummary, BakeError> {
@@ -50,8 +51,8 @@ fn bake(out: &mut [u8; OUT]) -> Result<BakeSummary, BakeError> {
     let mut triangles = [MeshTriangle::default(); TRIANGLES];
     let mut deviations = [TriangleDeviation::default(); TRIANGLES];
     let mut segments = [CurveSegment::default(); CURVE_CAP + 1];
-    let mut curve_samples = [CurveSample::default(); CURVE_CAP];
-    let mut interior_samples = [InteriorSample::default(); INTERIOR_CAP];
+    let mut curve_samples = [CurveSample::default(); 4 * CURVE_CAP];
+    let mut interior_samples = [InteriorSample::default(); INTERIOR_CAP + 4 * CURVE_CAP];
     let scratch = BakeScratch {
         vertices: &mut vertices,
         triangles: &mut triangles,

@@ -81,6 +81,7 @@ mod basis;
 mod bound;
 #[cfg(feature = "defmt")]
 mod defmt_impls;
+mod deviation;
 mod domain;
 mod frame;
 mod math;
@@ -108,7 +109,7 @@ pub use nurbs::{
     DecomposeError, DecompositionSize, Direction, NurbsError, NurbsSurface, ParamRect,
 };
 pub use patch::{BezierPatch, PatchError, Side};
-pub use sink::{MeshIndex, MeshSize, TriangleSink, Vertex, WriteError};
+pub use sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
 pub use tessellator::{FrameStats, Tessellator};
 pub use view::{Camera, CameraError, Projection, View};
 

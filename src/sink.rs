@@ -67,6 +67,23 @@ pub trait TriangleSink {
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]);
 }
 
+/// What [`Tessellator::stream_with_info`](crate::Tessellator::stream_with_info) tells about
+/// each triangle besides its vertices.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TriangleInfo {
+    /// The patch it belongs to.
+    pub patch: u32,
+    /// Each corner's parameters `(u, v)` in that patch (a vertex on a shared curve carries its
+    /// owner's parameters; these are the triangle's own patch's; at a collapsed edge, the point
+    /// of that edge the corner sits at).
+    pub uv: [[f32; 2]; 3],
+    /// An upper bound of the distance between the patch and the triangle at the same
+    /// parameters, in model units (computed, not estimated: see
+    /// [`PatchBounds`](crate::bake::PatchBounds)).
+    pub bound: f32,
+}
+
 /// Numbers of vertices and triangles of a frame's mesh.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

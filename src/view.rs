@@ -282,9 +282,138 @@ impl Camera {
         }
     }
 
-    /// The largest object-space length near `sphere` that projects to at most one pixel (see
-    /// the module docs), and whether the sphere lies wholly outside the view.
-    pub(crate) fn pixel_size(&self, sphere: &BoundingSphere) -> (f32, bool) {
+    /// The object-space length per pixel for a region at least `z` away whose points have
+    /// slopes up to `(a, b)`, for deviations of up to `tol` pixels: a deviation that counts has
+    /// its surface end on screen, so its other end has slopes at most the frustum's plus its
+    /// own length over its depth, and the region's slopes are capped there.
+    fn capped_size(&self, z: f32, a: f32, b: f32, tol: f32) -> f32 {
+        let [sx, sy] = self.slope;
+        let size = |a: f32, b: f32| z / (self.focal * sqrt(1.0 + a * a + b * b));
+        let first = size(a.min(sx), b.min(sy));
+        // The deviation's length at that size, and how far past the frustum it can reach.
+        let d = 2.0 * tol * first;
+        if d.partial_cmp(&(0.5 * z)) != Some(core::cmp::Ordering::Less) {
+            return size(a, b);
+        }
+        let reach = d * (1.0 + sx.max(sy)) / (z - d);
+        size(a.min(sx + reach), b.min(sy + reach))
+    }
+
+    /// The largest object-space length in the convex hull of `points` that projects to at
+    /// most `tol` pixels, over `tol`, and whether the hull lies wholly outside the view (see
+    /// the module docs).
+    pub(crate) fn hull_pixel_size(&self, points: &[[f32; 3]], tol: f32) -> (f32, bool) {
+        let [sx, sy] = self.slope;
+        let perspective = matches!(self.projection, Projection::Perspective { .. });
+        let (half_w, half_h) = (
+            0.5 * self.viewport[0] as f32 / self.focal,
+            0.5 * self.viewport[1] as f32 / self.focal,
+        );
+        // Outside when every point is beyond one plane: near, left, right, bottom, top.
+        let mut inside_some = [false; 5];
+        let (mut z_min, mut a, mut b) = (f32::INFINITY, 0.0f32, 0.0f32);
+        for p in points {
+            let v = self.to_view(Vec3::from_array(*p));
+            let (lx, ly) = if perspective {
+                (sx * v.z, sy * v.z)
+            } else {
+                (half_w, half_h)
+            };
+            let flags = [
+                v.z >= self.near,
+                v.x >= -lx,
+                v.x <= lx,
+                v.y >= -ly,
+                v.y <= ly,
+            ];
+            for (seen, f) in inside_some.iter_mut().zip(flags) {
+                *seen |= f;
+            }
+            z_min = z_min.min(v.z);
+            if v.z > 0.0 {
+                a = a.max(v.x.abs() / v.z);
+                b = b.max(v.y.abs() / v.z);
+            }
+        }
+        // (NaN coordinates land here too: every comparison is false.)
+        let culled = !inside_some.iter().all(|&x| x);
+        if !perspective {
+            return (1.0 / self.focal, culled);
+        }
+        // Part of the hull in front of the near plane is clipped: what is drawn is at least
+        // `near` away, with slopes up to the frustum's.
+        if z_min >= self.near {
+            (self.capped_size(z_min, a, b, tol), culled)
+        } else {
+            (
+                self.capped_size(self.near, f32::INFINITY, f32::INFINITY, tol),
+                culled,
+            )
+        }
+    }
+
+    /// The largest object-space length within `margin` of the flat triangle `points` that
+    /// projects to at most `tol` pixels, over `tol`, and whether that region lies wholly
+    /// outside the view.
+    pub(crate) fn triangle_pixel_size(
+        &self,
+        points: [[f32; 3]; 3],
+        margin: f32,
+        tol: f32,
+    ) -> (f32, bool) {
+        let v = points.map(|p| self.to_view(Vec3::from_array(p)));
+        let perspective = matches!(self.projection, Projection::Perspective { .. });
+        let [sx, sy] = self.slope;
+        let (half_w, half_h) = (
+            0.5 * self.viewport[0] as f32 / self.focal,
+            0.5 * self.viewport[1] as f32 / self.focal,
+        );
+        // Signed distances beyond each plane (near, left, right, bottom, top) of the corners;
+        // the region is outside when every corner is farther than `margin` beyond one plane.
+        let beyond = |p: Vec3| -> [f32; 5] {
+            if perspective {
+                let (nx, ny) = (sqrt(1.0 + sx * sx), sqrt(1.0 + sy * sy));
+                [
+                    self.near - p.z,
+                    (-p.x - sx * p.z) / nx,
+                    (p.x - sx * p.z) / nx,
+                    (-p.y - sy * p.z) / ny,
+                    (p.y - sy * p.z) / ny,
+                ]
+            } else {
+                [
+                    self.near - p.z,
+                    -p.x - half_w,
+                    p.x - half_w,
+                    -p.y - half_h,
+                    p.y - half_h,
+                ]
+            }
+        };
+        let d = v.map(beyond);
+        let culled = (0..5).any(|k| d.iter().all(|c| c[k] > margin));
+        if !perspective {
+            return (1.0 / self.focal, culled);
+        }
+        let z_min = v.iter().map(|p| p.z).fold(f32::INFINITY, f32::min) - margin;
+        if z_min.partial_cmp(&self.near) == Some(core::cmp::Ordering::Less) || z_min.is_nan() {
+            return (
+                self.capped_size(self.near, f32::INFINITY, f32::INFINITY, tol),
+                culled,
+            );
+        }
+        let slope = |f: fn(&Vec3) -> f32| {
+            v.iter()
+                .map(|p| (f(p).abs() + margin) / (p.z - margin))
+                .fold(0.0f32, f32::max)
+        };
+        let (a, b) = (slope(|p| p.x), slope(|p| p.y));
+        (self.capped_size(z_min, a, b, tol), culled)
+    }
+
+    /// The largest object-space length near `sphere` that projects to at most `tol` pixels,
+    /// over `tol` (see the module docs), and whether the sphere lies wholly outside the view.
+    pub(crate) fn pixel_size(&self, sphere: &BoundingSphere, tol: f32) -> (f32, bool) {
         let c = self.to_view(sphere.center);
         let r = sphere.radius;
         match self.projection {
@@ -301,10 +430,9 @@ impl Camera {
                 let side = |x: f32, s: f32| (x.abs() - s * c.z) / sqrt(1.0 + s * s);
                 let outside = c.z + r < self.near || side(c.x, sx) > r || side(c.y, sy) > r;
                 let z_min = (c.z - r).max(self.near);
-                let a = ((c.x.abs() + r) / z_min).min(sx);
-                let b = ((c.y.abs() + r) / z_min).min(sy);
-                let size = z_min / (self.focal * sqrt(1.0 + a * a + b * b));
-                (size, outside)
+                let a = (c.x.abs() + r) / z_min;
+                let b = (c.y.abs() + r) / z_min;
+                (self.capped_size(z_min, a, b, tol), outside)
             }
         }
     }
@@ -353,7 +481,34 @@ impl View {
     /// Object-space length per unit of tolerance near `sphere`, and whether it is culled.
     pub(crate) fn scale(&self, sphere: &BoundingSphere) -> (f32, bool) {
         match self {
-            View::Screen { camera, .. } => camera.pixel_size(sphere),
+            View::Screen {
+                camera,
+                tolerance_px,
+            } => camera.pixel_size(sphere, *tolerance_px),
+            View::Object { .. } => (1.0, false),
+        }
+    }
+
+    /// Object-space length per unit of tolerance within `margin` of the flat triangle
+    /// `points`, and whether it is culled.
+    pub(crate) fn triangle_scale(&self, points: [[f32; 3]; 3], margin: f32) -> (f32, bool) {
+        match self {
+            View::Screen {
+                camera,
+                tolerance_px,
+            } => camera.triangle_pixel_size(points, margin, *tolerance_px),
+            View::Object { .. } => (1.0, false),
+        }
+    }
+
+    /// Object-space length per unit of tolerance in the convex hull of `points`, and whether
+    /// it is culled.
+    pub(crate) fn hull_scale(&self, points: &[[f32; 3]]) -> (f32, bool) {
+        match self {
+            View::Screen {
+                camera,
+                tolerance_px,
+            } => camera.hull_pixel_size(points, *tolerance_px),
             View::Object { .. } => (1.0, false),
         }
     }

@@ -31,13 +31,13 @@ pub struct ObjFace {
 /// each corner's parameters in the face's own patch.
 pub fn frame_faces(tess: &Tessellator<'_, '_>, triangles: &[[u32; 3]]) -> Vec<ObjFace> {
     let mut faces = Vec::with_capacity(triangles.len());
-    // `stream_with_params` gives the triangles in `write_mesh`'s order.
-    tess.stream_with_params(|patch, _, uv| {
+    // `stream_with_info` gives the triangles in `write_mesh`'s order.
+    tess.stream_with_info(|info, _| {
         let k = faces.len();
         faces.push(ObjFace {
-            patch,
+            patch: info.patch,
             vertices: triangles.get(k).copied().unwrap_or_default(),
-            uv,
+            uv: info.uv,
         });
     });
     debug_assert_eq!(faces.len(), triangles.len());

@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, framebuffer checksum), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [2720, 6355, 0x1fab1356],
-    [2720, 6356, 0xfebd1146],
-    [5086, 21959, 0xdda2590f],
-    [11818, 53195, 0xc02193d2],
+    [1224, 6330, 0xdaf2f714],
+    [1224, 6343, 0x5505f84d],
+    [4094, 21807, 0x0bc5767c],
+    [7289, 53078, 0x879817aa],
 ];

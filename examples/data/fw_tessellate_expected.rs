@@ -2,8 +2,8 @@
 // (triangles, vertices, samples inserted, checksum), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 4]; 4] = [
-    [2720, 1407, 745, 0x1adc5fac],
-    [2720, 1407, 0, 0x1adc5fac],
-    [5086, 2610, 820, 0xe1f86f57],
-    [11434, 5810, 211, 0xc0d7b381],
+    [1224, 646, 753, 0x4692a5a2],
+    [1224, 646, 0, 0x4692a5a2],
+    [4094, 2108, 594, 0xeba7e28b],
+    [10370, 5298, 142, 0x439116bb],
 ];

@@ -15,6 +15,7 @@ pub mod reference;
 pub mod runtime;
 #[path = "../../examples/common/runtime_storage.rs"]
 pub mod runtime_storage;
+pub mod screen;
 pub mod seeds;
 
 use std::path::PathBuf;

@@ -29,7 +29,7 @@ pub fn indexed(tess: &mut Tessellator<'_, '_>) -> Mesh {
     mesh
 }
 
-/// One streamed triangle: its patch, vertices and own-patch parameters.
+/// One streamed triangle: its patch, vertices, own-patch parameters and bound.
 #[derive(Clone, Debug)]
 pub struct Streamed {
     /// The patch.
@@ -38,16 +38,19 @@ pub struct Streamed {
     pub corners: [Vertex; 3],
     /// Parameters in the patch.
     pub uv: [[f32; 2]; 3],
+    /// The kernel's deviation bound, in model units.
+    pub bound: f32,
 }
 
 /// The current frame as streamed triangles.
 pub fn streamed(tess: &Tessellator<'_, '_>) -> Vec<Streamed> {
     let mut out = Vec::new();
-    tess.stream_with_params(|patch, c, uv| {
+    tess.stream_with_info(|info, c| {
         out.push(Streamed {
-            patch,
+            patch: info.patch,
             corners: [*c[0], *c[1], *c[2]],
-            uv,
+            uv: info.uv,
+            bound: info.bound,
         })
     });
     out

@@ -1,17 +1,20 @@
-//! Interior sampling on every model (BPT models and NURBS fixtures) at a relative tolerance of
-//! 1e-3: each recorded deviation is at least 95% of the true largest deviation of the patch's
-//! triangulation after that insertion (dense f64 sampling, 64x64 barycentric points per
-//! triangle, with the reference evaluator), the lists are non-increasing, the stop reason is
-//! honest, and samples keep the boundary margin.
+//! Patch sampling on every model (BPT models and NURBS fixtures) at a relative tolerance of
+//! 1e-3, rebuilt step by step with the patch's own triangulation (its corners, the curve
+//! samples it requests, its interior samples): wherever a recorded value is a new minimum (the
+//! prefixes the run time selects), it is at least the true largest deviation of the
+//! triangulation after that step (dense f64 sampling, 64x64 barycentric points per triangle,
+//! with the reference evaluator), and within 10% of it on the median over all models; the lists are
+//! non-increasing; a curve request inserts its side's next curve sample; interior samples keep
+//! the boundary margin; the stop reason is honest.
 
 use std::collections::HashMap;
 
-use host_tests::baked::{boundary_points, triangle_max, unit};
+use host_tests::baked::{on_side, triangle_max, unit};
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::RefPatch;
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::{BakeSettings, BakedModel, StopReason, Tolerance, BOUNDARY_MARGIN};
-use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
+use spline_tess::{DomainMesh, EdgeLink, GridPoint, MeshTriangle, MeshVertex, Side};
 
 const DENSE: usize = 64;
 const RELATIVE: f32 = 1e-3;
@@ -23,7 +26,7 @@ const SETTINGS: BakeSettings = BakeSettings {
 
 struct Report {
     samples: usize,
-    worst_ratio: f64,
+    ratios: Vec<f64>,
 }
 
 fn check_model(path: &std::path::Path) -> Report {
@@ -38,7 +41,7 @@ fn check_model(path: &std::path::Path) -> Report {
     let patches = file.patches();
     let mut report = Report {
         samples: 0,
-        worst_ratio: f64::INFINITY,
+        ratios: Vec::new(),
     };
     let inside = BOUNDARY_MARGIN..=GridPoint::MAX - BOUNDARY_MARGIN;
     for k in 0..baked.patch_count() {
@@ -48,9 +51,6 @@ fn check_model(path: &std::path::Path) -> Report {
         let mut vs = vec![MeshVertex::default(); n];
         let mut ts = vec![MeshTriangle::default(); DomainMesh::triangles_for(n)];
         let mut mesh = DomainMesh::with_metric(&mut vs, &mut ts, bp.metric).unwrap();
-        for p in boundary_points(&baked, &bp) {
-            mesh.insert(p).unwrap();
-        }
         let mut cache: HashMap<[GridPoint; 3], f64> = HashMap::new();
         let mut current = |mesh: &DomainMesh<'_>| -> f64 {
             mesh.triangles()
@@ -63,33 +63,61 @@ fn check_model(path: &std::path::Path) -> Report {
                 .fold(0.0, f64::max)
         };
         let truth = current(&mesh);
-        let ratio = bp.initial_deviation as f64 / truth.max(1e-30);
         assert!(
-            ratio >= 0.95 || truth < 1e-6 * tolerance,
-            "{label} patch {k}: initial deviation {} < 95% of {truth}",
+            bp.initial_deviation as f64 >= truth,
+            "{label} patch {k}: initial bound {} < true {truth}",
             bp.initial_deviation
         );
-        let mut last = f32::INFINITY;
+        // The curve samples each side's requests must insert, in order.
+        let sides: Vec<Vec<GridPoint>> = Side::ALL
+            .into_iter()
+            .zip(bp.edges)
+            .map(|(side, link)| match link {
+                EdgeLink::Curve { curve, reversed } => baked
+                    .curve(curve as usize)
+                    .unwrap()
+                    .samples
+                    .iter()
+                    .map(|c| on_side(side, c.t, reversed))
+                    .collect(),
+                EdgeLink::Collapsed => Vec::new(),
+            })
+            .collect();
+        let mut requested = [0usize; 4];
+        let mut last = bp.initial_deviation;
         for (j, s) in bp.samples.iter().enumerate() {
+            match s.requested_side() {
+                None => assert!(
+                    inside.contains(&s.point.u) && inside.contains(&s.point.v),
+                    "{label} patch {k} sample {j} inside the margin"
+                ),
+                Some(side) => {
+                    let r = &mut requested[side.index()];
+                    assert_eq!(
+                        sides[side.index()].get(*r),
+                        Some(&s.point),
+                        "{label} patch {k} step {j}: not the side's next curve sample"
+                    );
+                    *r += 1;
+                }
+            }
             assert!(
-                inside.contains(&s.point.u) && inside.contains(&s.point.v),
-                "{label} patch {k} sample {j} inside the margin"
-            );
-            assert!(
-                s.deviation <= last,
+                s.deviation <= last || j == 0,
                 "{label} patch {k} sample {j}: list increases"
             );
+            let new_minimum = j == 0 || s.deviation < last;
             last = s.deviation;
             mesh.insert(s.point).unwrap();
-            let truth = current(&mesh);
-            if truth > 1e-6 * tolerance {
-                let ratio = s.deviation as f64 / truth;
-                report.worst_ratio = report.worst_ratio.min(ratio);
+            if new_minimum {
+                let truth = current(&mesh);
                 assert!(
-                    ratio >= 0.95,
-                    "{label} patch {k} sample {j}: recorded {} < 95% of true {truth}",
+                    s.deviation as f64 >= truth,
+                    "{label} patch {k} sample {j}: recorded {} < true {truth}",
                     s.deviation
                 );
+                if truth > 1e-6 * tolerance {
+                    report.ratios.push(s.deviation as f64 / truth);
+                }
             }
         }
         report.samples += bp.samples.len();
@@ -100,16 +128,30 @@ fn check_model(path: &std::path::Path) -> Report {
             .map_or(bp.initial_deviation, |s| s.deviation) as f64;
         match bp.stop {
             StopReason::Tolerance => assert!(left <= tolerance, "{label} patch {k}"),
-            StopReason::SampleCap => assert_eq!(bp.samples.len(), 1024, "{label} patch {k}"),
+            StopReason::SampleCap => assert_eq!(
+                bp.samples
+                    .iter()
+                    .filter(|s| s.requested_side().is_none())
+                    .count(),
+                1024,
+                "{label} patch {k}"
+            ),
             StopReason::Resolution => assert!(left > tolerance, "{label} patch {k}"),
         }
     }
+    report.ratios.sort_by(f64::total_cmp);
+    let median = report
+        .ratios
+        .get(report.ratios.len() / 2)
+        .copied()
+        .unwrap_or(1.0);
     eprintln!(
-        "{label}: {} patches, {} interior samples, worst recorded/true {:.4}",
+        "{label}: {} patches, {} steps, recorded / true: min {:.3}, median {median:.3}",
         baked.patch_count(),
         report.samples,
-        report.worst_ratio
+        report.ratios.first().copied().unwrap_or(1.0),
     );
+
     report
 }
 
@@ -131,4 +173,13 @@ fn interior_deviations_are_truthful_on_every_model() {
     });
     assert_eq!(reports.len(), models.len());
     assert!(reports.iter().map(|r| r.samples).sum::<usize>() > 1000);
+    // Tight where it matters: the typical selectable prefix is within 10% of the truth.
+    let mut all: Vec<f64> = reports
+        .iter()
+        .flat_map(|r| r.ratios.iter().copied())
+        .collect();
+    all.sort_by(f64::total_cmp);
+    let median = all[all.len() / 2];
+    eprintln!("all models: median recorded / true {median:.3}");
+    assert!(median < 1.1, "median recorded / true {median}");
 }

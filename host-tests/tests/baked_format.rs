@@ -115,11 +115,18 @@ fn every_single_byte_corruption_is_rejected() {
 #[test]
 fn versions_trailing_bytes_and_malformed_records() {
     let bytes = baked_teaspoon();
-    let mut v2 = bytes.clone();
-    v2[4] = 2;
+    // Version 1 recorded sampled deviations, not bounds: it is refused.
+    let mut v1 = bytes.clone();
+    v1[4] = 1;
     assert_eq!(
-        BakedModel::from_bytes(&v2),
-        Err(LoadError::UnsupportedVersion { found: 2 })
+        BakedModel::from_bytes(&v1),
+        Err(LoadError::UnsupportedVersion { found: 1 })
+    );
+    let mut v3 = bytes.clone();
+    v3[4] = 3;
+    assert_eq!(
+        BakedModel::from_bytes(&v3),
+        Err(LoadError::UnsupportedVersion { found: 3 })
     );
     let mut long = bytes.clone();
     long.push(0);

@@ -2,8 +2,8 @@
 //! model's bound, looking away so that most patches are behind) and in object-space mode:
 //!
 //! - every triangle's deviation, sampled densely with the f64 reference and projected with the
-//!   camera, is at most the tolerance (or the larger error the frame itself predicts, where
-//!   refinement hit its cap);
+//!   camera, is at most the tolerance, and in model units at most the bound the kernel gives
+//!   for it; the frame's own largest bound over threshold is at most the tolerance too;
 //! - watertight: an edge used by one triangle lies on an open model curve (or one whose other
 //!   patch is culled), no edge is used by more than two, and no two vertices share a position;
 //! - the streamed triangles are the indexed ones, vertex for vertex;
@@ -16,7 +16,8 @@ use std::collections::{HashMap, HashSet};
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::RefPatch;
 use host_tests::runtime::{edge_uses, indexed, streamed, triangle_set, RuntimeStorage, Streamed};
-use host_tests::{bpt_models, name, nurbs_fixtures};
+use host_tests::screen::{triangle_deviation, Measure, Meter};
+use host_tests::{bpt_models, name, nurbs_fixtures, widen};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, EdgeLink, FrameStats, Projection, Vec3, View};
@@ -29,76 +30,6 @@ const BAKE: BakeSettings = BakeSettings {
 /// Barycentric steps of the dense deviation check.
 const DENSE: usize = 8;
 const VIEWPORT: [u32; 2] = [160, 120];
-
-/// An f64 copy of a camera, for measuring.
-struct Meter {
-    eye: [f64; 3],
-    basis: [[f64; 3]; 3],
-    focal: f64,
-    perspective: bool,
-    near: f64,
-}
-
-fn norm(a: [f64; 3]) -> [f64; 3] {
-    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    [a[0] / l, a[1] / l, a[2] / l]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-impl Meter {
-    fn new(eye: Vec3, target: Vec3, up: Vec3, fov: f64, near: f64) -> Meter {
-        let w = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
-        let f = norm(sub(w(target), w(eye)));
-        let r = norm(cross(f, w(up)));
-        let u = cross(r, f);
-        Meter {
-            eye: w(eye),
-            basis: [r, u, f],
-            focal: 0.5 * VIEWPORT[1] as f64 / (fov.to_radians() * 0.5).tan(),
-            perspective: true,
-            near,
-        }
-    }
-
-    /// Pixel position, or `None` when clipped or outside the viewport.
-    fn project(&self, p: [f64; 3]) -> Option<[f64; 2]> {
-        let d = sub(p, self.eye);
-        let (x, y, z) = (
-            dot(d, self.basis[0]),
-            dot(d, self.basis[1]),
-            dot(d, self.basis[2]),
-        );
-        if self.perspective && z < self.near {
-            return None;
-        }
-        let s = if self.perspective {
-            self.focal / z
-        } else {
-            self.focal
-        };
-        let (px, py) = (
-            0.5 * VIEWPORT[0] as f64 + x * s,
-            0.5 * VIEWPORT[1] as f64 - y * s,
-        );
-        let inside = px >= 0.0 && px <= VIEWPORT[0] as f64 && py >= 0.0 && py <= VIEWPORT[1] as f64;
-        inside.then_some([px, py])
-    }
-}
 
 struct Step {
     label: &'static str,
@@ -125,7 +56,14 @@ fn camera_path(center: Vec3, diag: f32, floor: f32) -> Vec<Step> {
                 camera: cam,
                 tolerance_px: tol,
             },
-            meter: Some(Meter::new(eye, target, Vec3::Z, fov as f64, near as f64)),
+            meter: Some(Meter::new(
+                widen(eye),
+                widen(target),
+                [0.0, 0.0, 1.0],
+                fov as f64,
+                near as f64,
+                VIEWPORT,
+            )),
         }
     };
     let low = Vec3::new(center.x, center.y, floor + 0.05 * diag);
@@ -153,35 +91,26 @@ fn camera_path(center: Vec3, diag: f32, floor: f32) -> Vec<Step> {
     ]
 }
 
-/// Largest measured deviation over the allowed one, over every triangle of the frame.
-fn worst_deviation(refs: &[RefPatch], tris: &[Streamed], meter: Option<&Meter>) -> f64 {
-    let mut worst = 0.0f64;
+/// Largest measured deviation of the frame's triangles (on screen, or in model units), and
+/// the smallest ratio of a triangle's bound from the kernel to its measured deviation in model
+/// units.
+fn measure_frame(refs: &[RefPatch], tris: &[Streamed], meter: Option<&Meter>) -> (f64, f64) {
+    let (mut worst, mut tightest) = (0.0f64, f64::INFINITY);
     for t in tris {
         let r = &refs[t.patch as usize];
-        let pos = t.corners.map(|c| c.position.map(|x| x as f64));
+        let corners = t.corners.map(|c| c.position.map(|x| x as f64));
         let uv = t.uv.map(|[u, v]| [u as f64, v as f64]);
-        for i in 0..=DENSE {
-            for j in 0..=DENSE - i {
-                let (a, b) = (i as f64 / DENSE as f64, j as f64 / DENSE as f64);
-                let c = 1.0 - a - b;
-                let u = uv[0][0] * c + uv[1][0] * a + uv[2][0] * b;
-                let v = uv[0][1] * c + uv[1][1] * a + uv[2][1] * b;
-                let s = r.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
-                let l = [0, 1, 2].map(|k| pos[0][k] * c + pos[1][k] * a + pos[2][k] * b);
-                let d = match meter {
-                    None => host_tests::reference::dist(s, l),
-                    Some(m) => match (m.project(s), m.project(l)) {
-                        (Some(p), Some(q)) => {
-                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
-                        }
-                        _ => 0.0,
-                    },
-                };
-                worst = worst.max(d);
-            }
+        let object = triangle_deviation(r, uv, corners, DENSE, Measure::Object);
+        if object.worst > 0.0 {
+            tightest = tightest.min(t.bound as f64 / object.worst);
         }
+        let m = match meter {
+            None => object,
+            Some(m) => triangle_deviation(r, uv, corners, DENSE, Measure::Screen(m)),
+        };
+        worst = worst.max(m.worst);
     }
-    worst
+    (worst, tightest)
 }
 
 /// Watertightness of the indexed mesh; `open(patch, side)` says whether an edge may be
@@ -298,8 +227,18 @@ fn run_model(path: &std::path::Path) {
             }
         };
         check_watertight(&what, &mesh, &tris, &open);
-        let allowed = step.view.tolerance().max(stats.max_predicted_error) as f64;
-        let worst = worst_deviation(&refs, &tris, step.meter.as_ref());
+        let tolerance = step.view.tolerance() as f64;
+        assert!(
+            stats.max_predicted_error as f64 <= tolerance * (1.0 + 1e-6),
+            "{what}: the frame's bound {} is over the tolerance",
+            stats.max_predicted_error
+        );
+        let allowed = tolerance;
+        let (worst, tightest) = measure_frame(&refs, &tris, step.meter.as_ref());
+        assert!(
+            tightest >= 1.0,
+            "{what}: a triangle's bound is {tightest} of its measured deviation"
+        );
         let slack = if step.meter.is_some() {
             1e-3
         } else {
@@ -307,7 +246,7 @@ fn run_model(path: &std::path::Path) {
         };
         println!(
             "{what}: {} triangles, {} vertices, +{} -{}, {} estimated, {} refined, {} culled, \
-             predicted {:.3}, measured {:.3} (allowed {:.3})",
+             bound {:.3}, measured {:.3} (allowed {:.3}), bound / true at least {tightest:.3}",
             stats.triangles,
             stats.vertices,
             stats.inserted,

@@ -1,24 +1,23 @@
 //! Greedy sampling of one boundary curve.
 //!
 //! The curve is a patch edge in its own parameter `t` (see [`Side`]). Starting from the chord
-//! between its ends, each step splits the polyline segment that deviates most from the curve at
-//! the parameter where it deviates most, and records the largest deviation of the whole polyline
-//! *after* the insertion. Deviation is the distance between `C(t)` and the segment's linear
-//! interpolant at the same `t`.
+//! between its ends, each step splits the polyline segment with the largest deviation bound
+//! (see [`chord_bound`]) at the parameter where it deviates most, and records the largest bound
+//! of the whole polyline *after* the insertion. Deviation is the distance between `C(t)` and the
+//! segment's linear interpolant at the same `t`.
 //!
 //! Parameters are on the 16-bit grid of [`GridPoint`](crate::GridPoint), so a sample is the same
 //! grid value for both patches that share the curve (a reversed edge reads `MAX - t`).
 //!
-//! A segment's maximum is found by sampling it at [`SCAN`] points and refining the best one by
-//! golden-section search. The recorded list is then made non-increasing by a suffix maximum
-//! (a later insertion can, rarely, raise the true maximum), so each recorded value bounds the
-//! deviation of its prefix and the run time can stop at the first sample at or below its
-//! threshold.
+//! Where to split a segment is found by sampling it at [`SCAN`] points and refining the best
+//! one by golden-section search. The recorded list is then made non-increasing by a suffix
+//! maximum, so each recorded value bounds the deviation of its prefix.
 
 use core::fmt;
 
 use glam::Vec3;
 
+use crate::deviation::chord_bound;
 use crate::domain::GridPoint;
 use crate::math::length;
 use crate::patch::{BezierPatch, Side};
@@ -34,7 +33,7 @@ const REFINE: usize = 24;
 pub struct CurveSample {
     /// Parameter on the 16-bit grid.
     pub t: u16,
-    /// Largest deviation of the polyline once this sample and all before it are in.
+    /// Deviation bound of the polyline once this sample and all before it are in.
     pub deviation: f32,
 }
 
@@ -154,17 +153,15 @@ fn analyse(patch: &BezierPatch<'_>, side: Side, t0: u16, t1: u16) -> CurveSegmen
     }
     let refined_t = if d1 > d2 { x1 } else { x2 };
     let best_t = if d1.max(d2) > best { refined_t } else { best_t };
-    let best = best.max(d1).max(d2);
+
     let split = (t1 - t0 >= 2).then(|| {
         let q = libm::floorf(best_t * GridPoint::MAX as f32 + 0.5) as u16;
         q.clamp(t0 + 1, t1 - 1)
     });
-    // The split lands on the grid: its own deviation counts towards the segment's maximum too.
-    let at_split = split.map_or(0.0, |q| deviation(grid_to_unit(q)));
     CurveSegment {
         t0,
         t1,
-        deviation: best.max(at_split),
+        deviation: chord_bound(patch, side, a, b).bound,
         split,
     }
 }
@@ -183,7 +180,7 @@ fn analyse(patch: &BezierPatch<'_>, side: Side, t0: u16, t1: u16) -> CurveSegmen
 /// let patch = BezierPatch::new(1, 1, &flat).unwrap();
 /// let mut out = [CurveSample::default(); 8];
 /// let mut scratch = [CurveSegment::default(); 9];
-/// let s = sample_curve(&patch, Side::V0, 1e-6, &mut out, &mut scratch).unwrap();
+/// let s = sample_curve(&patch, Side::V0, 1e-3, &mut out, &mut scratch).unwrap();
 /// assert_eq!((s.samples, s.stop), (0, StopReason::Tolerance));
 /// ```
 pub fn sample_curve(

@@ -1,7 +1,8 @@
 //! The compact baked format: bytes that can live in flash and are read in place.
 //!
 //! Everything is little-endian and read byte by byte, so a `static [u8; N]` needs no alignment.
-//! Version 1:
+//! Version 2 (version 1 recorded sampled deviations instead of bounds, and a patch's steps were
+//! interior samples only):
 //!
 //! | bytes | content |
 //! |---|---|
@@ -9,13 +10,14 @@
 //! | 16 per curve | owner patch `u32`, owner side `u8`, stop reason `u8`, samples `u16`, first sample `u32`, initial deviation `f32` |
 //! | 28 per patch | four edge links `u32` (curve index, bit 31 set when reversed, `u32::MAX` when collapsed), first sample `u32`, samples `u16`, stop reason `u8`, Delaunay metric `u8` (u factor - 1 in the high nibble, v factor - 1 in the low one), initial deviation `f32` |
 //! | 6 per curve sample | `t` `u16`, deviation `f32` |
-//! | 8 per interior sample | `u` `u16`, `v` `u16`, deviation `f32` |
+//! | 8 per patch step | `u` `u16`, `v` `u16`, deviation bound `f32`; a point on the boundary requests the next sample of that side's curve (and is that sample's point) |
 //!
 //! The checksum is 32-bit FNV-1a over every byte except its own four, so any change to a
 //! single byte is detected. [`BakedModel::from_bytes`] checks the length, magic, version and
 //! checksum, then the structure (indices in range, sample ranges contiguous, deviations finite
-//! and non-increasing, parameters on the curve or inside the boundary margin), so every read
-//! afterwards is in bounds and no input makes it panic.
+//! and non-increasing, parameters on the curve or inside the boundary margin, each curve
+//! request the side's next curve sample), so every read afterwards is in bounds and no input
+//! makes it panic.
 
 use core::fmt;
 
@@ -28,7 +30,7 @@ use crate::patch::Side;
 /// The four bytes every baked model starts with.
 pub const MAGIC: [u8; 4] = *b"STBK";
 /// The format version this crate writes and reads.
-pub const VERSION: u16 = 1;
+pub const VERSION: u16 = 2;
 
 pub(crate) const HEADER_LEN: usize = 40;
 pub(crate) const CURVE_RECORD: usize = 16;
@@ -485,11 +487,39 @@ impl<'a> BakedModel<'a> {
                 return bad;
             }
             let samples = self.interior_samples_of(first, count);
-            let placed = samples
-                .iter()
-                .all(|s| inside.contains(&s.point.u) && inside.contains(&s.point.v));
-            if !placed || !non_increasing(samples.iter().map(|s| s.deviation)) {
+            if !non_increasing(samples.iter().map(|s| s.deviation)) {
                 return bad;
+            }
+            // Interior samples keep the margin; a boundary step is its side's next curve sample.
+            let mut requested = [0usize; 4];
+            for s in samples.iter() {
+                match s.requested_side() {
+                    None => {
+                        if !(inside.contains(&s.point.u) && inside.contains(&s.point.v)) {
+                            return bad;
+                        }
+                    }
+                    Some(side) => {
+                        let EdgeLink::Curve { curve, reversed } =
+                            link_from(u32_at(b, r + 4 * side.index()))
+                        else {
+                            return bad;
+                        };
+                        let c = HEADER_LEN + curve as usize * CURVE_RECORD;
+                        let curve_first = u32_at(b, c + 8) as usize;
+                        let curve_count = u16_at(b, c + 6) as usize;
+                        let j = requested[side.index()];
+                        if j >= curve_count {
+                            return bad;
+                        }
+                        let t = self.curve_samples_of(curve_first, curve_count).get(j);
+                        let expected = t.map(|t| super::model::boundary_point(side, t.t, reversed));
+                        if expected != Some(s.point) {
+                            return bad;
+                        }
+                        requested[side.index()] += 1;
+                    }
+                }
             }
         }
         if next != interior_samples {

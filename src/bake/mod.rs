@@ -16,6 +16,9 @@ mod format;
 mod interior;
 mod model;
 
+pub use crate::deviation::{
+    chord_bound, triangle_bound, ChordBound, PatchBounds, TriangleBound, LATTICE, SAMPLED_FACTORS,
+};
 pub use curve::{
     sample_curve, CurveSample, CurveSampleError, CurveSampling, CurveSegment, StopReason,
 };
@@ -24,8 +27,8 @@ pub use format::{
     InteriorSamples, LoadError, Part, MAGIC, VERSION,
 };
 pub use interior::{
-    max_deviation, patch_metric, sample_interior, InteriorSample, InteriorSampleError,
-    InteriorSampling, TriangleDeviation, BOUNDARY_MARGIN,
+    patch_metric, sample_patch, triangle_deviation, InteriorSample, InteriorSampleError,
+    InteriorSampling, SideCurve, TriangleDeviation, BOUNDARY_MARGIN,
 };
 pub(crate) use model::boundary_point;
 pub use model::{

@@ -9,7 +9,7 @@ use super::format::{
     CURVE_SAMPLE, HEADER_LEN, INTERIOR_SAMPLE, MAGIC, PATCH_RECORD, VERSION,
 };
 use super::interior::{
-    patch_metric, sample_interior, InteriorSample, InteriorSampleError, TriangleDeviation,
+    patch_metric, sample_patch, InteriorSample, InteriorSampleError, SideCurve, TriangleDeviation,
 };
 use crate::domain::{DomainMesh, GridPoint, InsertError, MeshTriangle, MeshVertex};
 use crate::math::length;
@@ -34,7 +34,7 @@ pub struct BakeSettings {
     pub tolerance: Tolerance,
     /// Most samples per boundary curve.
     pub max_curve_samples: u16,
-    /// Most interior samples per patch.
+    /// Most interior samples per patch (its curve requests come on top).
     pub max_interior_samples: u16,
 }
 
@@ -48,9 +48,9 @@ pub struct BakeScratchSize {
     pub triangles: usize,
     /// Entries of [`BakeScratch::segments`].
     pub segments: usize,
-    /// Entries of [`BakeScratch::curve_samples`].
+    /// Entries of [`BakeScratch::curve_samples`]: four curves' samples.
     pub curve_samples: usize,
-    /// Entries of [`BakeScratch::interior_samples`].
+    /// Entries of [`BakeScratch::interior_samples`]: one patch's steps.
     pub interior_samples: usize,
 }
 
@@ -65,8 +65,8 @@ impl BakeSettings {
             vertices,
             triangles: DomainMesh::triangles_for(vertices),
             segments: c + 1,
-            curve_samples: c,
-            interior_samples: i,
+            curve_samples: 4 * c,
+            interior_samples: i + 4 * c,
         }
     }
 }
@@ -82,9 +82,9 @@ pub struct BakeScratch<'a> {
     pub deviations: &'a mut [TriangleDeviation],
     /// Curve-sampling scratch.
     pub segments: &'a mut [CurveSegment],
-    /// One curve's samples.
+    /// Four curves' samples.
     pub curve_samples: &'a mut [CurveSample],
-    /// One patch's interior samples.
+    /// One patch's steps (interior samples and curve requests).
     pub interior_samples: &'a mut [InteriorSample],
 }
 
@@ -200,8 +200,8 @@ fn last_deviation(initial: f32, samples: impl Iterator<Item = f32>) -> f32 {
 }
 
 /// Bakes `model` into `out` in the [compact format](super::BakedModel): every boundary curve is
-/// sampled once, then every patch's interior starting from its corners and all its curves'
-/// samples. Returns the numbers of the bake; `out[..summary.bytes]` is the baked model.
+/// sampled once, then every patch from its corners, requesting its curves' samples as it goes
+/// (see [`sample_patch`](super::sample_patch)). Returns the numbers of the bake; `out[..summary.bytes]` is the baked model.
 ///
 /// Everything runs in the caller's memory: `scratch` sized by
 /// [`BakeSettings::scratch_size`]. Curves are sampled again for each patch that uses them
@@ -237,8 +237,8 @@ fn last_deviation(initial: f32, samples: impl Iterator<Item = f32>) -> f32 {
 /// let mut triangles = [MeshTriangle::default(); T];
 /// let mut deviations = [TriangleDeviation::default(); T];
 /// let mut segments = [CurveSegment::default(); 17];
-/// let mut curve_samples = [CurveSample::default(); 16];
-/// let mut interior_samples = [InteriorSample::default(); 32];
+/// let mut curve_samples = [CurveSample::default(); 4 * 16];
+/// let mut interior_samples = [InteriorSample::default(); 32 + 4 * 16];
 /// let scratch = BakeScratch {
 ///     vertices: &mut vertices,
 ///     triangles: &mut triangles,
@@ -322,14 +322,15 @@ pub fn bake_model(
         let Some(patch) = patches.patch(curve.patch as usize) else {
             continue;
         };
-        let s = sample_curve(&patch, curve.side, tolerance, curve_samples, segments)?;
+        let one = &mut curve_samples[..need.curve_samples / 4];
+        let s = sample_curve(&patch, curve.side, tolerance, one, segments)?;
         let at = HEADER_LEN + k * CURVE_RECORD;
         w.put(at, &curve.patch.to_le_bytes());
         w.put(at + 4, &[curve.side.index() as u8, stop_code(s.stop)]);
         w.put(at + 6, &(s.samples as u16).to_le_bytes());
         w.put(at + 8, &(summary.curve_samples as u32).to_le_bytes());
         w.put(at + 12, &s.initial_deviation.to_le_bytes());
-        for (j, sample) in curve_samples[..s.samples].iter().enumerate() {
+        for (j, sample) in one[..s.samples].iter().enumerate() {
             let at = records_end + (summary.curve_samples + j) * CURVE_SAMPLE;
             w.put(at, &sample.t.to_le_bytes());
             w.put(at + 2, &sample.deviation.to_le_bytes());
@@ -338,19 +339,23 @@ pub fn bake_model(
         summary.stops[stop_code(s.stop) as usize] += 1;
         let left = last_deviation(
             s.initial_deviation,
-            curve_samples[..s.samples].iter().map(|x| x.deviation),
+            one[..s.samples].iter().map(|x| x.deviation),
         );
         summary.max_deviation = summary.max_deviation.max(left);
     }
 
     // Patches: interior samples after all curve samples.
     let interior_start = records_end + summary.curve_samples * CURVE_SAMPLE;
+    let per_curve = need.curve_samples / 4;
     for (k, patch) in patches.iter().enumerate() {
         let metric = patch_metric(&patch);
         let mut mesh = DomainMesh::with_metric(&mut *vertices, &mut *triangles, metric)
             .map_err(|_| BakeError::CapsTooLarge)?;
         let edges = model.topology.edges()[k];
-        for (side, link) in Side::ALL.into_iter().zip(edges) {
+        // Each side's curve, sampled again from its owner (the same bits every time).
+        let mut counts = [0usize; 4];
+        let mut reversed_sides = [false; 4];
+        for (s, link) in edges.into_iter().enumerate() {
             let EdgeLink::Curve { curve, reversed } = link else {
                 continue;
             };
@@ -360,17 +365,41 @@ pub fn bake_model(
             else {
                 continue;
             };
-            let s = sample_curve(&owner.0, owner.1, tolerance, curve_samples, segments)?;
-            for sample in &curve_samples[..s.samples] {
-                mesh.insert(boundary_point(side, sample.t, reversed))
-                    .map_err(|error| BakeError::Mesh { patch: k, error })?;
-            }
+            let buffer = &mut curve_samples[s * per_curve..(s + 1) * per_curve];
+            counts[s] = sample_curve(&owner.0, owner.1, tolerance, buffer, segments)?.samples;
+            reversed_sides[s] = reversed;
         }
-        let s = sample_interior(&patch, &mut mesh, tolerance, deviations, interior_samples)
-            .map_err(|e| match e {
-                InteriorSampleError::BadTolerance => BakeError::BadTolerance,
-                _ => BakeError::CapsTooLarge,
-            })?;
+        let lists: [&[CurveSample]; 4] = {
+            let (a, rest) = curve_samples.split_at(per_curve);
+            let (b, rest) = rest.split_at(per_curve);
+            let (c, d) = rest.split_at(per_curve);
+            [
+                &a[..counts[0]],
+                &b[..counts[1]],
+                &c[..counts[2]],
+                &d[..counts[3]],
+            ]
+        };
+        let sides = core::array::from_fn(|s| match edges[s] {
+            EdgeLink::Curve { .. } => Some(SideCurve {
+                samples: lists[s],
+                reversed: reversed_sides[s],
+            }),
+            EdgeLink::Collapsed => None,
+        });
+        let s = sample_patch(
+            &patch,
+            sides,
+            &mut mesh,
+            tolerance,
+            deviations,
+            interior_samples,
+            settings.max_interior_samples as usize,
+        )
+        .map_err(|e| match e {
+            InteriorSampleError::BadTolerance => BakeError::BadTolerance,
+            _ => BakeError::CapsTooLarge,
+        })?;
         let at = HEADER_LEN + curves.len() * CURVE_RECORD + k * PATCH_RECORD;
         for (j, link) in edges.into_iter().enumerate() {
             w.put(at + 4 * j, &link_code(link).to_le_bytes());

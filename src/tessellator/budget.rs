@@ -11,10 +11,8 @@
 
 use core::fmt;
 
-use glam::Vec3;
-
-use super::{prefix, FrameStats, Tessellator, UpdateError};
-use crate::bound::BoundingSphere;
+use super::select::{move_requests, prefix};
+use super::{FrameStats, Tessellator, UpdateError};
 use crate::model::EdgeLink;
 use crate::view::View;
 
@@ -69,58 +67,53 @@ impl Tessellator<'_, '_> {
         let baked = self.baked;
         let tol = view.tolerance();
         for c in self.storage.curves[..baked.curve_count()].iter_mut() {
-            c.predict_c = f32::INFINITY;
+            c.predict = 0;
         }
-        for p in 0..baked.patch_count() {
-            let slot = self.storage.patches[p];
-            let (scale, culled) = view.scale(&BoundingSphere {
-                center: Vec3::from_array(slot.center),
-                radius: slot.radius,
-            });
+        // The prefix of a patch for `view` and its requests per side.
+        let target = |this: &Self, p: usize| -> Option<(usize, [u16; 4])> {
+            let slot = this.storage.patches[p];
+            let (c, culled) = this.patch_threshold(p, view, tol);
+            let bp = baked.patch(p)?;
             if culled {
-                continue;
+                return None;
             }
-            if let Some(bp) = baked.patch(p) {
-                for link in bp.edges {
-                    if let EdgeLink::Curve { curve, .. } = link {
-                        let c = &mut self.storage.curves[curve as usize].predict_c;
-                        *c = c.min(tol * scale);
-                    }
+            let steps = bp.samples;
+            let n = prefix(
+                bp.initial_deviation,
+                steps.len(),
+                |i| steps.get(i).map_or(0.0, |s| s.deviation),
+                c,
+            )
+            .min(slot.step_cap as usize);
+            let mut requests = [0u16; 4];
+            move_requests(&bp, &mut requests, 0, n);
+            Some((n, requests))
+        };
+        for p in 0..baked.patch_count() {
+            let (Some((_, requests)), Some(bp)) = (target(self, p), baked.patch(p)) else {
+                continue;
+            };
+            for (s, link) in bp.edges.into_iter().enumerate() {
+                if let EdgeLink::Curve { curve, .. } = link {
+                    let c = &mut self.storage.curves[curve as usize].predict;
+                    *c = (*c).max(requests[s]);
                 }
             }
         }
         let mut total = 0usize;
         for p in 0..baked.patch_count() {
-            let slot = self.storage.patches[p];
-            let (scale, culled) = view.scale(&BoundingSphere {
-                center: Vec3::from_array(slot.center),
-                radius: slot.radius,
-            });
-            let Some(bp) = baked.patch(p) else { continue };
-            if culled {
+            let (Some((n, requests)), Some(bp)) = (target(self, p), baked.patch(p)) else {
                 continue;
-            }
-            let samples = bp.samples;
-            let n = prefix(
-                bp.initial_deviation,
-                samples.len(),
-                |i| samples.get(i).map_or(0.0, |s| s.deviation),
-                tol * scale,
-            )
-            .min(slot.interior_cap as usize);
+            };
+            let slot = self.storage.patches[p];
+            let interior = n - requests.iter().map(|&r| r as usize).sum::<usize>();
             let mut b = 4usize;
             let mut dropped = 0usize;
             for (s, link) in bp.edges.into_iter().enumerate() {
                 let on_side = match link {
-                    EdgeLink::Curve { curve, .. } => match baked.curve(curve as usize) {
-                        Some(bc) => prefix(
-                            bc.initial_deviation,
-                            bc.samples.len(),
-                            |i| bc.samples.get(i).map_or(0.0, |s| s.deviation),
-                            self.storage.curves[curve as usize].predict_c,
-                        ),
-                        None => 0,
-                    },
+                    EdgeLink::Curve { curve, .. } => {
+                        self.storage.curves[curve as usize].predict as usize
+                    }
                     EdgeLink::Collapsed => 0,
                 };
                 b += on_side;
@@ -131,7 +124,7 @@ impl Tessellator<'_, '_> {
                     dropped += 1;
                 }
             }
-            total += (2 * n + b - 2).saturating_sub(dropped);
+            total += (2 * interior + b - 2).saturating_sub(dropped);
         }
         total
     }

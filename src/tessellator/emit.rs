@@ -12,7 +12,7 @@ use super::{along, common_side, Tessellator, CORNER_UV};
 use crate::domain::GridPoint;
 use crate::model::EdgeLink;
 use crate::patch::Side;
-use crate::sink::{MeshIndex, MeshSize, TriangleSink, Vertex, WriteError};
+use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
 
 /// Vertex and triangle counts of the current frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -23,7 +23,7 @@ pub(crate) struct MeshCounts {
 
 /// Where an output point is and how to compute it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Point {
+pub(super) enum Point {
     /// A corner node.
     Node(u32),
     /// Curve `curve` at parameter `num / den`; `j` is its place along the curve's vertices.
@@ -69,10 +69,10 @@ fn point_hash(q: &Point) -> u32 {
 }
 
 /// One visible patch's view for the traversal.
-struct PatchView<'t, 'm, 's> {
-    vo: usize,
-    to: usize,
-    tc: usize,
+pub(super) struct PatchView<'t, 'm, 's> {
+    pub(super) vo: usize,
+    pub(super) to: usize,
+    pub(super) tc: usize,
     edges: [EdgeLink; 4],
     nodes: [u32; 4],
     tess: &'t Tessellator<'m, 's>,
@@ -89,7 +89,7 @@ impl PatchView<'_, '_, '_> {
         self.tess.storage.triangles[self.to + t].live_parts()
     }
 
-    fn factor(&self, t: usize) -> u8 {
+    pub(super) fn factor(&self, t: usize) -> u8 {
         self.tess.storage.triangle_states[self.to + t].factor.max(1)
     }
 
@@ -151,7 +151,7 @@ impl PatchView<'_, '_, '_> {
     }
 
     /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
-    fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
+    pub(super) fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
         let own = self.factor(t);
         match n[i] {
             Some(nb) => own.max(self.factor(nb as usize)),
@@ -169,7 +169,7 @@ impl PatchView<'_, '_, '_> {
 
     /// Every refined triangle of domain triangle `t`, as output points; degenerate ones (two
     /// corners on one collapsed edge) are left out. `faces` receives the inner points first.
-    fn refine(
+    pub(super) fn refine(
         &self,
         t: usize,
         mut faces: impl FnMut(Point),
@@ -300,7 +300,7 @@ impl PatchView<'_, '_, '_> {
 }
 
 impl<'m, 's> Tessellator<'m, 's> {
-    fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's>> {
+    pub(super) fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's>> {
         let slot = self.storage.patches.get(p)?;
         if slot.culled {
             return None;
@@ -587,16 +587,14 @@ impl<'m, 's> Tessellator<'m, 's> {
     /// Hands every triangle of the frame, with its vertices, to `sink`, in the order of
     /// [`write_mesh`](Self::write_mesh)'s triangles.
     pub fn stream(&self, sink: &mut impl TriangleSink) {
-        self.stream_with_params(|patch, corners, _| sink.triangle(patch, corners));
+        self.stream_with_info(|info, corners| sink.triangle(info.patch, corners));
     }
 
-    /// Like [`stream`](Self::stream), also passing each corner's parameters `(u, v)` in the
-    /// triangle's own patch (a vertex on a shared curve carries its owner's parameters; these
-    /// are the ones of the patch the triangle belongs to, and for a collapsed edge, the point
-    /// of that edge the triangle's corner sits at).
-    pub fn stream_with_params(&self, mut f: impl FnMut(u32, [&Vertex; 3], [[f32; 2]; 3])) {
+    /// Like [`stream`](Self::stream), also passing each triangle's [`TriangleInfo`]: its own
+    /// patch's parameters at the corners and its deviation bound.
+    pub fn stream_with_info(&self, mut f: impl FnMut(&TriangleInfo, [&Vertex; 3])) {
         for p in 0..self.baked.patch_count() {
-            self.stream_patch_with_params(p, &mut f);
+            self.stream_patch_with_info(p, &mut f);
         }
     }
 
@@ -604,14 +602,10 @@ impl<'m, 's> Tessellator<'m, 's> {
     /// of range), in the order [`stream`](Self::stream) gives them. A renderer that draws in
     /// bands uses it, with [`patch_bound`](Self::patch_bound), to skip patches off a band.
     pub fn stream_patch(&self, p: usize, sink: &mut impl TriangleSink) {
-        self.stream_patch_with_params(p, |patch, corners, _| sink.triangle(patch, corners));
+        self.stream_patch_with_info(p, |info, corners| sink.triangle(info.patch, corners));
     }
 
-    fn stream_patch_with_params(
-        &self,
-        p: usize,
-        mut f: impl FnMut(u32, [&Vertex; 3], [[f32; 2]; 3]),
-    ) {
+    fn stream_patch_with_info(&self, p: usize, mut f: impl FnMut(&TriangleInfo, [&Vertex; 3])) {
         let Some(view) = self.patch_view(p) else {
             return;
         };
@@ -626,13 +620,18 @@ impl<'m, 's> Tessellator<'m, 's> {
             slot.1
         };
         for t in 0..view.tc {
+            let bound = self.storage.triangle_states[view.to + t].pieces;
             view.refine(
                 t,
                 |_| {},
                 |tri, local| {
                     let [a, b, c] = tri.map(&mut vertex);
-                    let uv = local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]);
-                    f(p as u32, [&a, &b, &c], uv);
+                    let info = TriangleInfo {
+                        patch: p as u32,
+                        uv: local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]),
+                        bound,
+                    };
+                    f(&info, [&a, &b, &c]);
                 },
             );
         }

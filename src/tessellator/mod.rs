@@ -1,24 +1,21 @@
-//! The run time: per-frame selection of baked samples, incremental update of every patch's
-//! domain triangulation, refinement past the samples, and output.
+//! The run time: per-frame selection of baked steps, incremental update of every patch's
+//! domain triangulation, refinement past the steps, and output.
 //!
-//! A [`Tessellator`] keeps, per patch and per boundary curve, how long its active prefix of
-//! baked samples is. [`Tessellator::update`] takes a [`View`], derives each patch's
-//! object-space threshold `c` (each curve takes the smallest `c` of the patches using it),
-//! and inserts or deletes samples so that exactly those recorded with a deviation above `c`
-//! are in. A frame's work on the triangulations is proportional to the samples that changed.
+//! A [`Tessellator`] keeps, per patch, how long its active prefix of baked steps is, and per
+//! boundary curve how many samples it carries. [`Tessellator::update`] takes a [`View`],
+//! derives each patch's object-space threshold `c`, and brings every patch to the steps
+//! recorded with a bound above `c` (see `select`): a frame's work on the triangulations is
+//! proportional to what changed.
 //!
-//! # The error bound at run time
+//! # The error bound
 //!
-//! The bake records each patch's deviation with *all* its curve samples in, but at run time a
-//! curve carries only the prefix its `c` needs, and a patch's interior may be capped by its
-//! storage or exhausted. So the run time does not take the recorded values on trust: it
-//! estimates every triangle's deviation when the triangle first appears (a scan of the
-//! triangle's 6-step barycentric lattice, 25 surface points; cached per triangle slot and
-//! reused as long as the triangle stays) and multiplies it by [`ESTIMATE_SAFETY`]. A triangle
-//! whose estimate exceeds `c` is refined uniformly by the smallest factor `N` with
-//! `estimate / N² <= c`, at most [`Settings::max_factor`]. Each edge takes the larger factor
-//! of its two triangles, and each boundary curve the largest factor of the triangles along it
-//! in any patch, so both sides of every edge place the same points (see `pattern`).
+//! Every triangle written is within a computed bound of the surface (see
+//! [`crate::bake::PatchBounds`] for the bound and its derivation, and `refine` for how the
+//! run time uses it): the baked prefix's triangles are within their recorded bound, every
+//! other triangle (next to curve points a neighbour asked for, in a patch whose steps run out,
+//! and every refined piece) gets its own bound and is cut until its pieces are within its own
+//! threshold. [`FrameStats::max_predicted_error`] is the largest bound over threshold of the
+//! frame, in the view's units.
 //!
 //! # Output
 //!
@@ -31,30 +28,28 @@
 mod budget;
 mod emit;
 mod pattern;
+mod refine;
+mod select;
+mod storage;
 
 pub use budget::{BudgetError, BudgetFit};
+pub use storage::{
+    CurveSlot, PatchSlot, StorageSize, TessellatorError, TessellatorStorage, TriangleSlot,
+};
 
 use core::fmt;
 
 use glam::Vec3;
 
-use crate::bake::{boundary_point, BakedModel, BakedPatch};
+use crate::bake::BakedModel;
 use crate::bound::BoundingSphere;
-use crate::domain::{DomainMesh, GridPoint, InsertError, MeshHeader, MeshTriangle, MeshVertex};
-use crate::math::{length, sqrt};
-use crate::model::{EdgeLink, PatchSet};
-use crate::patch::{BezierPatch, Side};
+use crate::domain::{DomainMesh, GridPoint, InsertError};
+use crate::model::PatchSet;
+use crate::patch::Side;
 use crate::view::View;
 
 use emit::MeshCounts;
-
-/// Factor applied to a triangle's scanned deviation before it is compared with `c`: the scan
-/// can miss the true maximum between its points (by 5% for a cubic bubble, the worst case of
-/// a smooth patch's error between lattice points).
-pub const ESTIMATE_SAFETY: f32 = 1.1;
-
-/// Barycentric steps of the run-time deviation scan.
-const SCAN: u32 = 6;
+use storage::patch_capacity;
 
 /// Largest refinement factor (a refined triangle has at most `MAX_FACTOR²` pieces plus
 /// `3 MAX_FACTOR` along its sides); [`Settings::max_factor`] is capped here.
@@ -81,192 +76,10 @@ impl Default for Settings {
     fn default() -> Self {
         Settings {
             max_interior_samples: u16::MAX,
-            max_factor: 16,
+            max_factor: MAX_FACTOR,
         }
     }
 }
-
-/// One patch's run-time state (storage slot; contents are private).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PatchSlot {
-    vertex_offset: u32,
-    vertex_capacity: u32,
-    triangle_offset: u32,
-    triangle_capacity: u32,
-    mesh: MeshHeader,
-    /// Curve samples in the mesh, per side.
-    sides: [u16; 4],
-    /// Interior samples in the mesh.
-    interior: u16,
-    interior_cap: u16,
-    center: [f32; 3],
-    radius: f32,
-    nodes: [u32; 4],
-    /// The patch's output triangles in the current frame.
-    triangles: [u32; 2],
-    /// Nodes created by the patches before this one.
-    first_node: u32,
-    /// Threshold of the current frame.
-    c: f32,
-    culled: bool,
-    /// Largest refinement factor of the frame.
-    factor: u8,
-    /// Largest predicted deviation over `c`.
-    error_ratio: f32,
-}
-
-/// One boundary curve's run-time state (storage slot; contents are private).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CurveSlot {
-    /// First slot in the sorted-parameter storage.
-    order_offset: u32,
-    /// Active samples.
-    count: u16,
-    c: f32,
-    /// Scratch threshold of the budget prediction.
-    predict_c: f32,
-    used: bool,
-    factor: u8,
-    /// First output vertex of the curve in the current [`Tessellator::write_mesh`].
-    base: u32,
-}
-
-/// One domain triangle's cached deviation (storage slot; contents are private).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TriangleSlot {
-    corners: [GridPoint; 3],
-    deviation: f32,
-    factor: u8,
-}
-
-/// Storage sizes a [`Tessellator`] needs for a baked model.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct StorageSize {
-    /// [`PatchSlot`]s: one per patch.
-    pub patches: usize,
-    /// [`CurveSlot`]s: one per curve.
-    pub curves: usize,
-    /// `u16`s for the curves' sorted parameters: one per curve sample.
-    pub curve_order: usize,
-    /// [`MeshVertex`] slots, over all patches.
-    pub vertices: usize,
-    /// [`MeshTriangle`] and [`TriangleSlot`] slots, over all patches.
-    pub triangles: usize,
-    /// `u32` scratch for output: the largest patch's vertex slots plus three per triangle
-    /// slot.
-    pub scratch: usize,
-}
-
-impl StorageSize {
-    /// What `baked` needs with `settings`.
-    pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
-        let mut size = StorageSize {
-            patches: baked.patch_count(),
-            curves: baked.curve_count(),
-            curve_order: baked.curve_sample_count(),
-            ..StorageSize::default()
-        };
-        for k in 0..baked.patch_count() {
-            if let Some(bp) = baked.patch(k) {
-                let (v, t, _) = patch_capacity(baked, &bp, settings);
-                size.vertices += v;
-                size.triangles += t;
-                size.scratch = size.scratch.max(v + 3 * t);
-            }
-        }
-        size
-    }
-}
-
-/// Vertex and triangle slots of one patch, and its interior cap.
-fn patch_capacity(
-    baked: &BakedModel<'_>,
-    bp: &BakedPatch<'_>,
-    settings: &Settings,
-) -> (usize, usize, u16) {
-    let mut v = 4usize;
-    for link in bp.edges {
-        if let EdgeLink::Curve { curve, .. } = link {
-            v += baked.curve(curve as usize).map_or(0, |c| c.samples.len());
-        }
-    }
-    let room = (u16::MAX as usize - 1).saturating_sub(v);
-    let cap = bp
-        .samples
-        .len()
-        .min(settings.max_interior_samples as usize)
-        .min(room);
-    v += cap;
-    (v, DomainMesh::triangles_for(v), cap as u16)
-}
-
-/// The caller's storage for a [`Tessellator`], sized by [`StorageSize::of`] (longer slices are
-/// fine).
-#[derive(Debug)]
-pub struct TessellatorStorage<'s> {
-    /// Per patch.
-    pub patches: &'s mut [PatchSlot],
-    /// Per curve.
-    pub curves: &'s mut [CurveSlot],
-    /// Per curve sample.
-    pub curve_order: &'s mut [u16],
-    /// Domain-mesh vertices of every patch.
-    pub vertices: &'s mut [MeshVertex],
-    /// Domain-mesh triangles of every patch.
-    pub triangles: &'s mut [MeshTriangle],
-    /// Cached deviations, one per domain triangle slot.
-    pub triangle_states: &'s mut [TriangleSlot],
-    /// Output scratch.
-    pub scratch: &'s mut [u32],
-}
-
-/// Why a [`Tessellator`] cannot be built.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum TessellatorError {
-    /// The baked model was not baked from these patches.
-    ModelMismatch,
-    /// Some storage slice is shorter than needed.
-    StorageTooSmall {
-        /// What is needed.
-        needed: StorageSize,
-    },
-    /// A patch's curve samples alone exceed a domain mesh's capacity (65 535 vertices).
-    PatchTooLarge {
-        /// The patch.
-        patch: usize,
-    },
-}
-
-impl fmt::Display for TessellatorError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            TessellatorError::ModelMismatch => {
-                f.write_str("the baked model was not baked from these patches")
-            }
-            TessellatorError::StorageTooSmall { needed } => write!(
-                f,
-                "storage too small: needs {} patch, {} curve, {} order, {} vertex, {} triangle \
-                 and {} scratch slots",
-                needed.patches,
-                needed.curves,
-                needed.curve_order,
-                needed.vertices,
-                needed.triangles,
-                needed.scratch
-            ),
-            TessellatorError::PatchTooLarge { patch } => {
-                write!(
-                    f,
-                    "patch {patch} has too many curve samples for one domain mesh"
-                )
-            }
-        }
-    }
-}
-
-impl core::error::Error for TessellatorError {}
 
 /// Why a frame could not be updated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -390,32 +203,6 @@ pub struct Tessellator<'m, 's> {
     counts: MeshCounts,
 }
 
-/// Count of samples recorded with a deviation above `c` in a non-increasing list whose value
-/// before the first sample is `initial`.
-fn prefix(initial: f32, len: usize, deviation: impl Fn(usize) -> f32, c: f32) -> usize {
-    // NaN thresholds and deviations count as "not above".
-    if initial.partial_cmp(&c) != Some(core::cmp::Ordering::Greater) {
-        return 0;
-    }
-    // Smallest n in 1..=len with deviation(n - 1) <= c, or len.
-    let (mut lo, mut hi) = (1usize, len);
-    if len == 0 {
-        return 0;
-    }
-    if deviation(len - 1) > c {
-        return len;
-    }
-    while lo < hi {
-        let mid = lo + (hi - lo) / 2;
-        if deviation(mid - 1) <= c {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
-    }
-    lo
-}
-
 /// The side both points lie on, if any.
 pub(crate) fn common_side(a: GridPoint, b: GridPoint) -> Option<Side> {
     let m = GridPoint::MAX;
@@ -437,44 +224,6 @@ pub(crate) fn along(side: Side, p: GridPoint) -> u16 {
     match side {
         Side::V0 | Side::V1 => p.u,
         Side::U0 | Side::U1 => p.v,
-    }
-}
-
-/// Scanned deviation of the patch from the flat triangle `corners`.
-fn estimate(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> f32 {
-    let uv = corners.map(GridPoint::to_unit);
-    let pos = uv.map(|(u, v)| patch.position(u, v));
-    let mut best = 0.0f32;
-    let inv = 1.0 / SCAN as f32;
-    for i in 0..=SCAN {
-        for j in 0..=SCAN - i {
-            let k = SCAN - i - j;
-            if i == SCAN || j == SCAN || k == SCAN {
-                continue;
-            }
-            let (a, b, c) = (i as f32 * inv, j as f32 * inv, k as f32 * inv);
-            let u = uv[0].0 * a + uv[1].0 * b + uv[2].0 * c;
-            let v = uv[0].1 * a + uv[1].1 * b + uv[2].1 * c;
-            let linear: Vec3 = pos[0] * a + pos[1] * b + pos[2] * c;
-            let d = length(patch.position(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0)) - linear);
-            if d > best {
-                best = d;
-            }
-        }
-    }
-    best
-}
-
-/// Smallest factor `n <= max` with `deviation / n² <= c`.
-fn factor_for(deviation: f32, c: f32, max: u8) -> u8 {
-    if deviation.partial_cmp(&c) != Some(core::cmp::Ordering::Greater) {
-        return 1;
-    }
-    let n = libm::ceilf(sqrt(deviation / c));
-    if n >= max as f32 {
-        max
-    } else {
-        (n as u8).max(1)
     }
 }
 
@@ -560,7 +309,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                 triangle_offset: to as u32,
                 triangle_capacity: tc as u32,
                 mesh: header,
-                interior_cap: cap,
+                step_cap: cap,
                 center: sphere.center.to_array(),
                 radius: sphere.radius,
                 ..PatchSlot::default()
@@ -691,10 +440,10 @@ impl<'m, 's> Tessellator<'m, 's> {
             self.sync_patch(p, &mut stats)
                 .map_err(|error| UpdateError::Mesh { patch: p, error })?;
         }
-        self.choose_factors(refine, &mut stats);
+        self.choose_factors(view, tol, refine, &mut stats);
         if refine && self.refined_bound() > MAX_REFINED_TRIANGLES {
-            // Only an absurd tolerance asks for this much: draw the samples alone.
-            self.choose_factors(false, &mut stats);
+            // Only an absurd tolerance asks for this much: draw the steps alone.
+            self.choose_factors(view, tol, false, &mut stats);
         }
         self.counts = self.count();
         stats.triangles = self.counts.triangles as usize;
@@ -724,254 +473,6 @@ impl<'m, 's> Tessellator<'m, 's> {
             })
             .sum()
     }
-
-    /// Thresholds, culling, and the curves' target prefixes (sorted parameters kept up to
-    /// date).
-    fn select(&mut self, view: &View, tol: f32) {
-        let baked = self.baked;
-        for p in 0..baked.patch_count() {
-            let slot = &mut self.storage.patches[p];
-            let sphere = BoundingSphere {
-                center: Vec3::from_array(slot.center),
-                radius: slot.radius,
-            };
-            let (scale, culled) = view.scale(&sphere);
-            slot.c = tol * scale;
-            slot.culled = culled;
-        }
-        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
-            c.c = f32::INFINITY;
-            c.used = false;
-        }
-        for p in 0..baked.patch_count() {
-            let slot = self.storage.patches[p];
-            if slot.culled {
-                continue;
-            }
-            let Some(bp) = baked.patch(p) else { continue };
-            for link in bp.edges {
-                if let EdgeLink::Curve { curve, .. } = link {
-                    let cs = &mut self.storage.curves[curve as usize];
-                    cs.c = cs.c.min(slot.c);
-                    cs.used = true;
-                }
-            }
-        }
-        for k in 0..baked.curve_count() {
-            let cs = self.storage.curves[k];
-            let Some(curve) = baked.curve(k) else {
-                continue;
-            };
-            if !cs.used {
-                continue;
-            }
-            let samples = curve.samples;
-            let target = prefix(
-                curve.initial_deviation,
-                samples.len(),
-                |i| samples.get(i).map_or(0.0, |s| s.deviation),
-                cs.c,
-            ) as u16;
-            let off = cs.order_offset as usize;
-            let order = &mut self.storage.curve_order[off..off + samples.len()];
-            let mut n = cs.count as usize;
-            while n < target as usize {
-                let t = samples.get(n).map_or(0, |s| s.t);
-                let at = order[..n].partition_point(|&x| x < t);
-                order.copy_within(at..n, at + 1);
-                order[at] = t;
-                n += 1;
-            }
-            while n > target as usize {
-                n -= 1;
-                let t = samples.get(n).map_or(0, |s| s.t);
-                let at = order[..=n].partition_point(|&x| x < t);
-                order.copy_within(at + 1..=n, at);
-            }
-            self.storage.curves[k].count = target;
-        }
-    }
-
-    /// The mesh of patch `p`, over its storage.
-    fn mesh<'b>(storage: &'b mut TessellatorStorage<'s>, slot: &PatchSlot) -> DomainMesh<'b> {
-        let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
-        let (to, tc) = (
-            slot.triangle_offset as usize,
-            slot.triangle_capacity as usize,
-        );
-        DomainMesh::resume(
-            &mut storage.vertices[vo..vo + vc],
-            &mut storage.triangles[to..to + tc],
-            slot.mesh,
-        )
-    }
-
-    /// Deletes, then inserts, samples of patch `p` until it holds its curves' prefixes and its
-    /// own.
-    fn sync_patch(&mut self, p: usize, stats: &mut FrameStats) -> Result<(), InsertError> {
-        let baked = self.baked;
-        let Some(bp) = baked.patch(p) else {
-            return Ok(());
-        };
-        let mut slot = self.storage.patches[p];
-        let samples = bp.samples;
-        let target = prefix(
-            bp.initial_deviation,
-            samples.len(),
-            |i| samples.get(i).map_or(0.0, |s| s.deviation),
-            slot.c,
-        )
-        .min(slot.interior_cap as usize) as u16;
-        let curve_targets = bp.edges.map(|link| match link {
-            EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].count,
-            EdgeLink::Collapsed => 0,
-        });
-        if target == slot.interior && curve_targets == slot.sides {
-            return Ok(());
-        }
-        let mut mesh = Self::mesh(&mut self.storage, &slot);
-        // Deletions first, so the mesh never needs more than its capacity.
-        while slot.interior > target {
-            slot.interior -= 1;
-            if let Some(s) = samples.get(slot.interior as usize) {
-                if let Some(id) = mesh.find(s.point) {
-                    if mesh.remove(id).is_ok() {
-                        stats.deleted += 1;
-                    }
-                }
-            }
-        }
-        for (s, link) in bp.edges.into_iter().enumerate() {
-            let EdgeLink::Curve { curve, reversed } = link else {
-                continue;
-            };
-            let Some(bc) = baked.curve(curve as usize) else {
-                continue;
-            };
-            while slot.sides[s] > curve_targets[s] {
-                slot.sides[s] -= 1;
-                if let Some(cs) = bc.samples.get(slot.sides[s] as usize) {
-                    let point = boundary_point(Side::ALL[s], cs.t, reversed);
-                    if let Some(id) = mesh.find(point) {
-                        if mesh.remove(id).is_ok() {
-                            stats.deleted += 1;
-                        }
-                    }
-                }
-            }
-        }
-        let mut result = Ok(());
-        'insert: {
-            for (s, link) in bp.edges.into_iter().enumerate() {
-                let EdgeLink::Curve { curve, reversed } = link else {
-                    continue;
-                };
-                let Some(bc) = baked.curve(curve as usize) else {
-                    continue;
-                };
-                while slot.sides[s] < curve_targets[s] {
-                    if let Some(cs) = bc.samples.get(slot.sides[s] as usize) {
-                        let point = boundary_point(Side::ALL[s], cs.t, reversed);
-                        if let Err(e) = mesh.insert(point) {
-                            result = Err(e);
-                            break 'insert;
-                        }
-                        stats.inserted += 1;
-                    }
-                    slot.sides[s] += 1;
-                }
-            }
-            while slot.interior < target {
-                if let Some(s) = samples.get(slot.interior as usize) {
-                    if let Err(e) = mesh.insert(s.point) {
-                        result = Err(e);
-                        break 'insert;
-                    }
-                    stats.inserted += 1;
-                }
-                slot.interior += 1;
-            }
-        }
-        slot.mesh = mesh.header();
-        self.storage.patches[p] = slot;
-        result
-    }
-
-    /// Estimates new triangles, and chooses every triangle's and curve's refinement factor.
-    fn choose_factors(&mut self, refine: bool, stats: &mut FrameStats) {
-        let baked = self.baked;
-        let max = if refine { self.settings.max_factor } else { 1 };
-        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
-            c.factor = 1;
-        }
-        for p in 0..baked.patch_count() {
-            let mut slot = self.storage.patches[p];
-            if slot.culled {
-                continue;
-            }
-            let (Some(patch), Some(bp)) = (self.patches.patch(p), baked.patch(p)) else {
-                continue;
-            };
-            slot.factor = 1;
-            slot.error_ratio = 0.0;
-            let (vo, to, tc) = (
-                slot.vertex_offset as usize,
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
-            for t in 0..tc {
-                let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
-                    continue;
-                };
-                let corners = v.map(|id| {
-                    self.storage.vertices[vo + id as usize]
-                        .live_point()
-                        .unwrap_or_default()
-                });
-                let state = &mut self.storage.triangle_states[to + t];
-                if state.corners != corners {
-                    state.corners = corners;
-                    state.deviation = estimate(&patch, corners) * ESTIMATE_SAFETY;
-                    stats.estimated += 1;
-                }
-                let f = factor_for(state.deviation, slot.c, max);
-                state.factor = f;
-                slot.factor = slot.factor.max(f);
-                let ff = f as f32;
-                slot.error_ratio = slot.error_ratio.max(state.deviation / (ff * ff) / slot.c);
-                // Boundary edges hand their factor to the curve.
-                for i in 0..3 {
-                    if n[i].is_some() {
-                        continue;
-                    }
-                    let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
-                    if let Some(side) = common_side(a, b) {
-                        if let EdgeLink::Curve { curve, .. } = bp.edges[side.index()] {
-                            let cs = &mut self.storage.curves[curve as usize];
-                            cs.factor = cs.factor.max(f);
-                        }
-                    }
-                }
-            }
-            self.storage.patches[p] = slot;
-        }
-        // A curve's factor can exceed every triangle's along it in one patch: that patch is
-        // refined too.
-        for p in 0..baked.patch_count() {
-            if self.storage.patches[p].culled {
-                continue;
-            }
-            if let Some(bp) = baked.patch(p) {
-                for link in bp.edges {
-                    if let EdgeLink::Curve { curve, .. } = link {
-                        let f = self.storage.curves[curve as usize].factor;
-                        let slot = &mut self.storage.patches[p];
-                        slot.factor = slot.factor.max(f);
-                    }
-                }
-            }
-        }
-    }
 }
 
 /// Domain corners in mesh order: `(0,0), (1,0), (1,1), (0,1)`.
@@ -979,7 +480,7 @@ pub(crate) const CORNER_UV: [(f32, f32); 4] = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0
 
 #[cfg(test)]
 mod tests {
-    use super::prefix;
+    use super::select::prefix;
 
     #[test]
     fn prefix_takes_samples_recorded_above_the_threshold() {

@@ -1,0 +1,374 @@
+//! Error-control figures: for every model at several views and tolerances, the kernel's
+//! triangles beside the verified uniform grid, the measured error distribution, how tight the
+//! kernel's bounds are, the triangles with nothing on screen, and the speed of a full frame.
+//! Prints a Markdown table.
+//!
+//! ```text
+//! cargo run --release -p host-tests --example error_figures            # every case
+//! cargo run --release -p host-tests --example error_figures -- teapot  # cases naming it
+//! ```
+//!
+//! Each model is baked at 1e-3 of its diagonal (caps 256 per curve, 4096 per patch). Every
+//! triangle the kernel writes is sampled at 12 barycentric steps per side with the `f64`
+//! reference, as the surface against the triangle's linear interpolant at the same parameters,
+//! projected with an `f64` camera of the tests' own; only samples that land on screen count
+//! (`host_tests::screen`). *Grid* is the sum over patches of the smallest uniform n x n vertex
+//! grid whose error, measured the same way (8 steps per grid triangle), is within the
+//! tolerance: a lower bound for any uniform tessellator (it has cracks; a crack-free one needs
+//! a few more). *Bound / true* compares each triangle's bound from the kernel with its measured
+//! deviation in model units (triangles whose deviation is below 1e-9 of the diagonal left
+//! out). *Off screen* counts the triangles with no sample on screen. *Full ms* is a new
+//! tessellator, its update and the indexed write, best of three; *Mtri/s* its triangles per
+//! second.
+
+use std::time::Instant;
+
+use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::reference::{RefPatch, V3};
+use host_tests::runtime::{streamed, RuntimeStorage};
+use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter};
+use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::tessellator::Settings;
+use spline_tess::{Camera, Projection, Vec3, Vertex, View};
+
+const BAKE: BakeSettings = BakeSettings {
+    tolerance: Tolerance::Relative(1e-3),
+    max_curve_samples: 256,
+    max_interior_samples: 4096,
+};
+const DENSE: usize = 12;
+const GRID_DENSE: usize = 8;
+
+/// Where a case looks from.
+#[derive(Clone, Copy)]
+enum Look {
+    /// A camera: eye, target, viewport, tolerance in pixels.
+    Screen {
+        eye: [f32; 3],
+        target: [f32; 3],
+        viewport: [u32; 2],
+        tol: f32,
+    },
+    /// Object space, tolerance relative to the diagonal.
+    Object { rel: f32 },
+    /// A camera placed from the model's own box: direction from its centre, distance in
+    /// diagonals.
+    Around {
+        dir: [f32; 3],
+        distance: f32,
+        viewport: [u32; 2],
+        tol: f32,
+    },
+}
+
+struct Case {
+    name: String,
+    model: &'static str,
+    look: Look,
+}
+
+fn cases() -> Vec<Case> {
+    let s = |model, name: &str, eye, target, viewport, tol| Case {
+        name: name.to_string(),
+        model,
+        look: Look::Screen {
+            eye,
+            target,
+            viewport,
+            tol,
+        },
+    };
+    let mut v = vec![
+        s(
+            "teapot.bpt",
+            "teapot 240x240 1 px, eye (8,-8,5)",
+            [8.0, -8.0, 5.0],
+            [0.0, 0.0, 1.2],
+            [240, 240],
+            1.0,
+        ),
+        s(
+            "teapot.bpt",
+            "teapot 1024x768 1 px, eye (6,-6,4)",
+            [6.0, -6.0, 4.0],
+            [0.0, 0.0, 1.2],
+            [1024, 768],
+            1.0,
+        ),
+        s(
+            "teapot.bpt",
+            "teapot 1024x768 0.5 px, eye (6,-6,4)",
+            [6.0, -6.0, 4.0],
+            [0.0, 0.0, 1.2],
+            [1024, 768],
+            0.5,
+        ),
+        s(
+            "teapot.bpt",
+            "teapot 1024x768 1 px, eye (9,0,0.3)",
+            [9.0, 0.0, 0.3],
+            [0.0, 0.0, 1.0],
+            [1024, 768],
+            1.0,
+        ),
+        s(
+            "teapot.bpt",
+            "teapot 1024x768 0.5 px, eye (9,0,0.3)",
+            [9.0, 0.0, 0.3],
+            [0.0, 0.0, 1.0],
+            [1024, 768],
+            0.5,
+        ),
+        s(
+            "teapot.bpt",
+            "teapot close-up 1024x768 1 px, eye (2.2,-1.5,2.6)",
+            [2.2, -1.5, 2.6],
+            [0.0, 0.0, 1.5],
+            [1024, 768],
+            1.0,
+        ),
+        s(
+            "gumbo.bpt",
+            "Gumbo 1024x768 1 px, eye (60,-50,40)",
+            [60.0, -50.0, 40.0],
+            [12.0, 7.0, 9.7],
+            [1024, 768],
+            1.0,
+        ),
+        Case {
+            name: "teapot object 0.02".into(),
+            model: "teapot.bpt",
+            look: Look::Object { rel: 0.02 / 7.0 },
+        },
+    ];
+    for model in [
+        "teapot.bpt",
+        "teapot_orig28.bpt",
+        "teapot_westin.bpt",
+        "teacup.bpt",
+        "teaspoon.bpt",
+        "gumbo.bpt",
+        "nurbs/geomdl_surface1.json",
+        "nurbs/geomdl_surface2_weighted.json",
+        "nurbs/rational_torus.json",
+        "nurbs/threejs_nurbs_example.json",
+        "nurbs/tinynurbs_hemisphere.json",
+        "nurbs/verb_quarter_cylinder.json",
+    ] {
+        let short = model.trim_start_matches("nurbs/");
+        for (viewport, tol) in [([240, 240], 1.0), ([1024, 768], 1.0)] {
+            v.push(Case {
+                name: format!(
+                    "{short} {}x{} {tol} px, 1.3 diagonals",
+                    viewport[0], viewport[1]
+                ),
+                model,
+                look: Look::Around {
+                    dir: [0.7, -0.6, 0.4],
+                    distance: 1.3,
+                    viewport,
+                    tol,
+                },
+            });
+        }
+        v.push(Case {
+            name: format!("{short} object 2e-3 of the diagonal"),
+            model,
+            look: Look::Object { rel: 2e-3 },
+        });
+    }
+    v
+}
+
+fn widen(p: [f32; 3]) -> V3 {
+    p.map(|x| x as f64)
+}
+
+fn quantile(v: &mut [f64], f: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * f) as usize]
+}
+
+fn main() {
+    let only: Vec<String> = std::env::args().skip(1).collect();
+    println!(
+        "| case | triangles | grid | ratio | over | median error / tol | 90% error / tol | \
+         bound / true: min, median | off screen | full ms | Mtri/s |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut baked_cache: Vec<(&str, ModelFile, Vec<u8>)> = Vec::new();
+    for case in cases() {
+        if !only.is_empty() && !only.iter().any(|o| case.name.contains(o.as_str())) {
+            continue;
+        }
+        if !baked_cache.iter().any(|(m, _, _)| *m == case.model) {
+            let path = host_tests::models_dir().join(case.model);
+            let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
+            let rel = std::env::var("BAKE_REL").ok().and_then(|s| s.parse().ok());
+            let bake = BakeSettings {
+                tolerance: rel.map_or(BAKE.tolerance, Tolerance::Relative),
+                ..BAKE
+            };
+            let bytes = file
+                .with_model(|m| bake_to_vec(m, &bake))
+                .expect("a topology")
+                .expect("a bake");
+            baked_cache.push((case.model, file, bytes));
+        }
+        let (_, file, bytes) = baked_cache
+            .iter()
+            .find(|(m, _, _)| *m == case.model)
+            .expect("baked above");
+        let baked = BakedModel::from_bytes(bytes).expect("a fresh bake reads back");
+        let patches = file.patches();
+        let aabb = patches.aabb().expect("patches");
+        let (center, diag) = (aabb.center(), aabb.diagonal());
+        let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
+        let near = 0.01 * diag;
+        let (view, meter, tol) = match case.look {
+            Look::Object { rel } => (
+                View::Object {
+                    tolerance: rel * diag,
+                },
+                None,
+                (rel * diag) as f64,
+            ),
+            look => {
+                let (eye, target, viewport, tol) = match look {
+                    Look::Screen {
+                        eye,
+                        target,
+                        viewport,
+                        tol,
+                    } => (
+                        Vec3::from_array(eye),
+                        Vec3::from_array(target),
+                        viewport,
+                        tol,
+                    ),
+                    Look::Around {
+                        dir,
+                        distance,
+                        viewport,
+                        tol,
+                    } => (
+                        center + Vec3::from_array(dir).normalize() * (distance * diag),
+                        center,
+                        viewport,
+                        tol,
+                    ),
+                    Look::Object { .. } => unreachable!(),
+                };
+                let camera = Camera::new(
+                    eye,
+                    target,
+                    Vec3::Z,
+                    Projection::Perspective {
+                        fov_y_degrees: 40.0,
+                    },
+                    near,
+                    viewport,
+                )
+                .expect("a valid camera");
+                let meter = Meter::new(
+                    widen(eye.to_array()),
+                    widen(target.to_array()),
+                    [0.0, 0.0, 1.0],
+                    40.0,
+                    near as f64,
+                    viewport,
+                );
+                (
+                    View::Screen {
+                        camera,
+                        tolerance_px: tol,
+                    },
+                    Some(meter),
+                    tol as f64,
+                )
+            }
+        };
+        let measure = match &meter {
+            Some(m) => Measure::Screen(m),
+            None => Measure::Object,
+        };
+        // Speed: a full frame, best of three.
+        let settings = Settings::default();
+        let mut storage = RuntimeStorage::new(&baked, &settings);
+        let mut vertices = vec![Vertex::default(); 1 << 20];
+        let mut triangles = vec![[0u32; 3]; 1 << 21];
+        let mut best = f64::INFINITY;
+        let mut count = 0;
+        for _ in 0..3 {
+            let start = Instant::now();
+            let mut t = storage.tessellator(patches, baked, settings);
+            let stats = t.update(&view).expect("an update");
+            t.write_mesh(&mut vertices, &mut triangles).expect("room");
+            best = best.min(start.elapsed().as_secs_f64() * 1e3);
+            count = stats.triangles;
+        }
+        let mut tess = storage.tessellator(patches, baked, settings);
+        tess.update(&view).expect("an update");
+        let tris = streamed(&tess);
+        // Verification.
+        let (mut errors, mut tight) = (Vec::new(), Vec::new());
+        let (mut over, mut off) = (0usize, 0usize);
+        let mut min_tight = f64::INFINITY;
+        for t in &tris {
+            let r = &refs[t.patch as usize];
+            let uv = t.uv.map(|[u, v]| [u as f64, v as f64]);
+            let corners = t.corners.map(|c| widen(c.position));
+            let m = triangle_deviation(r, uv, corners, DENSE, measure);
+            if !m.visible {
+                off += 1;
+                continue;
+            }
+            errors.push(m.worst / tol);
+            if m.worst > tol * (1.0 + 1e-6) {
+                over += 1;
+                if std::env::var("SHOW_OVER").is_ok() {
+                    let object = triangle_deviation(r, uv, corners, DENSE, Measure::Object);
+                    eprintln!(
+                        "over: patch {} uv {:?} measured {:.3} (object {:e}, bound {:e})",
+                        t.patch,
+                        t.uv,
+                        m.worst / tol,
+                        object.worst,
+                        t.bound
+                    );
+                }
+            }
+            let object = match measure {
+                Measure::Object => m,
+                Measure::Screen(_) => triangle_deviation(r, uv, corners, DENSE, Measure::Object),
+            };
+            if object.worst > 1e-9 * diag as f64 {
+                let ratio = t.bound as f64 / object.worst;
+                min_tight = min_tight.min(ratio);
+                tight.push(ratio);
+            }
+        }
+        // The uniform grid per patch.
+        let grid: usize = refs
+            .iter()
+            .map(|r| {
+                grid_size(r, tol, GRID_DENSE, 512, measure)
+                    .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1))
+            })
+            .sum();
+        println!(
+            "| {} | {count} | {grid} | {:.2} | {over} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.1} | {:.2} |",
+            case.name,
+            count as f64 / grid as f64,
+            quantile(&mut errors, 0.5),
+            quantile(&mut errors, 0.9),
+            min_tight,
+            quantile(&mut tight, 0.5),
+            100.0 * off as f64 / tris.len().max(1) as f64,
+            count as f64 / best / 1e3
+        );
+    }
+}

@@ -1,0 +1,200 @@
+//! Measuring meshes against the surface, in `f64` and with a camera of the tests' own: the
+//! deviation of a triangle (the surface against the triangle's linear interpolant at the same
+//! parameters), in model units or projected on screen, and the reference every leanness claim
+//! is measured against: the smallest uniform grid per patch whose verified deviation is within
+//! the tolerance.
+//!
+//! On screen, a sample counts when the surface point lands on the screen (in front of the near
+//! plane and inside the viewport) and the interpolant's point is in front of the near plane:
+//! what is off screen or behind the near plane is never drawn.
+
+use crate::reference::{cross, dist, dot, RefPatch, V3};
+
+/// A perspective camera in `f64`, written here (not the kernel's).
+#[derive(Clone, Debug)]
+pub struct Meter {
+    eye: V3,
+    basis: [V3; 3],
+    focal: f64,
+    near: f64,
+    viewport: [u32; 2],
+}
+
+fn unit(a: V3) -> V3 {
+    let l = dot(a, a).sqrt();
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+impl Meter {
+    /// A camera at `eye` looking at `target`, `up` giving the screen's vertical, with a
+    /// vertical field of view of `fov` degrees.
+    pub fn new(eye: V3, target: V3, up: V3, fov: f64, near: f64, viewport: [u32; 2]) -> Meter {
+        let f = unit(sub(target, eye));
+        let r = unit(cross(f, up));
+        let u = cross(r, f);
+        Meter {
+            eye,
+            basis: [r, u, f],
+            focal: 0.5 * viewport[1] as f64 / (fov.to_radians() * 0.5).tan(),
+            near,
+            viewport,
+        }
+    }
+
+    /// View coordinates `(right, up, depth)`.
+    fn view(&self, p: V3) -> V3 {
+        let d = sub(p, self.eye);
+        [
+            dot(d, self.basis[0]),
+            dot(d, self.basis[1]),
+            dot(d, self.basis[2]),
+        ]
+    }
+
+    /// Pixel position of view coordinates in front of the eye.
+    fn pixel(&self, v: V3) -> [f64; 2] {
+        let s = self.focal / v[2];
+        [
+            0.5 * self.viewport[0] as f64 + v[0] * s,
+            0.5 * self.viewport[1] as f64 - v[1] * s,
+        ]
+    }
+
+    /// True when `p` is in front of the near plane and projects inside the viewport.
+    pub fn on_screen(&self, p: V3) -> bool {
+        let v = self.view(p);
+        if v[2] < self.near {
+            return false;
+        }
+        let [x, y] = self.pixel(v);
+        x >= 0.0 && x <= self.viewport[0] as f64 && y >= 0.0 && y <= self.viewport[1] as f64
+    }
+
+    /// Projected distance in pixels between the surface point `s` and the interpolant's `l`,
+    /// or `None` when the sample does not count (see the module docs).
+    pub fn deviation(&self, s: V3, l: V3) -> Option<f64> {
+        let (vs, vl) = (self.view(s), self.view(l));
+        if vs[2] < self.near || vl[2] < self.near {
+            return None;
+        }
+        let (ps, pl) = (self.pixel(vs), self.pixel(vl));
+        let inside = ps[0] >= 0.0
+            && ps[0] <= self.viewport[0] as f64
+            && ps[1] >= 0.0
+            && ps[1] <= self.viewport[1] as f64;
+        inside.then(|| ((ps[0] - pl[0]).powi(2) + (ps[1] - pl[1]).powi(2)).sqrt())
+    }
+}
+
+/// Where deviations are measured.
+#[derive(Clone, Copy, Debug)]
+pub enum Measure<'a> {
+    /// In model units.
+    Object,
+    /// In pixels, through a camera.
+    Screen(&'a Meter),
+}
+
+/// The measured deviation of one triangle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Measured {
+    /// Largest deviation over the samples that count.
+    pub worst: f64,
+    /// Largest deviation in model units over the same samples.
+    pub worst_object: f64,
+    /// Whether any sample counted (on screen, for a camera).
+    pub visible: bool,
+}
+
+/// Deviation of the triangle with corner parameters `uv` and corner points `corners` from
+/// patch `r`, at `dense` barycentric steps per side.
+pub fn triangle_deviation(
+    r: &RefPatch,
+    uv: [[f64; 2]; 3],
+    corners: [V3; 3],
+    dense: usize,
+    measure: Measure<'_>,
+) -> Measured {
+    let mut m = Measured::default();
+    for i in 0..=dense {
+        for j in 0..=dense - i {
+            let (a, b) = (i as f64 / dense as f64, j as f64 / dense as f64);
+            let c = 1.0 - a - b;
+            let u = uv[0][0] * c + uv[1][0] * a + uv[2][0] * b;
+            let v = uv[0][1] * c + uv[1][1] * a + uv[2][1] * b;
+            let s = r.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
+            let l = [0, 1, 2].map(|k| corners[0][k] * c + corners[1][k] * a + corners[2][k] * b);
+            let d = match measure {
+                Measure::Object => Some(dist(s, l)),
+                Measure::Screen(meter) => meter.deviation(s, l),
+            };
+            if let Some(d) = d {
+                m.visible = true;
+                m.worst = m.worst.max(d);
+                m.worst_object = m.worst_object.max(dist(s, l));
+            }
+        }
+    }
+    m
+}
+
+/// Largest measured deviation of the uniform `n x n` vertex grid of patch `r` (cells split
+/// along one diagonal).
+pub fn grid_deviation(r: &RefPatch, n: usize, dense: usize, measure: Measure<'_>) -> f64 {
+    let s = |k: usize| k as f64 / (n - 1) as f64;
+    let mut worst = 0.0f64;
+    for i in 0..n - 1 {
+        for j in 0..n - 1 {
+            let q = [
+                [s(i), s(j)],
+                [s(i + 1), s(j)],
+                [s(i + 1), s(j + 1)],
+                [s(i), s(j + 1)],
+            ];
+            let p = q.map(|[u, v]| r.point(u, v));
+            for (a, b, c) in [(0, 1, 2), (0, 2, 3)] {
+                let m =
+                    triangle_deviation(r, [q[a], q[b], q[c]], [p[a], p[b], p[c]], dense, measure);
+                worst = worst.max(m.worst);
+            }
+        }
+    }
+    worst
+}
+
+/// The smallest `n` (from 2, up to `limit`) whose uniform grid on patch `r` has a measured
+/// deviation at most `tolerance`, found by doubling then bisection (the deviation falls as
+/// `n` grows); `None` past `limit`.
+pub fn grid_size(
+    r: &RefPatch,
+    tolerance: f64,
+    dense: usize,
+    limit: usize,
+    measure: Measure<'_>,
+) -> Option<usize> {
+    let ok = |n: usize| grid_deviation(r, n, dense, measure) <= tolerance;
+    if ok(2) {
+        return Some(2);
+    }
+    let (mut lo, mut hi) = (2usize, 4usize);
+    while !ok(hi) {
+        lo = hi;
+        hi *= 2;
+        if hi > limit {
+            return None;
+        }
+    }
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if ok(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
+}

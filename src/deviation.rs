@@ -1,0 +1,535 @@
+//! Computed upper bounds on how far a patch strays from a flat triangle or a chord.
+//!
+//! The deviation of a domain triangle `T` (corners `p0, p1, p2` in the unit square) is
+//! `sup |S(x) - L(x)|` over `x` in `T`, where `L` is the linear interpolant of the surface
+//! points `S(p0), S(p1), S(p2)` at the same barycentric coordinates. Everything that decides
+//! how finely to tessellate, in the bake and at run time, uses the bound of this module, so a
+//! recorded or cached value is never an estimate.
+//!
+//! # The bound
+//!
+//! **Sampled part.** Let `x_k` be the points of the barycentric lattice of step `1/6` on `T`
+//! (28 points, the corners included), and `e_k = S(x_k) - L(x_k)`. The lattice cuts `T` into
+//! 36 triangles `T_s` similar to `T` at scale `1/6` (and their point reflections). On one of
+//! them, `L_s` interpolates `S` at its corners, and `L_s - L` is linear, so it is the linear
+//! interpolant of the `e_k` at those corners. For `x` in `T_s`:
+//!
+//! `|S(x) - L(x)| <= |S(x) - L_s(x)| + |L_s(x) - L(x)| <= R_s + max_k |e_k|`.
+//!
+//! **Remainder.** `R_s` bounds linear interpolation on `T_s`. With the second-derivative
+//! bounds `a >= |S_uu|`, `b >= |S_uv|`, `c >= |S_vv|` over the patch ([`PatchBounds`]), for any
+//! direction `h`, `|D²S[h, h]| <= a h_u² + 2 b |h_u h_v| + c h_v² <= α h_u² + β h_v²` with
+//! `α = a + b t`, `β = c + b / t` for any `t > 0` (`2|h_u h_v| <= t h_u² + h_v² / t`). Taylor's
+//! theorem with integral remainder at `x`, `S(p_i) = S(x) + DS(x)(p_i - x) + r_i` with
+//! `|r_i| <= ½ (α d_u² + β d_v²)`, `d = p_i - x`, and `Σ λ_i (p_i - x) = 0` give
+//! `|S(x) - L(x)| <= ½ Σ λ_i (α d_iu² + β d_iv²)`. In the coordinates `(√α u, √β v)` that sum
+//! is `Σ λ_i |p_i - x|²`, at most `ρ²`, the squared radius of the triangle's smallest
+//! enclosing circle there (for `x = Σ λ_i p_i`, `Σ λ_i |p_i - x|² = r² - |x - o|²` for the
+//! centre `o` and radius `r` of any circle through the corners; take the smallest enclosing
+//! circle, or the circumcircle for an acute triangle). So `R_s = ½ ρ(T)² / 36`. The smallest
+//! of a few choices of `t` is taken.
+//!
+//! **Refinement.** The same 28 samples bound the pieces of `T` cut uniformly by 2, 3 and 6:
+//! a piece's own interpolant is sampled on the sub-lattice it contains, with the same
+//! remainder `R_s`. Past 6, or for a piece of another shape, the remainder alone on the piece,
+//! `½ ρ(piece)²`, is the bound (see [`PatchBounds::curvature_term`]).
+//!
+//! **Chords.** A boundary curve segment is bounded the same way in one dimension: six
+//! samples, and `⅛ M (h/6)²` for linear interpolation over a sixth of its length `h`, with
+//! `M = a` along `u` and `c` along `v`.
+//!
+//! **Second derivatives of a rational patch.** With `A = w (S - o)` (the homogeneous patch
+//! after moving the origin to the net's centre `o`), `A_u = w_u (S - o) + w S_u` and so on,
+//! so `|S_u| <= (|A_u| + |w_u| r) / w_min` and
+//! `|S_uu| <= (|A_uu| + 2 |w_u| |S_u| + |w_uu| r) / w_min` (likewise `S_uv`, `S_vv`), where
+//! `r` is the net's radius about `o`, `w_min` its smallest weight (`w` is a convex
+//! combination of the weights), and each `|A_..|`, `|w_..|` is the largest control point of
+//! the derivative's Bezier net (the convex hull property). A polynomial patch has `w = 1`:
+//! the bounds are its second-difference nets' largest points.
+//!
+//! **Rounding.** Samples are computed in `f32`. [`PatchBounds::slack`] covers the error of a
+//! computed `|e_k|`: each position is off by at most `γ M / w_min` per coordinate (de
+//! Casteljau's algorithm is a chain of convex combinations; `γ = n ε / (1 - n ε)`,
+//! `n = 3 (p + q) + 8` operations, `M` the largest `|w P| + |P| w`), the interpolant and the
+//! lattice parameters by a few `ε` of the net's size. The remainder is computed in `f32` and
+//! enlarged by `2^-10` (its inputs are exact grid coordinates; its roundings are relative and
+//! few).
+//!
+//! `host-tests/tests/deviation.rs` checks the bound against dense `f64` sampling on every
+//! triangle of every model's bake and reports how tight it is.
+
+use glam::{Vec3, Vec4};
+
+use crate::domain::GridPoint;
+use crate::math::{length, sqrt};
+use crate::patch::{BezierPatch, Side};
+use crate::MAX_DEGREE;
+
+/// Lattice steps per side of a bounded triangle or chord.
+pub const LATTICE: u32 = 6;
+
+/// Refinement factors whose pieces the lattice samples bound (the divisors of [`LATTICE`]).
+pub const SAMPLED_FACTORS: [u8; 4] = [1, 2, 3, 6];
+
+/// Unit roundoff of `f32`.
+const EPS: f32 = f32::EPSILON * 0.5;
+
+/// Relative enlargement of the computed remainder, for its own rounding.
+const REMAINDER_SLACK: f32 = 1.0 + 1.0 / 1024.0;
+
+/// What a patch's bounds need besides its samples: second-derivative bounds and the rounding
+/// slack of one sampled deviation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PatchBounds {
+    /// Upper bounds of `|S_uu|`, `|S_uv|`, `|S_vv|` over the patch.
+    pub second: [f32; 3],
+    /// Upper bound of the rounding error of one sampled deviation.
+    pub slack: f32,
+}
+
+/// The bound of one domain triangle, for the triangle itself and its uniform refinements.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TriangleBound {
+    /// Bounds of the deviation of every piece of the triangle cut uniformly by the factors of
+    /// [`SAMPLED_FACTORS`] (1: the triangle itself).
+    pub refined: [f32; 4],
+    /// `½ ρ²` of the triangle itself (see [`PatchBounds::curvature_term`]): the bound of a
+    /// uniform refinement by `n` is at most `curvature / n² + slack`.
+    pub curvature: f32,
+    /// The rounding slack of one sampled deviation (part of every bound above).
+    pub slack: f32,
+    /// Where the sampled deviation of the whole triangle is largest.
+    pub at: GridPoint,
+    /// The surface points at the triangle's corners: the surface piece lies within
+    /// [`bound`](Self::bound) of their flat triangle.
+    pub points: [[f32; 3]; 3],
+}
+
+impl TriangleBound {
+    /// The bound of the triangle itself.
+    pub fn bound(&self) -> f32 {
+        self.refined[0]
+    }
+}
+
+/// The bound of one chord of a boundary curve.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ChordBound {
+    /// Upper bound of the distance between the curve and the chord over the segment.
+    pub bound: f32,
+    /// Curve parameter (unit) of the largest sampled deviation.
+    pub at: f32,
+}
+
+/// The largest norm of `f(k)` for `k` in `0..n` (xyz part and w part), rounded up.
+fn max_norm(n: usize, f: impl Fn(usize) -> Vec4) -> (f32, f32) {
+    let mut xyz = 0.0f32;
+    let mut w = 0.0f32;
+    for k in 0..n {
+        let d = f(k);
+        xyz = xyz.max(length(Vec3::new(d.x, d.y, d.z)));
+        w = w.max(d.w.abs());
+    }
+    (xyz * (1.0 + 8.0 * EPS), w * (1.0 + 8.0 * EPS))
+}
+
+/// Cuts the Bezier polygon `d` (homogeneous) to the parameter interval `[t0, t1]` in place.
+fn cut(d: &mut [Vec4], t0: f32, t1: f32) {
+    let n = d.len();
+    // Left part at t1: d[k] becomes the k-th point of [0, t1].
+    for r in 1..n {
+        for k in (r..n).rev() {
+            d[k] = crate::math::lerp4(d[k - 1], d[k], t1);
+        }
+    }
+    // Right part of [0, t1] at t0 / t1.
+    if t1 > 0.0 {
+        let s = (t0 / t1).min(1.0);
+        for r in 1..n {
+            for k in 0..n - r {
+                d[k] = crate::math::lerp4(d[k], d[k + 1], s);
+            }
+        }
+    }
+}
+
+/// A homogeneous control net of degrees `(p, q)`, point `(i, j)` at `[i][j]`.
+type Net = [[Vec4; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+
+impl PatchBounds {
+    /// The bounds of `patch` over its whole domain.
+    ///
+    /// ```
+    /// use spline_tess::bake::PatchBounds;
+    /// use spline_tess::BezierPatch;
+    ///
+    /// // z = 4 u (1 - u): S_uu = (0, 0, -8) everywhere, S_uv = S_vv = 0.
+    /// let net = [
+    ///     [0.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+    ///     [0.5, 0.0, 2.0], [0.5, 1.0, 2.0],
+    ///     [1.0, 0.0, 0.0], [1.0, 1.0, 0.0],
+    /// ];
+    /// let b = PatchBounds::of(&BezierPatch::new(2, 1, &net).unwrap());
+    /// assert!((b.second[0] - 8.0).abs() < 1e-4 && b.second[1] < 1e-6 && b.second[2] == 0.0);
+    /// ```
+    pub fn of(patch: &BezierPatch<'_>) -> PatchBounds {
+        Self::over(patch, [0.0, 1.0, 0.0, 1.0])
+    }
+
+    /// The bounds of `patch` over the parameter box `[u0, u1, v0, v1]`: the sub-patch's
+    /// second derivatives, in the patch's own parameters.
+    pub fn over(patch: &BezierPatch<'_>, area: [f32; 4]) -> PatchBounds {
+        let (p, q) = (patch.degree_u(), patch.degree_v());
+        let mut net: Net = [[Vec4::ZERO; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        let mut big = 0.0f32;
+        let (mut w_max, mut w_low) = (0.0f32, f32::INFINITY);
+        for (i, row) in net.iter_mut().enumerate().take(p + 1) {
+            for (j, cell) in row.iter_mut().enumerate().take(q + 1) {
+                let (pt, w) = (patch.control_point(i, j), patch.weight(i, j));
+                big = big.max(pt.abs().max_element());
+                w_max = w_max.max(w);
+                w_low = w_low.min(w);
+                *cell = Vec4::new(pt.x * w, pt.y * w, pt.z * w, w);
+            }
+        }
+        let whole = area == [0.0, 1.0, 0.0, 1.0];
+        if !whole {
+            let mut line = [Vec4::ZERO; MAX_DEGREE + 1];
+            for j in 0..=q {
+                for (l, row) in line.iter_mut().zip(&net).take(p + 1) {
+                    *l = row[j];
+                }
+                cut(&mut line[..=p], area[0], area[1]);
+                for (l, row) in line.iter().zip(net.iter_mut()).take(p + 1) {
+                    row[j] = *l;
+                }
+            }
+            for row in net.iter_mut().take(p + 1) {
+                cut(&mut row[..=q], area[2], area[3]);
+            }
+        }
+        // Rounding of the cut net: every step is a convex combination.
+        let n = (3 * (p + q) + 8) as f32;
+        let gamma = n * EPS / (1.0 - n * EPS);
+        let net_error = if whole {
+            0.0
+        } else {
+            gamma * big * w_max * 2.0
+        };
+        // Euclidean points, the centre, radius and weights of the (cut) net.
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        let mut w_min = f32::INFINITY;
+        for row in net.iter().take(p + 1) {
+            for h in row.iter().take(q + 1) {
+                let e = Vec3::new(h.x, h.y, h.z) / h.w;
+                lo = lo.min(e);
+                hi = hi.max(e);
+                w_min = w_min.min(h.w);
+            }
+        }
+        // A cut net's weights are convex combinations of the patch's: at least the smallest.
+        let w_min = (w_min - net_error).max(w_low).max(f32::MIN_POSITIVE);
+        let center = (lo + hi) * 0.5;
+        let mut radius = 0.0f32;
+        for row in net.iter().take(p + 1) {
+            for h in row.iter().take(q + 1) {
+                radius = radius.max(length(Vec3::new(h.x, h.y, h.z) / h.w - center));
+            }
+        }
+        let radius = radius * (1.0 + 8.0 * EPS) + 2.0 * net_error / w_min;
+        let h = |i: usize, j: usize| {
+            let c = net[i][j];
+            Vec4::new(
+                c.x - center.x * c.w,
+                c.y - center.y * c.w,
+                c.z - center.z * c.w,
+                c.w,
+            )
+        };
+        let (pf, qf) = (p as f32, q as f32);
+        // A derivative net of order k mixes 2^k net points: its points are off by at most
+        // 2^k net_error times its scale.
+        let grow = |(x, w): (f32, f32), scale: f32, k: f32| {
+            let e = scale * net_error * k * 2.0;
+            (x + e, w + e)
+        };
+        let (au, wu) = grow(
+            max_norm(p * (q + 1), |k| {
+                let (i, j) = (k / (q + 1), k % (q + 1));
+                (h(i + 1, j) - h(i, j)) * pf
+            }),
+            pf,
+            2.0,
+        );
+        let (av, wv) = grow(
+            max_norm((p + 1) * q, |k| {
+                let (i, j) = (k / q, k % q);
+                (h(i, j + 1) - h(i, j)) * qf
+            }),
+            qf,
+            2.0,
+        );
+        let (auu, wuu) = if p >= 2 {
+            grow(
+                max_norm((p - 1) * (q + 1), |k| {
+                    let (i, j) = (k / (q + 1), k % (q + 1));
+                    (h(i + 2, j) - h(i + 1, j) * 2.0 + h(i, j)) * (pf * (pf - 1.0))
+                }),
+                pf * (pf - 1.0),
+                4.0,
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let (avv, wvv) = if q >= 2 {
+            grow(
+                max_norm((p + 1) * (q - 1), |k| {
+                    let (i, j) = (k / (q - 1), k % (q - 1));
+                    (h(i, j + 2) - h(i, j + 1) * 2.0 + h(i, j)) * (qf * (qf - 1.0))
+                }),
+                qf * (qf - 1.0),
+                4.0,
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let (auv, wuv) = grow(
+            max_norm(p * q, |k| {
+                let (i, j) = (k / q, k % q);
+                (h(i + 1, j + 1) - h(i + 1, j) - h(i, j + 1) + h(i, j)) * (pf * qf)
+            }),
+            pf * qf,
+            4.0,
+        );
+        let up = 1.0 + 16.0 * EPS;
+        let (s_u, s_v, second) = if patch.weights().is_none() {
+            (au, av, [auu, auv, avv])
+        } else {
+            let s_u = (au + wu * radius) / w_min * up;
+            let s_v = (av + wv * radius) / w_min * up;
+            let suu = (auu + 2.0 * wu * s_u + wuu * radius) / w_min * up;
+            let suv = (auv + wu * s_v + wv * s_u + wuv * radius) / w_min * up;
+            let svv = (avv + 2.0 * wv * s_v + wvv * radius) / w_min * up;
+            (s_u, s_v, [suu, suv, svv])
+        };
+        // A sub-box's own parameters run over [0, 1]: derivatives in the patch's parameters
+        // are the sub-patch's divided by the box's extents.
+        let (su, sv) = if whole {
+            (1.0, 1.0)
+        } else {
+            let e = |d: f32| if d > 0.0 { 1.0 / d } else { 0.0 };
+            (e(area[1] - area[0]), e(area[3] - area[2]))
+        };
+        let second = [
+            second[0] * su * su * up,
+            second[1] * su * sv * up,
+            second[2] * sv * sv * up,
+        ];
+        // Rounding of one sampled deviation: three positions (a sample and, through the
+        // interpolant, the corners), the interpolant's own arithmetic and the lattice
+        // parameters' rounding.
+        let position = gamma * (2.0 * big * w_max) / w_low * 1.75; // 1.75 > sqrt(3): a norm
+        let slack =
+            (4.0 * position + 16.0 * EPS * big * 1.75 + 4.0 * EPS * (s_u * su + s_v * sv)) * up;
+        PatchBounds { second, slack }
+    }
+
+    /// The bounds to use over the triangle `uv`: the patch cut to the triangle's box. Its
+    /// second derivatives vary less there (for a rational patch, its weights far less), which
+    /// halves the remainder's excess (`host-tests/tests/deviation.rs`: bound / true from 1.10
+    /// to 1.05 on the teapot, from 20 to 1.3 on the tinynurbs hemisphere).
+    pub fn around(patch: &BezierPatch<'_>, uv: [(f32, f32); 3]) -> PatchBounds {
+        let lo = |f: fn((f32, f32)) -> f32| f(uv[0]).min(f(uv[1])).min(f(uv[2]));
+        let hi = |f: fn((f32, f32)) -> f32| f(uv[0]).max(f(uv[1])).max(f(uv[2]));
+        let area = [lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1)];
+        PatchBounds::over(patch, area)
+    }
+
+    /// `½ ρ²` for the domain triangle with unit parameters `uv`: the bound of linear
+    /// interpolation over it from the second derivatives alone (see the module docs).
+    pub fn curvature_term(&self, uv: [(f32, f32); 3]) -> f32 {
+        let [a, b, c] = self.second;
+        if a == 0.0 && b == 0.0 && c == 0.0 {
+            return 0.0;
+        }
+        let (lo_u, hi_u) = (
+            uv[0].0.min(uv[1].0).min(uv[2].0),
+            uv[0].0.max(uv[1].0).max(uv[2].0),
+        );
+        let (lo_v, hi_v) = (
+            uv[0].1.min(uv[1].1).min(uv[2].1),
+            uv[0].1.max(uv[1].1).max(uv[2].1),
+        );
+        let (hu, hv) = (hi_u - lo_u, hi_v - lo_v);
+        let mut best = f32::INFINITY;
+        let candidates = [
+            if a > 0.0 && c > 0.0 { sqrt(c / a) } else { 1.0 },
+            if hu > 0.0 && hv > 0.0 { hv / hu } else { 1.0 },
+            1.0,
+        ];
+        for t in candidates {
+            let (alpha, beta) = if b > 0.0 {
+                (a + b * t, c + b / t)
+            } else {
+                (a, c)
+            };
+            best = best.min(enclosing_radius_sq(uv, alpha, beta));
+            if b == 0.0 {
+                break;
+            }
+        }
+        0.5 * best * REMAINDER_SLACK
+    }
+}
+
+/// The bound of the domain triangle `corners` of `patch`, and of its uniform refinements by 2,
+/// 3 and 6 (see the module docs).
+pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> TriangleBound {
+    let n = LATTICE as usize;
+    let scale = 1.0 / (LATTICE as f32 * GridPoint::MAX as f32);
+    // Samples on the lattice, indexed by (i, j): weight i on corner 1, j on corner 2.
+    let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
+    let at = |i: usize, j: usize| {
+        let k = n - i - j;
+        let g = |f: fn(GridPoint) -> u16| {
+            (k as u32 * f(corners[0]) as u32
+                + i as u32 * f(corners[1]) as u32
+                + j as u32 * f(corners[2]) as u32) as f32
+                * scale
+        };
+        (g(|p| p.u), g(|p| p.v))
+    };
+    for (i, row) in s.iter_mut().enumerate() {
+        for (j, cell) in row.iter_mut().enumerate().take(n + 1 - i) {
+            let (u, v) = at(i, j);
+            *cell = patch.position(u, v);
+        }
+    }
+    let uv = corners.map(GridPoint::to_unit);
+    let local = PatchBounds::around(patch, uv);
+    let curvature = local.curvature_term(uv);
+    let remainder = curvature * (1.0 / (n * n) as f32) + local.slack;
+    let mut refined = [remainder; 4];
+    let mut best = (-1.0f32, (1usize, 1usize));
+    for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3) {
+        let m = n / *factor as usize; // lattice steps per piece side
+        let mut worst = 0.0f32;
+        // Pieces: upright (a, b) and inverted, in piece-lattice coordinates.
+        let pieces = *factor as usize;
+        for pb in 0..pieces {
+            for pa in 0..pieces - pb {
+                for inverted in [false, true] {
+                    if inverted && pa + pb + 2 > pieces {
+                        continue;
+                    }
+                    let (c0, c1, c2) = if inverted {
+                        ((pa + 1, pb), (pa + 1, pb + 1), (pa, pb + 1))
+                    } else {
+                        ((pa, pb), (pa + 1, pb), (pa, pb + 1))
+                    };
+                    let corner = |c: (usize, usize)| s[c.0 * m][c.1 * m];
+                    let (q0, q1, q2) = (corner(c0), corner(c1), corner(c2));
+                    let inv = 1.0 / m as f32;
+                    for x in 0..=m {
+                        for y in 0..=m - x {
+                            let z = m - x - y;
+                            if x == m || y == m || z == m {
+                                continue;
+                            }
+                            // Lattice point: z on c0, x on c1, y on c2.
+                            let gi = c0.0 * z + c1.0 * x + c2.0 * y;
+                            let gj = c0.1 * z + c1.1 * x + c2.1 * y;
+                            let linear = (q0 * z as f32 + q1 * x as f32 + q2 * y as f32) * inv;
+                            let d = length(s[gi][gj] - linear);
+                            if d > worst {
+                                worst = d;
+                            }
+                            if f == 0 && d > best.0 {
+                                best = (d, (gi, gj));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        refined[f] = worst + remainder;
+    }
+    let (bu, bv) = at(best.1 .0, best.1 .1);
+    TriangleBound {
+        refined,
+        curvature,
+        slack: local.slack,
+        at: GridPoint::from_unit(bu, bv),
+        points: [s[0][0], s[n][0], s[0][n]].map(|p| p.to_array()),
+    }
+}
+
+/// The bound of the chord of edge `side` of `patch` between unit parameters `t0 < t1`.
+pub fn chord_bound(patch: &BezierPatch<'_>, side: Side, t0: f32, t1: f32) -> ChordBound {
+    let point = |t: f32| match side {
+        Side::V0 => patch.position(t, 0.0),
+        Side::U1 => patch.position(1.0, t),
+        Side::V1 => patch.position(t, 1.0),
+        Side::U0 => patch.position(0.0, t),
+    };
+    let n = LATTICE as usize;
+    let (a, b) = (point(t0), point(t1));
+    let h = t1 - t0;
+    let mut best = (0.0f32, 0.5 * (t0 + t1));
+    for k in 1..n {
+        let f = k as f32 / n as f32;
+        let t = t0 + h * f;
+        let d = length(point(t) - (a + (b - a) * f));
+        if d > best.0 {
+            best = (d, t);
+        }
+    }
+    let local = {
+        let area = match side {
+            Side::V0 => [t0, t1, 0.0, 0.0],
+            Side::U1 => [1.0, 1.0, t0, t1],
+            Side::V1 => [t0, t1, 1.0, 1.0],
+            Side::U0 => [0.0, 0.0, t0, t1],
+        };
+        PatchBounds::over(patch, area)
+    };
+    let m = match side {
+        Side::V0 | Side::V1 => local.second[0],
+        Side::U0 | Side::U1 => local.second[2],
+    };
+    let step = h / n as f32;
+    let remainder = 0.125 * m * step * step * REMAINDER_SLACK;
+    ChordBound {
+        bound: best.0 + remainder + local.slack,
+        at: best.1,
+    }
+}
+
+/// Squared radius of the smallest circle around the triangle `uv` in the coordinates
+/// `(√alpha u, √beta v)`, rounded up.
+fn enclosing_radius_sq(uv: [(f32, f32); 3], alpha: f32, beta: f32) -> f32 {
+    let d = |i: usize, j: usize| {
+        let (du, dv) = (uv[j].0 - uv[i].0, uv[j].1 - uv[i].1);
+        (du, dv, alpha * du * du + beta * dv * dv)
+    };
+    let (e01, e12, e20) = (d(0, 1), d(1, 2), d(2, 0));
+    let (x, y, z) = (e01.2, e12.2, e20.2);
+    let longest = x.max(y).max(z);
+    if longest + longest >= x + y + z {
+        // Right or obtuse: the longest side is a diameter.
+        return longest * 0.25;
+    }
+    // Acute: the circumcircle, R² = x y z / (4 cross²) with the scaled cross product, which
+    // lies between longest/4 and longest/3 (the largest angle is 60 to 90 degrees).
+    let cross = (e01.0 * (-e20.1) - e01.1 * (-e20.0)) * sqrt(alpha * beta);
+    let r2 = x * y * z / (4.0 * cross * cross);
+    if r2.is_finite() {
+        r2.clamp(longest * 0.25, longest * (1.0 / 3.0))
+    } else {
+        longest * (1.0 / 3.0)
+    }
+}

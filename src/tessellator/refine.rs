@@ -1,0 +1,363 @@
+//! Refinement: every triangle of the frame within its own threshold, by a computed bound.
+//!
+//! A triangle of a patch's baked prefix (one with no vertex that only a neighbour asked for)
+//! is within the prefix's recorded bound, so within the patch's threshold `c`: it is left as
+//! it is and costs nothing. Every other triangle (next to extra curve points, or anywhere in a
+//! patch whose prefix does not reach `c`) gets its bound computed once, when it appears
+//! ([`triangle_bound`]: 28 surface points; cached per triangle slot while the triangle stays),
+//! and its own threshold `c(T)` from a sphere around its surface piece, so a triangle off the
+//! screen or behind the near plane asks for nothing and a near one for the most.
+//!
+//! Such a triangle is cut uniformly by the smallest factor `n` whose pieces are within `c(T)`:
+//! for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
+//! curvature term `½ ρ² / n²` plus the rounding slack (both in [`TriangleBound`]). Each edge
+//! takes the larger factor of its two triangles and each curve the largest of the triangles
+//! along it, so both sides of every edge place the same points (see `pattern`). A triangle
+//! whose edges then differ from its inside is cut in a pattern whose pieces are not uniform:
+//! each piece is bounded on its own, from its corners and edge midpoints and the curvature term
+//! of the piece at a quarter (the same argument as the bound's, with a lattice of step 1/2), and
+//! where one is over, the triangle's factor grows and the edges are agreed again.
+//!
+//! The frame's statistics report the largest bound over threshold of every triangle written,
+//! in the view's units: at most the tolerance unless refinement hit
+//! [`Settings::max_factor`](super::Settings::max_factor).
+
+use super::{common_side, FrameStats, Tessellator};
+use crate::deviation::{triangle_bound, PatchBounds, TriangleBound};
+use crate::domain::GridPoint;
+use crate::math::{length, sqrt};
+use crate::model::EdgeLink;
+use crate::patch::{BezierPatch, Side};
+use crate::view::View;
+
+/// Rounds of agreeing edges and checking non-uniform patterns, at most.
+const AGREE_ROUNDS: usize = 32;
+
+/// The side a non-corner boundary point lies on.
+fn side_of(p: GridPoint) -> Option<Side> {
+    let m = GridPoint::MAX;
+    let on_u = p.u == 0 || p.u == m;
+    let on_v = p.v == 0 || p.v == m;
+    match (on_u, on_v) {
+        (true, true) | (false, false) => None,
+        (false, true) => Some(if p.v == 0 { Side::V0 } else { Side::V1 }),
+        (true, false) => Some(if p.u == 0 { Side::U0 } else { Side::U1 }),
+    }
+}
+
+/// The bound of the pieces of a uniform refinement by `n`.
+pub(super) fn refined_bound(b: &TriangleBound, n: u8) -> f32 {
+    let general = b.curvature / (n as f32 * n as f32) + b.slack;
+    let sampled = match n {
+        1 => b.refined[0],
+        2 => b.refined[1],
+        3 => b.refined[2],
+        6 => b.refined[3],
+        _ => f32::INFINITY,
+    };
+    sampled.min(general)
+}
+
+/// The smallest factor up to `max` whose pieces are within `c` (or `max`).
+fn factor_for(b: &TriangleBound, c: f32, max: u8) -> u8 {
+    (1..=max).find(|&n| refined_bound(b, n) <= c).unwrap_or(max)
+}
+
+/// The threshold of a triangle whose surface piece lies within its bound of the flat
+/// triangle of `b`'s points.
+fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
+    let (scale, culled) = view.triangle_scale(b.points, b.bound());
+    if culled {
+        f32::INFINITY
+    } else {
+        tol * scale
+    }
+}
+
+/// Bound of the piece `uv` of a triangle whose box has the bounds `local`: the piece's
+/// corners and edge midpoints sampled, and a quarter of its curvature term.
+fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]) -> f32 {
+    let s = uv.map(|(u, v)| patch.position(u, v));
+    let mut worst = 0.0f32;
+    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+        let mid = patch.position(0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
+        worst = worst.max(length(mid - (s[a] + s[b]) * 0.5));
+    }
+    worst + 0.25 * local.curvature_term(uv) + local.slack
+}
+
+impl Tessellator<'_, '_> {
+    /// The bound of live triangle `t` of patch `p` with corners `corners`, computed when the
+    /// cache does not hold it.
+    fn bound_of(
+        &mut self,
+        patch: &BezierPatch<'_>,
+        slot_index: usize,
+        corners: [GridPoint; 3],
+        stats: &mut FrameStats,
+    ) -> TriangleBound {
+        let state = &mut self.storage.triangle_states[slot_index];
+        if let Some(b) = state.cached(corners) {
+            return *b;
+        }
+        let b = triangle_bound(patch, corners);
+        state.corners = corners;
+        state.bound = b;
+        state.known = true;
+        stats.estimated += 1;
+        b
+    }
+
+    /// Chooses every triangle's and curve's refinement factor for `view` (factors 1 when
+    /// `refine` is off), and the frame's largest bound over threshold per patch.
+    pub(super) fn choose_factors(
+        &mut self,
+        view: &View,
+        tol: f32,
+        refine: bool,
+        stats: &mut FrameStats,
+    ) {
+        let baked = self.baked;
+        let max = if refine { self.settings.max_factor } else { 1 };
+        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
+            c.factor = 1;
+        }
+        for p in 0..baked.patch_count() {
+            let mut slot = self.storage.patches[p];
+            if slot.culled {
+                continue;
+            }
+            let (Some(patch), Some(bp)) = (self.patches.patch(p), baked.patch(p)) else {
+                continue;
+            };
+            let extra: [bool; 4] = core::array::from_fn(|s| slot.sides[s] > slot.requests[s]);
+            let exhausted = slot.exhausted();
+            slot.factor = 1;
+            // The baked prefix's triangles are within its recorded bound.
+            slot.error_ratio = if exhausted {
+                0.0
+            } else {
+                slot.recorded / slot.c
+            };
+            let (vo, to, tc) = (
+                slot.vertex_offset as usize,
+                slot.triangle_offset as usize,
+                slot.triangle_capacity as usize,
+            );
+            for t in 0..tc {
+                let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
+                    continue;
+                };
+                let corners = v.map(|id| {
+                    self.storage.vertices[vo + id as usize]
+                        .live_point()
+                        .unwrap_or_default()
+                });
+                let needs = exhausted
+                    || corners
+                        .iter()
+                        .any(|&q| side_of(q).is_some_and(|s| extra[s.index()]));
+                let f = if needs {
+                    let b = self.bound_of(&patch, to + t, corners, stats);
+                    let c = threshold(view, tol, &b);
+                    let f = factor_for(&b, c, max);
+                    slot.error_ratio = slot.error_ratio.max(refined_bound(&b, f) / c);
+                    f
+                } else {
+                    1
+                };
+                self.storage.triangle_states[to + t].factor = f;
+                slot.factor = slot.factor.max(f);
+                // Boundary edges hand their factor to the curve.
+                for i in 0..3 {
+                    if n[i].is_some() {
+                        continue;
+                    }
+                    let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
+                    if let Some(side) = common_side(a, b) {
+                        if let EdgeLink::Curve { curve, .. } = bp.edges[side.index()] {
+                            let cs = &mut self.storage.curves[curve as usize];
+                            cs.factor = cs.factor.max(f);
+                        }
+                    }
+                }
+            }
+            self.storage.patches[p] = slot;
+        }
+        // Agree on edges and bound the pieces of non-uniform patterns, until nothing changes;
+        // the last round leaves every patch's largest bound over threshold.
+        let mut settled = false;
+        for _ in 0..AGREE_ROUNDS {
+            if !self.check_patterns(view, tol, refine, stats) {
+                settled = true;
+                break;
+            }
+        }
+        if !settled {
+            self.check_patterns(view, tol, false, stats);
+        }
+        self.spread_curve_factors();
+    }
+
+    /// A curve's factor can exceed every triangle's along it in one patch: that patch is
+    /// refined too.
+    fn spread_curve_factors(&mut self) {
+        let baked = self.baked;
+        for p in 0..baked.patch_count() {
+            if self.storage.patches[p].culled {
+                continue;
+            }
+            if let Some(bp) = baked.patch(p) {
+                for link in bp.edges {
+                    if let EdgeLink::Curve { curve, .. } = link {
+                        let f = self.storage.curves[curve as usize].factor;
+                        let slot = &mut self.storage.patches[p];
+                        slot.factor = slot.factor.max(f);
+                    }
+                }
+            }
+        }
+    }
+
+    /// One round of agreement: every triangle's bound over threshold for the factors of the
+    /// moment; a triangle cut in a non-uniform pattern has each piece bounded, and one with a
+    /// piece over its threshold gets a larger factor (and hands it to its curves). Returns
+    /// whether any factor changed.
+    fn check_patterns(
+        &mut self,
+        view: &View,
+        tol: f32,
+        allow_raise: bool,
+        stats: &mut FrameStats,
+    ) -> bool {
+        let baked = self.baked;
+        let max = self.settings.max_factor;
+        let mut changed = false;
+        for p in 0..baked.patch_count() {
+            let slot = self.storage.patches[p];
+            if slot.culled {
+                continue;
+            }
+            let Some(patch) = self.patches.patch(p) else {
+                continue;
+            };
+            let (vo, to, tc) = (
+                slot.vertex_offset as usize,
+                slot.triangle_offset as usize,
+                slot.triangle_capacity as usize,
+            );
+            let mut worst_ratio = if slot.exhausted() {
+                0.0
+            } else {
+                slot.recorded / slot.c
+            };
+            for t in 0..tc {
+                let Some((v, _)) = self.storage.triangles[to + t].live_parts() else {
+                    continue;
+                };
+                let corners = v.map(|id| {
+                    self.storage.vertices[vo + id as usize]
+                        .live_point()
+                        .unwrap_or_default()
+                });
+                let state = self.storage.triangle_states[to + t];
+                let f = state.factor.max(1);
+                let mut bound = state.cached(corners).copied();
+                let uniform = self.patch_view(p).is_none_or(|view_p| {
+                    let n = self.storage.triangles[to + t]
+                        .live_parts()
+                        .map_or([None; 3], |x| x.1);
+                    [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)) == [f; 3]
+                });
+                if !uniform && bound.is_none() {
+                    // Its pieces are judged at its own depth, not at its patch's nearest.
+                    bound = Some(self.bound_of(&patch, to + t, corners, stats));
+                }
+                let c = bound.map_or(slot.c, |b| threshold(view, tol, &b));
+                // Pieces of a non-uniform pattern, each bounded on its own.
+                let mut pieces = None;
+                if let Some(view_p) = self.patch_view(p) {
+                    let (tv, tn) = (v, self.storage.triangles[to + t].live_parts().map(|x| x.1));
+                    let Some(tn) = tn else { continue };
+                    let edges = [0, 1, 2].map(|i| view_p.edge_factor(t, tv, tn, i));
+                    if edges != [f; 3] {
+                        let local = PatchBounds::around(&patch, corners.map(GridPoint::to_unit));
+                        let mut worst = 0.0f32;
+                        view_p.refine(
+                            t,
+                            |_| {},
+                            |_, local_uv| {
+                                let piece = local_uv
+                                    .map(|[u, v, d]| (u as f32 / d as f32, v as f32 / d as f32));
+                                worst = worst.max(piece_bound(&patch, &local, piece));
+                            },
+                        );
+                        pieces = Some(worst);
+                    }
+                }
+                let piece_bound = match (pieces, bound) {
+                    (Some(worst), _) => {
+                        stats.estimated += 1;
+                        if allow_raise && worst > c && f < max {
+                            // Pieces shrink about as the factor grows.
+                            let grow = libm::ceilf(f as f32 * sqrt(worst / c));
+                            let next = if grow >= max as f32 {
+                                max
+                            } else {
+                                (grow as u8).max(f + 1)
+                            };
+                            changed = true;
+                            self.raise_factor(p, t, next, stats);
+                            continue;
+                        }
+                        worst
+                    }
+                    (None, Some(b)) => refined_bound(&b, f),
+                    // A baked prefix triangle, uncut: within the recorded bound.
+                    (None, None) => slot.recorded,
+                };
+                self.storage.triangle_states[to + t].pieces = piece_bound;
+                worst_ratio = worst_ratio.max(piece_bound / c);
+            }
+            self.storage.patches[p].error_ratio = worst_ratio;
+        }
+        changed
+    }
+
+    /// Sets triangle `t` of patch `p` to factor `f` (computing its bound if it has none) and
+    /// hands the factor to the curves along it.
+    fn raise_factor(&mut self, p: usize, t: usize, f: u8, stats: &mut FrameStats) {
+        let Some(patch) = self.patches.patch(p) else {
+            return;
+        };
+        let Some(bp) = self.baked.patch(p) else {
+            return;
+        };
+        let slot = self.storage.patches[p];
+        let (vo, to) = (slot.vertex_offset as usize, slot.triangle_offset as usize);
+        let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
+            return;
+        };
+        let corners = v.map(|id| {
+            self.storage.vertices[vo + id as usize]
+                .live_point()
+                .unwrap_or_default()
+        });
+        self.bound_of(&patch, to + t, corners, stats);
+        self.storage.triangle_states[to + t].factor = f;
+        let s = &mut self.storage.patches[p];
+        s.factor = s.factor.max(f);
+        for i in 0..3 {
+            if n[i].is_some() {
+                continue;
+            }
+            let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
+            if let Some(side) = common_side(a, b) {
+                if let EdgeLink::Curve { curve, .. } = bp.edges[side.index()] {
+                    let cs = &mut self.storage.curves[curve as usize];
+                    cs.factor = cs.factor.max(f);
+                }
+            }
+        }
+    }
+}

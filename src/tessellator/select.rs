@@ -1,0 +1,278 @@
+//! Selection and update: each patch's threshold and prefix of baked steps, each curve's
+//! samples, and the domain meshes brought to them in place.
+//!
+//! A patch's threshold `c` comes from the view (its bounding sphere, see [`crate::view`]); its
+//! prefix is the steps recorded with a bound above `c`. The steps of the prefix that request
+//! curve samples say how many samples of each side's curve the patch needs; a curve carries
+//! the largest request of the visible patches that share it, so both patches along it place
+//! the same points. Each frame deletes first (so a mesh never needs more than its capacity),
+//! then inserts, and touches only what changed.
+
+use glam::Vec3;
+
+use super::{FrameStats, Tessellator, TessellatorStorage};
+use crate::bake::{boundary_point, BakedPatch, InteriorSample};
+use crate::bound::BoundingSphere;
+use crate::domain::{DomainMesh, InsertError};
+use crate::model::EdgeLink;
+use crate::patch::Side;
+use crate::view::View;
+
+use super::storage::PatchSlot;
+
+/// Count of steps recorded with a bound above `c` in a non-increasing list whose value before
+/// the first step is `initial`.
+pub(super) fn prefix(initial: f32, len: usize, bound: impl Fn(usize) -> f32, c: f32) -> usize {
+    // NaN thresholds and bounds count as "not above".
+    if initial.partial_cmp(&c) != Some(core::cmp::Ordering::Greater) || len == 0 {
+        return 0;
+    }
+    // Smallest n in 1..=len with bound(n - 1) <= c, or len.
+    if bound(len - 1) > c {
+        return len;
+    }
+    let (mut lo, mut hi) = (1usize, len);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if bound(mid - 1) <= c {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo
+}
+
+/// The recorded bound of a prefix of `n` steps.
+pub(super) fn recorded(bp: &BakedPatch<'_>, n: usize) -> f32 {
+    match n {
+        0 => bp.initial_deviation,
+        _ => bp.samples.get(n - 1).map_or(0.0, |s| s.deviation),
+    }
+}
+
+/// The side a step requests a curve sample of.
+fn request(step: Option<InteriorSample>) -> Option<Side> {
+    step.and_then(|s| s.requested_side())
+}
+
+/// Moves a patch's request counts from a prefix of `from` steps to one of `to`.
+pub(super) fn move_requests(bp: &BakedPatch<'_>, requests: &mut [u16; 4], from: usize, to: usize) {
+    if to > from {
+        for k in from..to {
+            if let Some(side) = request(bp.samples.get(k)) {
+                requests[side.index()] += 1;
+            }
+        }
+    } else {
+        for k in to..from {
+            if let Some(side) = request(bp.samples.get(k)) {
+                requests[side.index()] -= 1;
+            }
+        }
+    }
+}
+
+impl<'m, 's> Tessellator<'m, 's> {
+    /// The patch's sphere.
+    pub(super) fn sphere(slot: &PatchSlot) -> BoundingSphere {
+        BoundingSphere {
+            center: Vec3::from_array(slot.center),
+            radius: slot.radius,
+        }
+    }
+
+    /// Patch `p`'s threshold for `view` (object units) and whether it is culled: the patch,
+    /// and every triangle between its points, lies in its control points' convex hull (the
+    /// weights are positive).
+    pub(super) fn patch_threshold(&self, p: usize, view: &View, tol: f32) -> (f32, bool) {
+        let (scale, culled) = match self.patches.patch(p) {
+            Some(patch) => view.hull_scale(patch.points()),
+            None => view.scale(&Self::sphere(&self.storage.patches[p])),
+        };
+        (tol * scale, culled)
+    }
+
+    /// Thresholds, culling, prefixes, requests, and the curves' counts (sorted parameters kept
+    /// up to date).
+    pub(super) fn select(&mut self, view: &View, tol: f32) {
+        let baked = self.baked;
+        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
+            c.used = false;
+            c.predict = 0;
+        }
+        for p in 0..baked.patch_count() {
+            let Some(bp) = baked.patch(p) else { continue };
+            let (c, culled) = self.patch_threshold(p, view, tol);
+            let slot = &mut self.storage.patches[p];
+            slot.c = c;
+            slot.culled = culled;
+            if culled {
+                continue;
+            }
+            let steps = bp.samples;
+            let n = prefix(
+                bp.initial_deviation,
+                steps.len(),
+                |i| steps.get(i).map_or(0.0, |s| s.deviation),
+                slot.c,
+            )
+            .min(slot.step_cap as usize);
+            slot.recorded = recorded(&bp, n);
+            // `requests` follows `steps`, the prefix in the mesh; the target's requests are
+            // worked out from it.
+            let mut want = slot.requests;
+            move_requests(&bp, &mut want, slot.steps as usize, n);
+            for (s, link) in bp.edges.into_iter().enumerate() {
+                if let EdgeLink::Curve { curve, .. } = link {
+                    let cs = &mut self.storage.curves[curve as usize];
+                    cs.used = true;
+                    cs.predict = cs.predict.max(want[s]);
+                }
+            }
+        }
+        for k in 0..baked.curve_count() {
+            let cs = self.storage.curves[k];
+            let Some(curve) = baked.curve(k) else {
+                continue;
+            };
+            let target = if cs.used { cs.predict } else { cs.count };
+            let samples = curve.samples;
+            let off = cs.order_offset as usize;
+            let order = &mut self.storage.curve_order[off..off + samples.len()];
+            let mut n = cs.count as usize;
+            while n < target as usize {
+                let t = samples.get(n).map_or(0, |s| s.t);
+                let at = order[..n].partition_point(|&x| x < t);
+                order.copy_within(at..n, at + 1);
+                order[at] = t;
+                n += 1;
+            }
+            while n > target as usize {
+                n -= 1;
+                let t = samples.get(n).map_or(0, |s| s.t);
+                let at = order[..=n].partition_point(|&x| x < t);
+                order.copy_within(at + 1..=n, at);
+            }
+            self.storage.curves[k].count = target;
+        }
+    }
+
+    /// The mesh of patch `p`, over its storage.
+    pub(super) fn mesh<'b>(
+        storage: &'b mut TessellatorStorage<'s>,
+        slot: &PatchSlot,
+    ) -> DomainMesh<'b> {
+        let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
+        let (to, tc) = (
+            slot.triangle_offset as usize,
+            slot.triangle_capacity as usize,
+        );
+        DomainMesh::resume(
+            &mut storage.vertices[vo..vo + vc],
+            &mut storage.triangles[to..to + tc],
+            slot.mesh,
+        )
+    }
+
+    /// Deletes, then inserts, points of patch `p` until it holds its prefix and its curves'
+    /// samples.
+    pub(super) fn sync_patch(
+        &mut self,
+        p: usize,
+        stats: &mut FrameStats,
+    ) -> Result<(), InsertError> {
+        let baked = self.baked;
+        let Some(bp) = baked.patch(p) else {
+            return Ok(());
+        };
+        let mut slot = self.storage.patches[p];
+        let steps = bp.samples;
+        let target = prefix(
+            bp.initial_deviation,
+            steps.len(),
+            |i| steps.get(i).map_or(0.0, |s| s.deviation),
+            slot.c,
+        )
+        .min(slot.step_cap as usize) as u16;
+        let curve_targets = bp.edges.map(|link| match link {
+            EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].count,
+            EdgeLink::Collapsed => 0,
+        });
+        if target == slot.steps && curve_targets == slot.sides {
+            return Ok(());
+        }
+        let mut mesh = Self::mesh(&mut self.storage, &slot);
+        // Deletions first, so the mesh never needs more than its capacity.
+        while slot.steps > target {
+            slot.steps -= 1;
+            if let Some(s) = steps.get(slot.steps as usize) {
+                if let Some(side) = s.requested_side() {
+                    slot.requests[side.index()] -= 1;
+                } else if let Some(id) = mesh.find(s.point) {
+                    if mesh.remove(id).is_ok() {
+                        stats.deleted += 1;
+                    }
+                }
+            }
+        }
+        for (s, link) in bp.edges.into_iter().enumerate() {
+            let EdgeLink::Curve { curve, reversed } = link else {
+                continue;
+            };
+            let Some(bc) = baked.curve(curve as usize) else {
+                continue;
+            };
+            while slot.sides[s] > curve_targets[s] {
+                slot.sides[s] -= 1;
+                if let Some(cs) = bc.samples.get(slot.sides[s] as usize) {
+                    let point = boundary_point(Side::ALL[s], cs.t, reversed);
+                    if let Some(id) = mesh.find(point) {
+                        if mesh.remove(id).is_ok() {
+                            stats.deleted += 1;
+                        }
+                    }
+                }
+            }
+        }
+        let mut result = Ok(());
+        'insert: {
+            for (s, link) in bp.edges.into_iter().enumerate() {
+                let EdgeLink::Curve { curve, reversed } = link else {
+                    continue;
+                };
+                let Some(bc) = baked.curve(curve as usize) else {
+                    continue;
+                };
+                while slot.sides[s] < curve_targets[s] {
+                    if let Some(cs) = bc.samples.get(slot.sides[s] as usize) {
+                        let point = boundary_point(Side::ALL[s], cs.t, reversed);
+                        if let Err(e) = mesh.insert(point) {
+                            result = Err(e);
+                            break 'insert;
+                        }
+                        stats.inserted += 1;
+                    }
+                    slot.sides[s] += 1;
+                }
+            }
+            while slot.steps < target {
+                if let Some(s) = steps.get(slot.steps as usize) {
+                    if let Some(side) = s.requested_side() {
+                        slot.requests[side.index()] += 1;
+                    } else {
+                        if let Err(e) = mesh.insert(s.point) {
+                            result = Err(e);
+                            break 'insert;
+                        }
+                        stats.inserted += 1;
+                    }
+                }
+                slot.steps += 1;
+            }
+        }
+        slot.mesh = mesh.header();
+        self.storage.patches[p] = slot;
+        result
+    }
+}

@@ -1,0 +1,219 @@
+//! The caller's storage for a [`Tessellator`](super::Tessellator): its slots, their sizes, and
+//! the errors of building one.
+
+use core::fmt;
+
+use crate::bake::{BakedModel, BakedPatch};
+use crate::deviation::TriangleBound;
+use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
+use crate::model::EdgeLink;
+
+use super::Settings;
+
+/// One patch's run-time state (storage slot; contents are private).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchSlot {
+    pub(super) vertex_offset: u32,
+    pub(super) vertex_capacity: u32,
+    pub(super) triangle_offset: u32,
+    pub(super) triangle_capacity: u32,
+    pub(super) mesh: MeshHeader,
+    /// The patch's steps (interior samples and curve requests) in the mesh.
+    pub(super) steps: u16,
+    /// Curve samples the steps in the mesh request, per side.
+    pub(super) requests: [u16; 4],
+    /// Curve samples in the mesh, per side (at least the requests).
+    pub(super) sides: [u16; 4],
+    /// Steps the storage holds, at most.
+    pub(super) step_cap: u16,
+    pub(super) center: [f32; 3],
+    pub(super) radius: f32,
+    pub(super) nodes: [u32; 4],
+    /// The patch's output triangles in the current frame.
+    pub(super) triangles: [u32; 2],
+    /// Nodes created by the patches before this one.
+    pub(super) first_node: u32,
+    /// Threshold of the current frame, in object units.
+    pub(super) c: f32,
+    /// Recorded bound of the current prefix (every triangle of the baked prefix is within it).
+    pub(super) recorded: f32,
+    pub(super) culled: bool,
+    /// Largest refinement factor of the frame.
+    pub(super) factor: u8,
+    /// Largest bound over threshold of the frame's triangles.
+    pub(super) error_ratio: f32,
+}
+
+impl PatchSlot {
+    /// True when the baked prefix does not reach the threshold: every triangle needs its own
+    /// bound.
+    pub(super) fn exhausted(&self) -> bool {
+        self.recorded.partial_cmp(&self.c) == Some(core::cmp::Ordering::Greater)
+    }
+}
+
+/// One boundary curve's run-time state (storage slot; contents are private).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CurveSlot {
+    /// First slot in the sorted-parameter storage.
+    pub(super) order_offset: u32,
+    /// Active samples: the largest request of the visible patches that share the curve.
+    pub(super) count: u16,
+    /// Scratch count of the budget prediction.
+    pub(super) predict: u16,
+    pub(super) used: bool,
+    pub(super) factor: u8,
+    /// First output vertex of the curve in the current [`write_mesh`](super::Tessellator::write_mesh).
+    pub(super) base: u32,
+}
+
+/// One domain triangle's cached bound (storage slot; contents are private).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriangleSlot {
+    /// The triangle the cache is about.
+    pub(super) corners: [GridPoint; 3],
+    /// Its bound, when computed.
+    pub(super) bound: TriangleBound,
+    /// Whether `bound` is about `corners`.
+    pub(super) known: bool,
+    /// Its refinement factor in the current frame.
+    pub(super) factor: u8,
+    /// Bound of every piece it is cut into in the current frame, in object units.
+    pub(super) pieces: f32,
+}
+
+impl TriangleSlot {
+    /// The cached bound, if it is about `corners`.
+    pub(super) fn cached(&self, corners: [GridPoint; 3]) -> Option<&TriangleBound> {
+        (self.known && self.corners == corners).then_some(&self.bound)
+    }
+}
+
+/// Storage sizes a [`Tessellator`](super::Tessellator) needs for a baked model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StorageSize {
+    /// [`PatchSlot`]s: one per patch.
+    pub patches: usize,
+    /// [`CurveSlot`]s: one per curve.
+    pub curves: usize,
+    /// `u16`s for the curves' sorted parameters: one per curve sample.
+    pub curve_order: usize,
+    /// [`MeshVertex`] slots, over all patches.
+    pub vertices: usize,
+    /// [`MeshTriangle`] and [`TriangleSlot`] slots, over all patches.
+    pub triangles: usize,
+    /// `u32` scratch for output: the largest patch's vertex slots plus three per triangle
+    /// slot.
+    pub scratch: usize,
+}
+
+impl StorageSize {
+    /// What `baked` needs with `settings`.
+    pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
+        let mut size = StorageSize {
+            patches: baked.patch_count(),
+            curves: baked.curve_count(),
+            curve_order: baked.curve_sample_count(),
+            ..StorageSize::default()
+        };
+        for k in 0..baked.patch_count() {
+            if let Some(bp) = baked.patch(k) {
+                let (v, t, _) = patch_capacity(baked, &bp, settings);
+                size.vertices += v;
+                size.triangles += t;
+                size.scratch = size.scratch.max(v + 3 * t);
+            }
+        }
+        size
+    }
+}
+
+/// Vertex and triangle slots of one patch, and its step cap.
+pub(super) fn patch_capacity(
+    baked: &BakedModel<'_>,
+    bp: &BakedPatch<'_>,
+    settings: &Settings,
+) -> (usize, usize, u16) {
+    let mut v = 4usize;
+    for link in bp.edges {
+        if let EdgeLink::Curve { curve, .. } = link {
+            v += baked.curve(curve as usize).map_or(0, |c| c.samples.len());
+        }
+    }
+    let room = (u16::MAX as usize - 1).saturating_sub(v);
+    let cap = bp
+        .samples
+        .len()
+        .min(settings.max_interior_samples as usize)
+        .min(room);
+    v += cap;
+    (v, DomainMesh::triangles_for(v), cap as u16)
+}
+
+/// The caller's storage for a [`Tessellator`](super::Tessellator), sized by
+/// [`StorageSize::of`] (longer slices are fine).
+#[derive(Debug)]
+pub struct TessellatorStorage<'s> {
+    /// Per patch.
+    pub patches: &'s mut [PatchSlot],
+    /// Per curve.
+    pub curves: &'s mut [CurveSlot],
+    /// Per curve sample.
+    pub curve_order: &'s mut [u16],
+    /// Domain-mesh vertices of every patch.
+    pub vertices: &'s mut [MeshVertex],
+    /// Domain-mesh triangles of every patch.
+    pub triangles: &'s mut [MeshTriangle],
+    /// Cached bounds, one per domain triangle slot.
+    pub triangle_states: &'s mut [TriangleSlot],
+    /// Output scratch.
+    pub scratch: &'s mut [u32],
+}
+
+/// Why a [`Tessellator`](super::Tessellator) cannot be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum TessellatorError {
+    /// The baked model was not baked from these patches.
+    ModelMismatch,
+    /// Some storage slice is shorter than needed.
+    StorageTooSmall {
+        /// What is needed.
+        needed: StorageSize,
+    },
+    /// A patch's curve samples alone exceed a domain mesh's capacity (65 535 vertices).
+    PatchTooLarge {
+        /// The patch.
+        patch: usize,
+    },
+}
+
+impl fmt::Display for TessellatorError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TessellatorError::ModelMismatch => {
+                f.write_str("the baked model was not baked from these patches")
+            }
+            TessellatorError::StorageTooSmall { needed } => write!(
+                f,
+                "storage too small: needs {} patch, {} curve, {} order, {} vertex, {} triangle \
+                 and {} scratch slots",
+                needed.patches,
+                needed.curves,
+                needed.curve_order,
+                needed.vertices,
+                needed.triangles,
+                needed.scratch
+            ),
+            TessellatorError::PatchTooLarge { patch } => {
+                write!(
+                    f,
+                    "patch {patch} has too many curve samples for one domain mesh"
+                )
+            }
+        }
+    }
+}
+
+impl core::error::Error for TessellatorError {}
