@@ -15,6 +15,8 @@ use crate::MAX_DEGREE;
 
 /// The knots of one span, as far as de Boor's triangle needs them.
 pub(crate) trait Span: Copy {
+    /// True when every factor of a level is the same (the Bezier case).
+    const CONSTANT: bool = false;
     /// Interpolation factor of point `a` at level `r` of a degree-`p` triangle at `t`.
     fn alpha(self, a: usize, p: usize, r: usize, t: f32) -> f32;
     /// Length of the span in parameter.
@@ -27,6 +29,7 @@ pub(crate) trait Span: Copy {
 pub(crate) struct Bezier;
 
 impl Span for Bezier {
+    const CONSTANT: bool = true;
     #[inline(always)]
     fn alpha(self, _: usize, _: usize, _: usize, t: f32) -> f32 {
         t
@@ -56,6 +59,22 @@ impl Span for &[f32] {
 /// level `r`, at parameter `t`.
 #[inline(always)]
 fn level<S: Span>(d: &mut [Vec4], knots: S, p: usize, r: usize, t: f32) {
+    if S::CONSTANT {
+        // Every factor is `t`: the formula of [`lerp4`] is chosen once for the level (the
+        // same bits as choosing it per point).
+        let t = knots.alpha(p, p, r, t);
+        if t <= 0.5 {
+            for a in (r..=p).rev() {
+                d[a] = d[a - 1] + (d[a] - d[a - 1]) * t;
+            }
+        } else {
+            let s = 1.0 - t;
+            for a in (r..=p).rev() {
+                d[a] = d[a] - (d[a] - d[a - 1]) * s;
+            }
+        }
+        return;
+    }
     let mut a = p;
     while a >= r {
         d[a] = lerp4(d[a - 1], d[a], knots.alpha(a, p, r, t));
@@ -96,6 +115,23 @@ pub(crate) fn blossom(d: &mut [Vec4], knots: &[f32], args: &[f32]) -> Vec4 {
         level(d, knots, p, r, args[r - 1]);
     }
     d[p]
+}
+
+/// The Bernstein polynomials `B_{i,n}(t)`, `i = 0..=n`, by their recurrence (each a sum of
+/// products of `t` and `1 - t` with non-negative terms, so each is correct to a few roundings).
+#[inline]
+pub(crate) fn bernstein(n: usize, t: f32) -> [f32; MAX_DEGREE + 1] {
+    let mut b = [0.0f32; MAX_DEGREE + 1];
+    b[0] = 1.0;
+    let s = 1.0 - t;
+    for k in 1..=n {
+        b[k] = t * b[k - 1];
+        for i in (1..k).rev() {
+            b[i] = s * b[i] + t * b[i - 1];
+        }
+        b[0] *= s;
+    }
+    b
 }
 
 /// Homogeneous point and partial derivatives of a tensor-product span.

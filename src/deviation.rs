@@ -406,7 +406,7 @@ pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Trian
     for (i, row) in s.iter_mut().enumerate() {
         for (j, cell) in row.iter_mut().enumerate().take(n + 1 - i) {
             let (u, v) = at(i, j);
-            *cell = patch.position(u, v);
+            *cell = patch.position_direct(u, v);
         }
     }
     let uv = corners.map(GridPoint::to_unit);
@@ -471,10 +471,10 @@ pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Trian
 /// The bound of the chord of edge `side` of `patch` between unit parameters `t0 < t1`.
 pub fn chord_bound(patch: &BezierPatch<'_>, side: Side, t0: f32, t1: f32) -> ChordBound {
     let point = |t: f32| match side {
-        Side::V0 => patch.position(t, 0.0),
-        Side::U1 => patch.position(1.0, t),
-        Side::V1 => patch.position(t, 1.0),
-        Side::U0 => patch.position(0.0, t),
+        Side::V0 => patch.position_direct(t, 0.0),
+        Side::U1 => patch.position_direct(1.0, t),
+        Side::V1 => patch.position_direct(t, 1.0),
+        Side::U0 => patch.position_direct(0.0, t),
     };
     let n = LATTICE as usize;
     let (a, b) = (point(t0), point(t1));

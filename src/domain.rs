@@ -738,6 +738,8 @@ impl<'a> DomainMesh<'a> {
     fn legalize(&mut self, id: u16) {
         let mut t = self.star_start(id);
         let mut clean = 0usize;
+        // The star's size: each flip adds a triangle to it.
+        let mut degree = self.star(id).count();
         // A bound on the work, only a guard: each flip removes an edge for good.
         let mut budget = 8 * self.triangles.len() + 16;
         while budget > 0 {
@@ -757,12 +759,12 @@ impl<'a> DomainMesh<'a> {
                     self.pt(ot.v[j]),
                 ) {
                     self.flip(t, i);
+                    degree += 1;
                     clean = 0;
                     continue;
                 }
             }
             clean += 1;
-            let degree = self.star(id).count();
             if clean >= degree {
                 break;
             }

@@ -9,7 +9,7 @@ use core::fmt;
 
 use glam::{Vec3, Vec4};
 
-use crate::basis::{tensor_point, tensor_with_derivatives, Bezier};
+use crate::basis::{bernstein, tensor_point, tensor_with_derivatives, Bezier};
 use crate::bound::{Aabb, BoundingSphere};
 use crate::frame::{frame, nudge, SurfacePoint};
 use crate::math::{clamp_param, normalize};
@@ -298,13 +298,54 @@ impl<'a> BezierPatch<'a> {
         (1..self.edge_len(side)).all(|k| self.edge_point(side, k).0 == first)
     }
 
-    /// The point at `(u, v)`; parameters are clamped to `[0, 1]` (NaN counts as 0).
+    /// The point at `(u, v)`; parameters are clamped to `[0, 1]` (NaN counts as 0). The same
+    /// bits as [`evaluate`](Self::evaluate)'s position.
     pub fn position(&self, u: f32, v: f32) -> Vec3 {
         let (p, q) = (self.degree_u(), self.degree_v());
         let u = clamp_param(u, 0.0, 1.0);
         let v = clamp_param(v, 0.0, 1.0);
+        if self.weights.is_none() {
+            return self.position_direct(u, v);
+        }
         let a = tensor_point(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v);
         Vec3::new(a.x, a.y, a.z) / a.w
+    }
+
+    /// The point at `(u, v)` in `[0, 1]²` as a direct sum over the Bernstein basis (for a
+    /// rational patch, of homogeneous points): a third of the work of de Casteljau's triangle,
+    /// and as accurate (a sum of convex combinations). A polynomial patch's
+    /// [`position`](Self::position) is this; a rational one's is de Casteljau's (the many
+    /// points of a deviation bound use this one).
+    pub(crate) fn position_direct(&self, u: f32, v: f32) -> Vec3 {
+        if let Some(pole) = self.pole_at(u, v) {
+            return pole;
+        }
+        let (p, q) = (self.degree_u(), self.degree_v());
+        let (bu, bv) = (crate::basis::bernstein(p, u), crate::basis::bernstein(q, v));
+        match self.weights {
+            None => {
+                let mut sum = Vec3::ZERO;
+                for (i, &a) in bu.iter().enumerate().take(p + 1) {
+                    let mut row = Vec3::ZERO;
+                    for (j, &b) in bv.iter().enumerate().take(q + 1) {
+                        row += Vec3::from_array(self.points[i * (q + 1) + j]) * b;
+                    }
+                    sum += row * a;
+                }
+                sum
+            }
+            Some(_) => {
+                let mut sum = Vec4::ZERO;
+                for (i, &a) in bu.iter().enumerate().take(p + 1) {
+                    let mut row = Vec4::ZERO;
+                    for (j, &b) in bv.iter().enumerate().take(q + 1) {
+                        row += self.homogeneous(i, j) * b;
+                    }
+                    sum += row * a;
+                }
+                Vec3::new(sum.x, sum.y, sum.z) / sum.w
+            }
+        }
     }
 
     /// Position, partials and unit normal at `(u, v)`; parameters are clamped to `[0, 1]`
@@ -336,8 +377,85 @@ impl<'a> BezierPatch<'a> {
 
     fn frame_at(&self, u: f32, v: f32) -> crate::frame::Frame {
         let (p, q) = (self.degree_u(), self.degree_v());
-        let ev = tensor_with_derivatives(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v);
+        let ev = match self.weights {
+            None => self.polynomial_derivatives(u, v),
+            Some(_) => {
+                tensor_with_derivatives(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v)
+            }
+        };
         frame(&ev, u, v, |side| self.is_collapsed(side))
+    }
+
+    /// The point of a collapsed edge when `(u, v)` lies on it: exactly its control point (a
+    /// sum over the basis would be off by a rounding).
+    fn pole_at(&self, u: f32, v: f32) -> Option<Vec3> {
+        let side = if v == 0.0 {
+            Side::V0
+        } else if v == 1.0 {
+            Side::V1
+        } else if u == 0.0 {
+            Side::U0
+        } else if u == 1.0 {
+            Side::U1
+        } else {
+            return None;
+        };
+        // A corner lies on two sides; either may be the collapsed one.
+        let other = match side {
+            Side::V0 | Side::V1 if u == 0.0 => Some(Side::U0),
+            Side::V0 | Side::V1 if u == 1.0 => Some(Side::U1),
+            _ => None,
+        };
+        [Some(side), other]
+            .into_iter()
+            .flatten()
+            .find(|&s| self.is_collapsed(s))
+            .map(|s| self.edge_point(s, 0).0)
+    }
+
+    /// Point and derivatives of a polynomial patch as direct sums over the Bernstein basis:
+    /// a third of the work of de Casteljau's triangle. The partials sum the control net's
+    /// differences, so along a row of equal control points (a collapsed edge) a partial is
+    /// exactly zero, as the limit normal needs.
+    fn polynomial_derivatives(&self, u: f32, v: f32) -> crate::basis::TensorEval {
+        let (p, q) = (self.degree_u(), self.degree_v());
+        let (bu, bv) = (bernstein(p, u), bernstein(q, v));
+        let (du, dv) = (bernstein(p - 1, u), bernstein(q - 1, v));
+        let at = |i: usize, j: usize| Vec3::from_array(self.points[i * (q + 1) + j]);
+        let (mut s, mut s_u, mut s_v, mut s_uv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        for i in 0..=p {
+            let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
+            for j in 0..=q {
+                row += at(i, j) * bv[j];
+            }
+            for j in 0..q {
+                row_v += (at(i, j + 1) - at(i, j)) * dv[j];
+            }
+            s += row * bu[i];
+            s_v += row_v * bu[i];
+        }
+        for i in 0..p {
+            let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
+            for j in 0..=q {
+                row += (at(i + 1, j) - at(i, j)) * bv[j];
+            }
+            for j in 0..q {
+                row_v += (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * dv[j];
+            }
+            s_u += row * du[i];
+            s_uv += row_v * du[i];
+        }
+        if let Some(pole) = self.pole_at(u, v) {
+            s = pole;
+        }
+        let (pf, qf) = (p as f32, q as f32);
+        let h = |x: Vec3, w: f32| Vec4::new(x.x, x.y, x.z, w);
+        crate::basis::TensorEval {
+            a: h(s, 1.0),
+            a_u: h(s_u * pf, 0.0),
+            a_v: h(s_v * qf, 0.0),
+            a_uv: h(s_uv * (pf * qf), 0.0),
+        }
     }
 
     /// Normal of the control net's diagonals, oriented like `partial_u x partial_v`.
@@ -351,17 +469,37 @@ impl<'a> BezierPatch<'a> {
     /// Axis-aligned box containing the patch.
     pub fn aabb(&self) -> Aabb {
         // A validated patch has at least four points.
-        Aabb::of_points(self.points).unwrap_or(Aabb {
+        let b = Aabb::of_points(self.points).unwrap_or(Aabb {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
-        })
+        });
+        let pad = Vec3::splat(self.rounding());
+        Aabb {
+            min: b.min - pad,
+            max: b.max + pad,
+        }
     }
 
     /// Sphere containing the patch.
     pub fn bounding_sphere(&self) -> BoundingSphere {
-        BoundingSphere::of_points(self.points).unwrap_or(BoundingSphere {
+        let s = BoundingSphere::of_points(self.points).unwrap_or(BoundingSphere {
             center: Vec3::ZERO,
             radius: 0.0,
-        })
+        });
+        BoundingSphere {
+            radius: s.radius + 2.0 * self.rounding(),
+            ..s
+        }
+    }
+
+    /// How far a computed point can stray outside the control points' hull per coordinate:
+    /// every evaluation is a sum of convex combinations of them, off by a few roundings of
+    /// the largest coordinate.
+    fn rounding(&self) -> f32 {
+        let big = self.points.iter().fold(0.0f32, |m, p| {
+            m.max(p[0].abs()).max(p[1].abs()).max(p[2].abs())
+        });
+        let n = (2 * (self.degree_u() + self.degree_v()) + 8) as f32;
+        n * f32::EPSILON * big
     }
 }

@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, framebuffer checksum), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [1224, 6330, 0xdaf2f714],
-    [1224, 6343, 0x5505f84d],
-    [4094, 21807, 0x0bc5767c],
-    [7289, 53078, 0x879817aa],
+    [1230, 6304, 0xf7a80425],
+    [1231, 6317, 0xf1358ac8],
+    [4130, 21880, 0x720ff7c9],
+    [7279, 53331, 0x2993d898],
 ];

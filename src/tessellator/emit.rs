@@ -188,6 +188,18 @@ impl PatchView<'_, '_, '_> {
         let nf = self.factor(t);
         let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
         let corner = [0, 1, 2].map(|k| self.vertex(vr[k]));
+        if nf == 1 && e == [1; 3] {
+            // Unrefined: the triangle itself (what the pattern of factor 1 gives).
+            let same =
+                |x: Point, y: Point| matches!((x, y), (Point::Node(a), Point::Node(b)) if a == b);
+            if !(same(corner[0], corner[1])
+                || same(corner[1], corner[2])
+                || same(corner[2], corner[0]))
+            {
+                out(corner, pr.map(|p| [p.u as u32, p.v as u32, MAX]));
+            }
+            return;
+        }
         let lattice = |a: u32, b: u32, den_n: u32| {
             let i = den_n - a - b;
             let u = i * pr[0].u as u32 + a * pr[1].u as u32 + b * pr[2].u as u32;
@@ -328,15 +340,15 @@ impl<'m, 's> Tessellator<'m, 's> {
                 curve, num, den, ..
             } => {
                 let t = num as f32 / den as f32;
-                match self.baked.curve(curve as usize) {
-                    Some(bc) => {
-                        let (u, v) = match bc.side {
+                match self.storage.curves.get(curve as usize) {
+                    Some(cs) => {
+                        let (u, v) = match cs.side {
                             Side::V0 => (t, 0.0),
                             Side::U1 => (1.0, t),
                             Side::V1 => (t, 1.0),
                             Side::U0 => (0.0, t),
                         };
-                        (bc.patch as usize, u, v)
+                        (cs.owner as usize, u, v)
                     }
                     None => (patch, t, 0.0),
                 }
@@ -483,6 +495,45 @@ impl<'m, 's> Tessellator<'m, 's> {
                     }
                 };
             }
+            if self.storage.patches[p].factor <= 1 {
+                // Nothing refined in or around the patch: its triangles as they are (what the
+                // pattern of factor 1 gives, corners from the smallest point on), without
+                // the pattern's machinery.
+                let first_triangle = triangles;
+                for t in 0..view.tc {
+                    let Some((v, _)) = view.triangle(t) else {
+                        continue;
+                    };
+                    let pts = v.map(|id| view.point_of(id));
+                    let rot = (0..3).min_by_key(|&k| pts[k]).unwrap_or(0);
+                    let vr = [0, 1, 2].map(|k| v[(rot + k) % 3]);
+                    let node = |id: u16| -> Option<u32> {
+                        match view.vertex(id) {
+                            Point::Node(n) => Some(n),
+                            _ => None,
+                        }
+                    };
+                    // On a collapsed edge two corners are one node: the triangle is flat.
+                    let nodes = vr.map(|id| {
+                        (id < 4 || view.point_of(id).on_boundary())
+                            .then(|| node(id))
+                            .flatten()
+                    });
+                    let same = |a: Option<u32>, b: Option<u32>| a.is_some() && a == b;
+                    if same(nodes[0], nodes[1])
+                        || same(nodes[1], nodes[2])
+                        || same(nodes[2], nodes[0])
+                    {
+                        continue;
+                    }
+                    if let Some(ts) = ts_out.as_mut() {
+                        ts[triangles as usize] = vr.map(|id| I::from_index(vidx[id as usize]));
+                    }
+                    triangles += 1;
+                }
+                self.storage.patches[p].triangles = [first_triangle, triangles];
+                continue;
+            }
             // Interior edges: points written once, by the triangle with the smaller slot.
             for t in 0..view.tc {
                 let Some((v, n)) = view.triangle(t) else {
@@ -569,10 +620,9 @@ impl<'m, 's> Tessellator<'m, 's> {
         let cs = self.storage.curves[curve as usize];
         let f = cs.factor.max(1) as u32;
         let end = (cs.count as u32 + 1) * f;
-        let bc = self.baked.curve(curve as usize);
         if j == 0 || j >= end {
             // The curve's end points are corners of its owner.
-            let (p, side) = bc.map_or((0, Side::V0), |b| (b.patch as usize, b.side));
+            let (p, side) = (cs.owner as usize, cs.side);
             let k = match (side, j == 0) {
                 (Side::V0, true) | (Side::U0, true) => 0,
                 (Side::V0, false) | (Side::U1, true) => 1,

@@ -273,9 +273,12 @@ impl<'m, 's> Tessellator<'m, 's> {
         let baked = self.baked;
         let mut order = 0u32;
         for k in 0..baked.curve_count() {
-            let n = baked.curve(k).map_or(0, |c| c.samples.len());
+            let curve = baked.curve(k);
+            let n = curve.map_or(0, |c| c.samples.len());
             self.storage.curves[k] = CurveSlot {
                 order_offset: order,
+                owner: curve.map_or(0, |c| c.patch),
+                side: curve.map_or(Side::V0, |c| c.side),
                 ..CurveSlot::default()
             };
             order += n as u32;

@@ -77,10 +77,10 @@ fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
 /// Bound of the piece `uv` of a triangle whose box has the bounds `local`: the piece's
 /// corners and edge midpoints sampled, and a quarter of its curvature term.
 fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]) -> f32 {
-    let s = uv.map(|(u, v)| patch.position(u, v));
+    let s = uv.map(|(u, v)| patch.position_direct(u, v));
     let mut worst = 0.0f32;
     for (a, b) in [(0, 1), (1, 2), (2, 0)] {
-        let mid = patch.position(0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
+        let mid = patch.position_direct(0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
         worst = worst.max(length(mid - (s[a] + s[b]) * 0.5));
     }
     worst + 0.25 * local.curvature_term(uv) + local.slack
@@ -251,6 +251,22 @@ impl Tessellator<'_, '_> {
             } else {
                 slot.recorded / slot.c
             };
+            // Without a factor above 1 in the patch or on its curves, every pattern is the
+            // triangle itself.
+            let curve_factor = baked.patch(p).map_or(1, |bp| {
+                bp.edges
+                    .iter()
+                    .map(|link| match link {
+                        EdgeLink::Curve { curve, .. } => {
+                            self.storage.curves[*curve as usize].factor
+                        }
+                        EdgeLink::Collapsed => 1,
+                    })
+                    .max()
+                    .unwrap_or(1)
+            });
+            let plain = curve_factor <= 1
+                && (0..tc).all(|t| self.storage.triangle_states[to + t].factor <= 1);
             for t in 0..tc {
                 let Some((v, _)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
@@ -260,8 +276,19 @@ impl Tessellator<'_, '_> {
                         .live_point()
                         .unwrap_or_default()
                 });
-                let state = self.storage.triangle_states[to + t];
+                let state = &mut self.storage.triangle_states[to + t];
                 let f = state.factor.max(1);
+                if plain {
+                    let pieces = match state.cached(corners) {
+                        Some(b) => {
+                            worst_ratio = worst_ratio.max(b.bound() / threshold(view, tol, b));
+                            b.bound()
+                        }
+                        None => slot.recorded,
+                    };
+                    state.pieces = pieces;
+                    continue;
+                }
                 let mut bound = state.cached(corners).copied();
                 let uniform = self.patch_view(p).is_none_or(|view_p| {
                     let n = self.storage.triangles[to + t]

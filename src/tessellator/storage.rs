@@ -7,6 +7,7 @@ use crate::bake::{BakedModel, BakedPatch};
 use crate::deviation::TriangleBound;
 use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
 use crate::model::EdgeLink;
+use crate::patch::Side;
 
 use super::Settings;
 
@@ -65,6 +66,9 @@ pub struct CurveSlot {
     pub(super) factor: u8,
     /// First output vertex of the curve in the current [`write_mesh`](super::Tessellator::write_mesh).
     pub(super) base: u32,
+    /// The patch that owns the curve, and its side.
+    pub(super) owner: u32,
+    pub(super) side: Side,
 }
 
 /// One domain triangle's cached bound (storage slot; contents are private).
