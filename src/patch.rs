@@ -423,27 +423,27 @@ impl<'a> BezierPatch<'a> {
         let (du, dv) = (bernstein(p - 1, u), bernstein(q - 1, v));
         let at = |i: usize, j: usize| Vec3::from_array(self.points[i * (q + 1) + j]);
         let (mut s, mut s_u, mut s_v, mut s_uv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
-        for i in 0..=p {
+        for (i, &b_i) in bu.iter().enumerate().take(p + 1) {
             let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
-            for j in 0..=q {
-                row += at(i, j) * bv[j];
+            for (j, &b_j) in bv.iter().enumerate().take(q + 1) {
+                row += at(i, j) * b_j;
             }
-            for j in 0..q {
-                row_v += (at(i, j + 1) - at(i, j)) * dv[j];
+            for (j, &d_j) in dv.iter().enumerate().take(q) {
+                row_v += (at(i, j + 1) - at(i, j)) * d_j;
             }
-            s += row * bu[i];
-            s_v += row_v * bu[i];
+            s += row * b_i;
+            s_v += row_v * b_i;
         }
-        for i in 0..p {
+        for (i, &d_i) in du.iter().enumerate().take(p) {
             let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
-            for j in 0..=q {
-                row += (at(i + 1, j) - at(i, j)) * bv[j];
+            for (j, &b_j) in bv.iter().enumerate().take(q + 1) {
+                row += (at(i + 1, j) - at(i, j)) * b_j;
             }
-            for j in 0..q {
-                row_v += (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * dv[j];
+            for (j, &d_j) in dv.iter().enumerate().take(q) {
+                row_v += (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * d_j;
             }
-            s_u += row * du[i];
-            s_uv += row_v * du[i];
+            s_u += row * d_i;
+            s_uv += row_v * d_i;
         }
         if let Some(pole) = self.pole_at(u, v) {
             s = pole;

@@ -286,7 +286,9 @@ pub fn runtime(data: &[u8]) {
                             stats.triangles
                         );
                         assert!(
-                            fit.tolerance > 0.0 && fit.triangles == stats.triangles,
+                            fit.tolerance > 0.0
+                                && fit.triangles == stats.triangles
+                                && fit.bound == stats.max_predicted_error,
                             "{fit:?} {stats:?}"
                         );
                         stats

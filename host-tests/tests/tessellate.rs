@@ -287,6 +287,23 @@ fn run_model(path: &std::path::Path) {
             stats.triangles, fit.triangles,
             "{label}: prediction is exact"
         );
+        // The fit keeps its word: the frame is within the bound it reports.
+        assert_eq!(fit.bound, stats.max_predicted_error, "{label}");
+        let (worst, tightest) = measure_frame(&refs, &streamed(&tess), mid.meter.as_ref());
+        let slack = if mid.meter.is_some() {
+            1e-3
+        } else {
+            1e-6 * diag as f64
+        };
+        println!(
+            "{label} budget {budget}: {} triangles, tolerance {:.4}, bound {:.4}, measured {worst:.4}",
+            stats.triangles, fit.tolerance, fit.bound
+        );
+        assert!(
+            tightest >= 1.0 && worst <= fit.bound as f64 * 1.001 + slack,
+            "{label} budget {budget}: deviation {worst} > reported bound {}",
+            fit.bound
+        );
         if !fit.exhausted {
             let finer = tess
                 .update_unrefined(&mid.view.with_tolerance(fit.tolerance * 0.99))

@@ -7,7 +7,13 @@
 //! flat. Prefix lengths only grow as the tolerance shrinks, so the count is monotone and
 //! a bisection on the tolerance (in ratio, to 0.1%) finds the smallest one that fits. Budget
 //! frames are not refined: the mesh is the samples' triangulation, so the prediction is the
-//! count written (and [`FrameStats::max_predicted_error`] says how far the samples reach).
+//! count written.
+//!
+//! The fit keeps its word: [`BudgetFit::bound`] is the frame's computed error bound (see
+//! [`crate::deviation`]), never less than what the mesh can deviate. Where the samples reach
+//! the fitted tolerance it is at most that tolerance; where they run out first (a bake that
+//! stops short, a step cap, or curve samples that a neighbour asked for), it is the larger,
+//! true bound, and the tolerance is not claimed.
 
 use core::fmt;
 
@@ -22,6 +28,10 @@ use crate::view::View;
 pub struct BudgetFit {
     /// The smallest tolerance (within 0.1%) whose mesh fits, in the view's units.
     pub tolerance: f32,
+    /// The error bound the frame honours, in the view's units: the largest computed bound of
+    /// its triangles over their thresholds, times the tolerance. At most `tolerance` when the
+    /// samples reach it; larger, and true, when they do not.
+    pub bound: f32,
     /// Triangles of that mesh.
     pub triangles: usize,
     /// True when every sample is in and the budget still holds: no smaller tolerance
@@ -130,12 +140,9 @@ impl Tessellator<'_, '_> {
     }
 
     /// The smallest tolerance, for `view`'s camera, whose unrefined mesh has at most
-    /// `max_triangles` triangles (the view's own tolerance is ignored).
-    pub fn fit_budget(
-        &mut self,
-        view: &View,
-        max_triangles: usize,
-    ) -> Result<BudgetFit, BudgetError> {
+    /// `max_triangles` triangles (the view's own tolerance is ignored), with the triangle
+    /// count and whether every sample is in; the bound is filled in by the update.
+    fn fit_budget(&mut self, view: &View, max_triangles: usize) -> Result<BudgetFit, BudgetError> {
         let count = |t: f32, s: &mut Self| s.predict_triangles(&view.with_tolerance(t));
         let (mut lo, mut hi) = (f32::MIN_POSITIVE, f32::MAX);
         let minimum = count(hi, self);
@@ -155,6 +162,7 @@ impl Tessellator<'_, '_> {
             }
             return Ok(BudgetFit {
                 tolerance: lo,
+                bound: f32::INFINITY,
                 triangles: full,
                 exhausted: true,
             });
@@ -173,21 +181,28 @@ impl Tessellator<'_, '_> {
         }
         Ok(BudgetFit {
             tolerance: hi,
+            bound: f32::INFINITY,
             triangles: fits,
             exhausted: false,
         })
     }
 
-    /// Fits the budget for `view`'s camera and updates to that tolerance without refinement.
+    /// Fits the budget for `view`'s camera (its own tolerance is ignored) and updates to the
+    /// smallest tolerance whose unrefined mesh has at most `max_triangles` triangles.
+    ///
+    /// The returned [`BudgetFit::bound`] is what the frame honours; it equals the frame's
+    /// [`FrameStats::max_predicted_error`] and exceeds [`BudgetFit::tolerance`] only where the
+    /// samples run out.
     pub fn update_to_budget(
         &mut self,
         view: &View,
         max_triangles: usize,
     ) -> Result<(FrameStats, BudgetFit), BudgetError> {
-        let fit = self.fit_budget(view, max_triangles)?;
+        let mut fit = self.fit_budget(view, max_triangles)?;
         let stats = self
             .update_unrefined(&view.with_tolerance(fit.tolerance))
             .map_err(BudgetError::Update)?;
+        fit.bound = stats.max_predicted_error;
         Ok((stats, fit))
     }
 }
