@@ -134,6 +134,23 @@ pub(crate) fn bernstein(n: usize, t: f32) -> [f32; MAX_DEGREE + 1] {
     b
 }
 
+/// [`bernstein`] for a degree known at compile time (`M = n + 1` values): the same operations
+/// in the same order, so the same bits, unrolled.
+#[inline(always)]
+pub(crate) fn bernstein_fixed<const M: usize>(t: f32) -> [f32; M] {
+    let mut b = [0.0f32; M];
+    b[0] = 1.0;
+    let s = 1.0 - t;
+    for k in 1..M {
+        b[k] = t * b[k - 1];
+        for i in (1..k).rev() {
+            b[i] = s * b[i] + t * b[i - 1];
+        }
+        b[0] *= s;
+    }
+    b
+}
+
 /// Homogeneous point and partial derivatives of a tensor-product span.
 pub(crate) struct TensorEval {
     /// Homogeneous point `(w x, w y, w z, w)`.

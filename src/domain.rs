@@ -131,10 +131,15 @@ const fn clamp_factor(x: u8) -> u8 {
 /// coordinates `metric` scales), with ties broken by simulation of simplicity (the largest point
 /// in `(u, v)` order is perturbed most).
 fn in_circle(metric: Metric, a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> bool {
-    // Coordinates up to 2^20: the lifts are below 2^41, the determinant below 2^85.
-    let dx = |p: GridPoint| (p.u as i64 - d.u as i64) * metric.u as i64;
-    let dy = |p: GridPoint| (p.v as i64 - d.v as i64) * metric.v as i64;
-    let (adx, ady, bdx, bdy, cdx, cdy) = (dx(a), dy(a), dx(b), dy(b), dx(c), dy(c));
+    // Differences up to 2^20 (in i32, and exact in f32): the lifts are below 2^41, the
+    // determinant below 2^85.
+    let dx = |p: GridPoint| (p.u as i32 - d.u as i32) * metric.u as i32;
+    let dy = |p: GridPoint| (p.v as i32 - d.v as i32) * metric.v as i32;
+    let differences = [dx(a), dy(a), dx(b), dy(b), dx(c), dy(c)];
+    if let Some(inside) = in_circle_filter(differences.map(|x| x as f32)) {
+        return inside;
+    }
+    let [adx, ady, bdx, bdy, cdx, cdy] = differences.map(i64::from);
     let lift = |x: i64, y: i64| (x * x + y * y) as i128;
     let det = lift(adx, ady) * (bdx * cdy - bdy * cdx) as i128
         + lift(bdx, bdy) * (cdx * ady - cdy * adx) as i128
@@ -156,6 +161,43 @@ fn in_circle(metric: Metric, a: GridPoint, b: GridPoint, c: GridPoint, d: GridPo
         -orient(a, b, c)
     };
     term > 0
+}
+
+/// Shewchuk's first in-circle error bound ("Adaptive precision floating-point arithmetic and
+/// fast robust geometric predicates", 1997, `iccerrboundA`), for `f32`: its unit roundoff is
+/// 2^-24.
+const IN_CIRCLE_ERROR: f32 = (10.0 + 96.0 * F32_ROUNDOFF) * F32_ROUNDOFF;
+const F32_ROUNDOFF: f32 = 1.0 / 16_777_216.0;
+
+/// The in-circle sign in `f32` when it is certain, else `None`.
+///
+/// The differences (`[adx, ady, bdx, bdy, cdx, cdy]`, below 2^20 in magnitude) are exact in
+/// `f32`, which is what Shewchuk's bound assumes: the rounded determinant is within
+/// `IN_CIRCLE_ERROR` times the permanent (the same sum over absolute values, also rounded) of
+/// the exact one, so a larger magnitude has the exact sign. Nothing can overflow (the
+/// determinant is below 2^85); a NaN would fail the comparison and fall through. The exact
+/// `i128` test decides the rest, so the answer never depends on the filter.
+#[inline]
+fn in_circle_filter([adx, ady, bdx, bdy, cdx, cdy]: [f32; 6]) -> Option<bool> {
+    let (bc, cb) = (bdx * cdy, cdx * bdy);
+    let (ca, ac) = (cdx * ady, adx * cdy);
+    let (ab, ba) = (adx * bdy, bdx * ady);
+    let (la, lb, lc) = (
+        adx * adx + ady * ady,
+        bdx * bdx + bdy * bdy,
+        cdx * cdx + cdy * cdy,
+    );
+    let det = la * (bc - cb) + lb * (ca - ac) + lc * (ab - ba);
+    let permanent =
+        la * (bc.abs() + cb.abs()) + lb * (ca.abs() + ac.abs()) + lc * (ab.abs() + ba.abs());
+    let error = IN_CIRCLE_ERROR * permanent;
+    if det > error {
+        Some(true)
+    } else if -det > error {
+        Some(false)
+    } else {
+        None
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -732,9 +774,15 @@ impl<'a> DomainMesh<'a> {
         }
     }
 
-    /// Flips the edges opposite the new vertex `id` until every one is Delaunay. Each flip
-    /// adds a triangle to the star and is never undone, so one pass around the star with no
-    /// flip ends it.
+    /// Flips the edges opposite the new vertex `id` until every one is Delaunay, in one pass
+    /// counter-clockwise around its star.
+    ///
+    /// Flipping the edge `(a, b)` of `(id, a, b)` leaves `(id, a, d)` in the same slot, checked
+    /// again at once, and `(id, d, b)` as its counter-clockwise neighbour, checked next; the
+    /// rest of the star is untouched. An edge found Delaunay stays so: its test involves only
+    /// the two triangles beside it, and a flip elsewhere replaces neither (it removes a
+    /// triangle across another star edge). So every triangle of the final star is found clean
+    /// exactly once, and the pass ends after `degree` clean tests.
     fn legalize(&mut self, id: u16) {
         let mut t = self.star_start(id);
         let mut clean = 0usize;
@@ -760,7 +808,6 @@ impl<'a> DomainMesh<'a> {
                 ) {
                     self.flip(t, i);
                     degree += 1;
-                    clean = 0;
                     continue;
                 }
             }
@@ -1065,4 +1112,80 @@ impl Iterator for Star<'_, '_> {
 
 fn index_of(v: &[u16; 3], id: u16) -> usize {
     v.iter().position(|&x| x == id).unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::in_circle_filter;
+
+    /// The exact determinant's sign, as `in_circle` computes it.
+    fn exact(d: [i64; 6]) -> i128 {
+        let [adx, ady, bdx, bdy, cdx, cdy] = d;
+        let lift = |x: i64, y: i64| (x * x + y * y) as i128;
+        lift(adx, ady) * (bdx * cdy - bdy * cdx) as i128
+            + lift(bdx, bdy) * (cdx * ady - cdy * adx) as i128
+            + lift(cdx, cdy) * (adx * bdy - ady * bdx) as i128
+    }
+
+    fn check(d: [i64; 6]) -> bool {
+        let det = exact(d);
+        match in_circle_filter(d.map(|x| x as f32)) {
+            Some(inside) => {
+                assert!(det != 0 && inside == (det > 0), "{d:?}: filter wrong");
+                true
+            }
+            None => false,
+        }
+    }
+
+    #[test]
+    fn the_filter_never_contradicts_the_exact_test() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |range: i64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % (2 * range as u64 + 1)) as i64 - range
+        };
+        let (mut decided, mut total) = (0, 0);
+        // Random differences at every scale up to the grid's 2^20.
+        for scale in [3i64, 100, 65_535, (1 << 20) - 1] {
+            for _ in 0..20_000 {
+                let d = core::array::from_fn(|_| next(scale));
+                decided += check(d) as usize;
+                total += 1;
+            }
+        }
+        // Cocircular points at every scale, and nearly cocircular ones: the hard cases.
+        let ring = [
+            (5, 0),
+            (4, 3),
+            (3, 4),
+            (0, 5),
+            (-3, 4),
+            (-4, -3),
+            (0, -5),
+            (3, -4),
+        ];
+        for _ in 0..20_000 {
+            let k = next(40_000).abs() + 1;
+            let pick = |i: i64| ring[(i.unsigned_abs() % 8) as usize];
+            let [a, b, c, d] = [pick(next(8)), pick(next(8)), pick(next(8)), pick(next(8))];
+            let nudge = next(1);
+            let d = [
+                (a.0 - d.0) * k + nudge,
+                (a.1 - d.1) * k,
+                (b.0 - d.0) * k,
+                (b.1 - d.1) * k,
+                (c.0 - d.0) * k,
+                (c.1 - d.1) * k,
+            ];
+            if d.iter().all(|x| x.abs() < 1 << 20) {
+                decided += check(d) as usize;
+                total += 1;
+            }
+        }
+        // The filter decides the bulk of the random cases.
+        assert!(decided * 2 > total, "{decided} of {total}");
+    }
 }

@@ -48,12 +48,20 @@ fn xyz(v: Vec4) -> Vec3 {
 
 /// Converts homogeneous derivatives to Euclidean ones. `s` and `t` are the parameters scaled to
 /// `[0, 1]` over the surface, used only to pick the nearer edge of a vanishing partial;
-/// `collapsed(side)` tells whether that edge of the surface is collapsed to a point.
+/// `collapsed(side)` tells whether that edge of the surface is collapsed to a point, and
+/// `twist()` gives the homogeneous `a_uv` when the limit needs it (a polynomial patch computes
+/// it only then; `ev.a_uv` is not read).
 ///
 /// The analytic limit is taken only at a collapsed edge. A partial can also be tiny for a
 /// genuine reason (a rational patch whose weights span six orders of magnitude has
 /// `|S_u| / |S_v|` down to `1e-6` in places), and there the direct normal is the right one.
-pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32, collapsed: impl Fn(Side) -> bool) -> Frame {
+pub(crate) fn frame(
+    ev: &TensorEval,
+    s: f32,
+    t: f32,
+    collapsed: impl Fn(Side) -> bool,
+    twist: impl FnOnce() -> Vec4,
+) -> Frame {
     let w = ev.a.w;
     let position = xyz(ev.a) / w;
     let partial_u = (xyz(ev.a_u) - position * ev.a_u.w) / w;
@@ -88,9 +96,9 @@ pub(crate) fn frame(ev: &TensorEval, s: f32, t: f32, collapsed: impl Fn(Side) ->
         if !collapsed(edge) {
             normal = direct();
         } else {
+            let a_uv = twist();
             let partial_uv =
-                (xyz(ev.a_uv) - position * ev.a_uv.w - partial_v * ev.a_u.w - partial_u * ev.a_v.w)
-                    / w;
+                (xyz(a_uv) - position * a_uv.w - partial_v * ev.a_u.w - partial_u * ev.a_v.w) / w;
             let duv = normalize(partial_uv);
             let limit = match (mu < mv, duv) {
                 // S_u vanished along v = 0 or v = 1: the normal tends to sign * (S_uv x S_v).

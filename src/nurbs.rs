@@ -451,7 +451,7 @@ impl<'a> NurbsSurface<'a> {
             u,
             v,
         );
-        frame(&ev, s, t, |side| self.is_collapsed(side))
+        frame(&ev, s, t, |side| self.is_collapsed(side), || ev.a_uv)
     }
 
     /// True when every control point along `side` of the surface is the same point.

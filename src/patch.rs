@@ -9,7 +9,7 @@ use core::fmt;
 
 use glam::{Vec3, Vec4};
 
-use crate::basis::{bernstein, tensor_point, tensor_with_derivatives, Bezier};
+use crate::basis::{bernstein, bernstein_fixed, tensor_point, tensor_with_derivatives, Bezier};
 use crate::bound::{Aabb, BoundingSphere};
 use crate::frame::{frame, nudge, SurfacePoint};
 use crate::math::{clamp_param, normalize};
@@ -321,6 +321,15 @@ impl<'a> BezierPatch<'a> {
             return pole;
         }
         let (p, q) = (self.degree_u(), self.degree_v());
+        if self.weights.is_none() {
+            // The common degrees with their loops unrolled: the same sums, the same bits.
+            match (p, q) {
+                (3, 3) => return direct_sum::<4, 4>(self.points, u, v),
+                (2, 2) => return direct_sum::<3, 3>(self.points, u, v),
+                (1, 1) => return direct_sum::<2, 2>(self.points, u, v),
+                _ => {}
+            }
+        }
         let (bu, bv) = (crate::basis::bernstein(p, u), crate::basis::bernstein(q, v));
         match self.weights {
             None => {
@@ -377,13 +386,30 @@ impl<'a> BezierPatch<'a> {
 
     fn frame_at(&self, u: f32, v: f32) -> crate::frame::Frame {
         let (p, q) = (self.degree_u(), self.degree_v());
-        let ev = match self.weights {
-            None => self.polynomial_derivatives(u, v),
-            Some(_) => {
-                tensor_with_derivatives(p, q, Bezier, Bezier, |i, j| self.homogeneous(i, j), u, v)
+        match self.weights {
+            None => {
+                let ev = self.polynomial_derivatives(u, v);
+                frame(
+                    &ev,
+                    u,
+                    v,
+                    |side| self.is_collapsed(side),
+                    || self.polynomial_twist(u, v),
+                )
             }
-        };
-        frame(&ev, u, v, |side| self.is_collapsed(side))
+            Some(_) => {
+                let ev = tensor_with_derivatives(
+                    p,
+                    q,
+                    Bezier,
+                    Bezier,
+                    |i, j| self.homogeneous(i, j),
+                    u,
+                    v,
+                );
+                frame(&ev, u, v, |side| self.is_collapsed(side), || ev.a_uv)
+            }
+        }
     }
 
     /// The point of a collapsed edge when `(u, v)` lies on it: exactly its control point (a
@@ -419,32 +445,30 @@ impl<'a> BezierPatch<'a> {
     /// exactly zero, as the limit normal needs.
     fn polynomial_derivatives(&self, u: f32, v: f32) -> crate::basis::TensorEval {
         let (p, q) = (self.degree_u(), self.degree_v());
-        let (bu, bv) = (bernstein(p, u), bernstein(q, v));
-        let (du, dv) = (bernstein(p - 1, u), bernstein(q - 1, v));
-        let at = |i: usize, j: usize| Vec3::from_array(self.points[i * (q + 1) + j]);
-        let (mut s, mut s_u, mut s_v, mut s_uv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
-        for (i, &b_i) in bu.iter().enumerate().take(p + 1) {
-            let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
-            for (j, &b_j) in bv.iter().enumerate().take(q + 1) {
-                row += at(i, j) * b_j;
-            }
-            for (j, &d_j) in dv.iter().enumerate().take(q) {
-                row_v += (at(i, j + 1) - at(i, j)) * d_j;
-            }
-            s += row * b_i;
-            s_v += row_v * b_i;
-        }
-        for (i, &d_i) in du.iter().enumerate().take(p) {
-            let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
-            for (j, &b_j) in bv.iter().enumerate().take(q + 1) {
-                row += (at(i + 1, j) - at(i, j)) * b_j;
-            }
-            for (j, &d_j) in dv.iter().enumerate().take(q) {
-                row_v += (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * d_j;
-            }
-            s_u += row * d_i;
-            s_uv += row_v * d_i;
-        }
+        let (mut s, s_u, s_v) = match (p, q) {
+            // The common degrees with their loops unrolled: the same sums, the same bits.
+            (3, 3) => derivative_sums(
+                self.points,
+                &bernstein_fixed::<4>(u),
+                &bernstein_fixed::<4>(v),
+                &bernstein_fixed::<3>(u),
+                &bernstein_fixed::<3>(v),
+            ),
+            (2, 2) => derivative_sums(
+                self.points,
+                &bernstein_fixed::<3>(u),
+                &bernstein_fixed::<3>(v),
+                &bernstein_fixed::<2>(u),
+                &bernstein_fixed::<2>(v),
+            ),
+            _ => derivative_sums(
+                self.points,
+                &bernstein(p, u)[..=p],
+                &bernstein(q, v)[..=q],
+                &bernstein(p - 1, u)[..p],
+                &bernstein(q - 1, v)[..q],
+            ),
+        };
         if let Some(pole) = self.pole_at(u, v) {
             s = pole;
         }
@@ -454,8 +478,28 @@ impl<'a> BezierPatch<'a> {
             a: h(s, 1.0),
             a_u: h(s_u * pf, 0.0),
             a_v: h(s_v * qf, 0.0),
-            a_uv: h(s_uv * (pf * qf), 0.0),
+            // Only a collapsed edge's limit normal needs the twist: `polynomial_twist`.
+            a_uv: Vec4::ZERO,
         }
+    }
+
+    /// The twist `S_uv` of a polynomial patch, in the homogeneous form of
+    /// [`polynomial_derivatives`](Self::polynomial_derivatives).
+    fn polynomial_twist(&self, u: f32, v: f32) -> Vec4 {
+        let (p, q) = (self.degree_u(), self.degree_v());
+        let (du, dv) = (bernstein(p - 1, u), bernstein(q - 1, v));
+        let at = |i: usize, j: usize| Vec3::from_array(self.points[i * (q + 1) + j]);
+        let mut s_uv = Vec3::ZERO;
+        for (i, &d_i) in du.iter().enumerate().take(p) {
+            let mut row_v = Vec3::ZERO;
+            for (j, &d_j) in dv.iter().enumerate().take(q) {
+                row_v += (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * d_j;
+            }
+            s_uv += row_v * d_i;
+        }
+        let (pf, qf) = (p as f32, q as f32);
+        let t = s_uv * (pf * qf);
+        Vec4::new(t.x, t.y, t.z, 0.0)
     }
 
     /// Normal of the control net's diagonals, oriented like `partial_u x partial_v`.
@@ -502,4 +546,65 @@ impl<'a> BezierPatch<'a> {
         let n = (2 * (self.degree_u() + self.degree_v()) + 8) as f32;
         n * f32::EPSILON * big
     }
+}
+
+/// The point of a polynomial patch of degrees `(M - 1, N - 1)` as a direct sum over the
+/// Bernstein basis, with fixed bounds: exactly the operations of the general loop in
+/// [`BezierPatch::position_direct`], unrolled.
+#[inline(always)]
+fn direct_sum<const M: usize, const N: usize>(points: &[[f32; 3]], u: f32, v: f32) -> Vec3 {
+    let (bu, bv) = (
+        crate::basis::bernstein_fixed::<M>(u),
+        crate::basis::bernstein_fixed::<N>(v),
+    );
+    let Some(points) = points.get(..M * N) else {
+        return Vec3::ZERO;
+    };
+    let mut sum = Vec3::ZERO;
+    for (i, &a) in bu.iter().enumerate() {
+        let mut row = Vec3::ZERO;
+        for (&point, &b) in points[i * N..(i + 1) * N].iter().zip(&bv) {
+            row += Vec3::from_array(point) * b;
+        }
+        sum += row * a;
+    }
+    sum
+}
+
+/// Point, `S_u / p` and `S_v / q` of a polynomial patch from the Bernstein values of its
+/// degrees (`bu`, `bv`) and one less (`du`, `dv`): direct sums over the net and its
+/// differences. With fixed-length arguments the loops unroll; the operations are the same.
+#[inline(always)]
+fn derivative_sums(
+    points: &[[f32; 3]],
+    bu: &[f32],
+    bv: &[f32],
+    du: &[f32],
+    dv: &[f32],
+) -> (Vec3, Vec3, Vec3) {
+    let n = bv.len();
+    let Some(points) = points.get(..bu.len() * n) else {
+        return (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    };
+    let at = |i: usize, j: usize| Vec3::from_array(points[i * n + j]);
+    let (mut s, mut s_u, mut s_v) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    for (i, &b_i) in bu.iter().enumerate() {
+        let (mut row, mut row_v) = (Vec3::ZERO, Vec3::ZERO);
+        for (j, &b_j) in bv.iter().enumerate() {
+            row += at(i, j) * b_j;
+        }
+        for (j, &d_j) in dv.iter().enumerate() {
+            row_v += (at(i, j + 1) - at(i, j)) * d_j;
+        }
+        s += row * b_i;
+        s_v += row_v * b_i;
+    }
+    for (i, &d_i) in du.iter().enumerate() {
+        let mut row = Vec3::ZERO;
+        for (j, &b_j) in bv.iter().enumerate() {
+            row += (at(i + 1, j) - at(i, j)) * b_j;
+        }
+        s_u += row * d_i;
+    }
+    (s, s_u, s_v)
 }

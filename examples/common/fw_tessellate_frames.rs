@@ -182,12 +182,28 @@ pub fn frame(
     vertices: &mut [Vertex],
     triangles: &mut [[u16; 3]],
 ) -> Option<Frame> {
-    let stats = tess.update(&view(k)?).ok()?;
+    frame_timed(tess, k, vertices, triangles, &mut || 0).map(|(f, _)| f)
+}
+
+/// [`frame`], with the `clock` ticks that the update and the write took (the checksum after
+/// them is not counted).
+pub fn frame_timed(
+    tess: &mut Tessellator<'_, '_>,
+    k: usize,
+    vertices: &mut [Vertex],
+    triangles: &mut [[u16; 3]],
+    clock: &mut dyn FnMut() -> u64,
+) -> Option<(Frame, u64)> {
+    let view = view(k)?;
+    let start = clock();
+    let stats = tess.update(&view).ok()?;
     let size = tess.write_mesh(vertices, triangles).ok()?;
-    Some(Frame {
+    let used = clock().saturating_sub(start);
+    let frame = Frame {
         triangles: size.triangles as u32,
         vertices: size.vertices as u32,
         inserted: stats.inserted as u32,
         checksum: checksum(&vertices[..size.vertices], &triangles[..size.triangles]),
-    })
+    };
+    Some((frame, used))
 }
