@@ -17,9 +17,11 @@ full=0
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
 T=thumbv7em-none-eabihf
 rustup target list --installed | grep -qx "$T" || rustup target add "$T"
-if ! command -v qemu-system-arm >/dev/null || ! command -v arm-none-eabi-size >/dev/null; then
+if ! command -v qemu-system-arm >/dev/null || ! command -v arm-none-eabi-size >/dev/null ||
+    ! command -v cc >/dev/null || [ ! -f /usr/include/GL/glu.h ]; then
     as_root apt-get update -q
-    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -q qemu-system-arm binutils-arm-none-eabi
+    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -q qemu-system-arm \
+        binutils-arm-none-eabi gcc libglu1-mesa-dev
 fi
 
 start=$(date +%s)
@@ -32,7 +34,9 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 today=$(date -u +%Y-%m-%d)
 
 step "builds"
-cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures
+cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures
+mkdir -p target/glu
+cc -O2 -o target/glu/glu_peer host-tests/glu/glu_peer.c -lGLU -lGL
 cargo build -q --release --example teapot
 cargo build -q --release --example fw_eval --example fw_bake --example fw_tessellate --example fw_teapot --target "$T"
 
@@ -50,6 +54,9 @@ step "run time on the host"
 cargo run -q --release -p host-tests --example runtime_figures >"$out/runtime.md"
 step "teapot main job"
 cargo run -q --release --example teapot -- --size 480x360 --out "$out/teapot" >"$out/teapot.txt"
+step "error control, against the uniform grid and GLU"
+GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_1e-3.md"
+BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_2.5e-4.md"
 step "bake figures"
 if [ "$full" = 1 ]; then
     cargo run -q --release -p host-tests --example bake_figures -- 1e-3 1e-4 >"$out/bake.md"
@@ -125,7 +132,12 @@ left += [
     "reruns differ by about 10%.",
     "- Real hardware: instruction counts come from QEMU's `-icount`, not from a board's cycle "
     "counter (flash wait states, caches and bus stalls are not modelled).",
-    "- Comparisons with other tessellators (GLU, curvo) beyond evaluation speed.",
+    "- Speed against an earlier revision: `scripts/compare_speed.sh REV` builds REV's "
+    "`tessellate` in a worktree and times both on one view in one run (a cold build of REV "
+    "takes minutes, so it is not run here).",
+    "- The GLU peer tessellates the kernel's Bezier patches (NURBS surfaces split at their "
+    "knots), not the NURBS surfaces whole, and only in camera cases (`GLU_PARAMETRIC_ERROR` "
+    "needs a projection).",
 ]
 left_out = "## What this leaves out\n\n" + "\n".join(left)
 
@@ -176,6 +188,30 @@ grid (2 (n-1)^2 triangles) whose verified deviation is at most the baked one; a 
 more than 512 x 512 counts as 512 (marked `>`).
 
 {read("bake.md")}
+
+## Error control
+
+`cargo run --release -p host-tests --example error_figures` (the module docs say exactly what
+is measured), with `GLU_PEER` set to libGLU's NURBS tessellator built from
+`host-tests/glu/glu_peer.c` (`GLU_NURBS_TESSELLATOR`, `GLU_PARAMETRIC_ERROR` at the same pixel
+tolerance, the same camera as OpenGL matrices, culling on). Every triangle of both is checked
+with the `f64` reference: the surface against the triangle's linear interpolant at the same
+(u,v), 12 steps per side, projected; only samples on screen count. *Grid* is the smallest
+uniform n x n grid per patch whose error, checked the same way, is within the tolerance (a
+lower bound for uniform tessellation; it has cracks). *Over* counts triangles above the
+tolerance; *bound / true* is the kernel's per-triangle bound over the measured object-space
+deviation (at least 1 is the soundness claim); *full ms* is a new tessellator, update and
+indexed write, best of three; GLU's time is its tessellation alone, best of five.
+
+Default bake (1e-3 of the diagonal; where the bake runs out the run time refines and bounds
+every new triangle):
+
+{read("error_1e-3.md")}
+
+The same with a bake at 2.5e-4 of the diagonal (`BAKE_REL=2.5e-4`): views at 1 px on
+1024x768 need few or no refinements:
+
+{read("error_2.5e-4.md")}
 
 ## Run time
 

@@ -1,23 +1,32 @@
-//! The camera, and how large an object-space deviation one pixel allows near a patch.
+//! The camera, and how large an object-space deviation one pixel allows near a patch or a
+//! triangle.
 //!
-//! A [`View`] turns into one number per patch: `c`, the largest object-space deviation that
-//! projects to at most the pixel tolerance anywhere on the patch. It is derived from the
-//! patch's bounding sphere, conservatively:
+//! A [`View`] turns a region of object space into `c`, the largest object-space deviation that
+//! projects to at most the pixel tolerance anywhere in it. The run time asks it twice: once
+//! per patch, for the convex hull of its control points (which contains the patch), to pick
+//! the prefix of baked samples; and once per triangle that gets its own bound, for the flat
+//! triangle of its corner points widened by that bound (which contains the triangle's piece
+//! of surface), so a large patch spanning many depths is not cut everywhere for its nearest
+//! point. Both are conservative:
 //!
 //! - **Perspective.** A displacement `d` at view depth `z` and screen slope `(a, b) = (x/z, y/z)`
 //!   moves the projection by at most `f * |d| * sqrt(1 + a² + b²) / z` pixels, with
 //!   `f = (height / 2) / tan(fov / 2)` (the largest singular value of the projection's Jacobian).
-//!   Over the sphere, `z` is at least `z_min` (its nearest depth) and the slopes are at most
-//!   those of its silhouette, further capped at the frustum's own, since only the visible part
-//!   is drawn. So `c = tolerance * z_min / (f * sqrt(1 + a_max² + b_max²))`.
-//! - **Near the eye.** A patch whose sphere reaches in front of the near plane (partly or
-//!   wholly behind the eye, or with the eye inside its bound) takes `z_min = near`: everything
-//!   closer is clipped, so the bound holds for what is drawn. This is the finest level: it asks
-//!   for the most samples and, once they run out, refinement (which is capped; the frame
-//!   statistics then report a predicted error above the tolerance).
+//!   Over the region (points in their convex hull, and anything within the margin), `z` is at
+//!   least the smallest depth of its points minus the margin, and the slopes are at most the
+//!   largest of theirs, further capped at the frustum's own widened by the deviation's own
+//!   reach, since a deviation counts only where the surface end lands on screen. So
+//!   `c = tolerance * z_min / (f * sqrt(1 + a_max² + b_max²))`.
+//! - **Near the eye.** A region that reaches in front of the near plane (partly or wholly
+//!   behind the eye, or with the eye inside it) takes `z_min = near`: everything closer is
+//!   clipped, so the bound holds for what is drawn. This is the finest level: it asks for the
+//!   most samples and, once they run out, refinement (which is capped; the frame statistics
+//!   then report a predicted error above the tolerance).
 //! - **Orthographic.** One pixel is `height / viewport height` object units everywhere.
 //!
-//! Patches whose sphere lies wholly outside one of the frustum's planes are culled.
+//! Regions wholly outside one of the frustum's planes (by more than their margin) are culled.
+//! The same rule over a bounding sphere (its nearest depth and silhouette slopes) is the
+//! fallback where no points are at hand.
 
 use core::fmt;
 

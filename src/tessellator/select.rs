@@ -1,7 +1,8 @@
 //! Selection and update: each patch's threshold and prefix of baked steps, each curve's
 //! samples, and the domain meshes brought to them in place.
 //!
-//! A patch's threshold `c` comes from the view (its bounding sphere, see [`crate::view`]); its
+//! A patch's threshold `c` comes from the view (the convex hull of its control points, see
+//! [`crate::view`]); its
 //! prefix is the steps recorded with a bound above `c`. The steps of the prefix that request
 //! curve samples say how many samples of each side's curve the patch needs; a curve carries
 //! the largest request of the visible patches that share it, so both patches along it place
