@@ -123,7 +123,8 @@ fn main() {
                 for p in boundary_points(&baked, &bp) {
                     mesh.insert(p).unwrap();
                 }
-                for s in bp.samples.iter() {
+                // Curve requests are already in, as the curves' samples.
+                for s in bp.samples.iter().filter(|s| s.requested_side().is_none()) {
                     mesh.insert(s.point).unwrap();
                 }
                 triangles += mesh.triangle_count();
