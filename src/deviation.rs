@@ -389,82 +389,134 @@ impl PatchBounds {
 /// The bound of the domain triangle `corners` of `patch`, and of its uniform refinements by 2,
 /// 3 and 6 (see the module docs).
 pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> TriangleBound {
-    let n = LATTICE as usize;
-    let scale = 1.0 / (LATTICE as f32 * GridPoint::MAX as f32);
-    // Samples on the lattice, indexed by (i, j): weight i on corner 1, j on corner 2.
-    let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
-    let at = |i: usize, j: usize| {
-        let k = n - i - j;
-        let g = |f: fn(GridPoint) -> u16| {
-            (k as u32 * f(corners[0]) as u32
-                + i as u32 * f(corners[1]) as u32
-                + j as u32 * f(corners[2]) as u32) as f32
-                * scale
-        };
-        (g(|p| p.u), g(|p| p.v))
-    };
-    for (i, row) in s.iter_mut().enumerate() {
-        for (j, cell) in row.iter_mut().enumerate().take(n + 1 - i) {
-            let (u, v) = at(i, j);
-            *cell = patch.position_direct(u, v);
-        }
-    }
+    let lattice = Lattice::sample(patch, corners);
     let uv = corners.map(GridPoint::to_unit);
-    let local = PatchBounds::around(patch, uv);
-    let curvature = local.curvature_term(uv);
-    let remainder = curvature * (1.0 / (n * n) as f32) + local.slack;
-    let mut refined = [remainder; 4];
-    let mut best = (-1.0f32, (1usize, 1usize));
-    for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3) {
-        let m = n / *factor as usize; // lattice steps per piece side
-        let mut worst = 0.0f32;
-        // Pieces: upright (a, b) and inverted, in piece-lattice coordinates.
-        let pieces = *factor as usize;
-        for pb in 0..pieces {
-            for pa in 0..pieces - pb {
-                for inverted in [false, true] {
-                    if inverted && pa + pb + 2 > pieces {
-                        continue;
-                    }
-                    let (c0, c1, c2) = if inverted {
-                        ((pa + 1, pb), (pa + 1, pb + 1), (pa, pb + 1))
-                    } else {
-                        ((pa, pb), (pa + 1, pb), (pa, pb + 1))
-                    };
-                    let corner = |c: (usize, usize)| s[c.0 * m][c.1 * m];
-                    let (q0, q1, q2) = (corner(c0), corner(c1), corner(c2));
-                    let inv = 1.0 / m as f32;
-                    for x in 0..=m {
-                        for y in 0..=m - x {
-                            let z = m - x - y;
-                            if x == m || y == m || z == m {
-                                continue;
-                            }
-                            // Lattice point: z on c0, x on c1, y on c2.
-                            let gi = c0.0 * z + c1.0 * x + c2.0 * y;
-                            let gj = c0.1 * z + c1.1 * x + c2.1 * y;
-                            let linear = (q0 * z as f32 + q1 * x as f32 + q2 * y as f32) * inv;
-                            let d = length(s[gi][gj] - linear);
-                            if d > worst {
-                                worst = d;
-                            }
-                            if f == 0 && d > best.0 {
-                                best = (d, (gi, gj));
+    lattice.bound(&PatchBounds::around(patch, uv), uv)
+}
+
+/// [`triangle_bound`] with the remainder taken first from `whole`, bounds over a region that
+/// contains the triangle (the whole patch): where that bound is `good_enough`, it is returned
+/// with `false`, and the patch is not cut to the triangle's box; otherwise the bound with
+/// the cut, with `true`. Both are bounds: second derivatives over a larger region are at least
+/// those over the box.
+pub(crate) fn triangle_bound_staged(
+    patch: &BezierPatch<'_>,
+    corners: [GridPoint; 3],
+    whole: &PatchBounds,
+    good_enough: impl FnOnce(&TriangleBound) -> bool,
+) -> (TriangleBound, bool) {
+    let lattice = Lattice::sample(patch, corners);
+    let uv = corners.map(GridPoint::to_unit);
+    let first = lattice.bound(whole, uv);
+    if good_enough(&first) {
+        return (first, false);
+    }
+    (lattice.bound(&PatchBounds::around(patch, uv), uv), true)
+}
+
+/// The surface on a triangle's lattice: the largest sampled deviations of the triangle and of
+/// its uniform pieces, before any remainder.
+struct Lattice {
+    /// Largest sampled deviation of the pieces of [`SAMPLED_FACTORS`] (the last unused).
+    worst: [f32; 4],
+    /// Lattice point of the triangle's own largest sampled deviation.
+    at: GridPoint,
+    /// The surface at the corners.
+    points: [[f32; 3]; 3],
+}
+
+impl Lattice {
+    fn sample(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Lattice {
+        let n = LATTICE as usize;
+        let scale = 1.0 / (LATTICE as f32 * GridPoint::MAX as f32);
+        // Samples on the lattice, indexed by (i, j): weight i on corner 1, j on corner 2.
+        let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
+        let at = |i: usize, j: usize| {
+            let k = n - i - j;
+            let g = |f: fn(GridPoint) -> u16| {
+                (k as u32 * f(corners[0]) as u32
+                    + i as u32 * f(corners[1]) as u32
+                    + j as u32 * f(corners[2]) as u32) as f32
+                    * scale
+            };
+            (g(|p| p.u), g(|p| p.v))
+        };
+        for (i, row) in s.iter_mut().enumerate() {
+            for (j, cell) in row.iter_mut().enumerate().take(n + 1 - i) {
+                let (u, v) = at(i, j);
+                *cell = patch.position_direct(u, v);
+            }
+        }
+        let mut worst = [0.0f32; 4];
+        let mut best = (-1.0f32, (1usize, 1usize));
+        for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3) {
+            let m = n / *factor as usize; // lattice steps per piece side
+            let mut w = 0.0f32;
+            // Pieces: upright (a, b) and inverted, in piece-lattice coordinates.
+            let pieces = *factor as usize;
+            for pb in 0..pieces {
+                for pa in 0..pieces - pb {
+                    for inverted in [false, true] {
+                        if inverted && pa + pb + 2 > pieces {
+                            continue;
+                        }
+                        let (c0, c1, c2) = if inverted {
+                            ((pa + 1, pb), (pa + 1, pb + 1), (pa, pb + 1))
+                        } else {
+                            ((pa, pb), (pa + 1, pb), (pa, pb + 1))
+                        };
+                        let corner = |c: (usize, usize)| s[c.0 * m][c.1 * m];
+                        let (q0, q1, q2) = (corner(c0), corner(c1), corner(c2));
+                        let inv = 1.0 / m as f32;
+                        for x in 0..=m {
+                            for y in 0..=m - x {
+                                let z = m - x - y;
+                                if x == m || y == m || z == m {
+                                    continue;
+                                }
+                                // Lattice point: z on c0, x on c1, y on c2.
+                                let gi = c0.0 * z + c1.0 * x + c2.0 * y;
+                                let gj = c0.1 * z + c1.1 * x + c2.1 * y;
+                                let linear = (q0 * z as f32 + q1 * x as f32 + q2 * y as f32) * inv;
+                                let d = length(s[gi][gj] - linear);
+                                if d > w {
+                                    w = d;
+                                }
+                                if f == 0 && d > best.0 {
+                                    best = (d, (gi, gj));
+                                }
                             }
                         }
                     }
                 }
             }
+            worst[f] = w;
         }
-        refined[f] = worst + remainder;
+        let (bu, bv) = at(best.1 .0, best.1 .1);
+        Lattice {
+            worst,
+            at: GridPoint::from_unit(bu, bv),
+            points: [s[0][0], s[n][0], s[0][n]].map(|p| p.to_array()),
+        }
     }
-    let (bu, bv) = at(best.1 .0, best.1 .1);
-    TriangleBound {
-        refined,
-        curvature,
-        slack: local.slack,
-        at: GridPoint::from_unit(bu, bv),
-        points: [s[0][0], s[n][0], s[0][n]].map(|p| p.to_array()),
+
+    /// The bounds, with the remainder from `bounds` (over a region containing the triangle
+    /// `uv`).
+    fn bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
+        let n = LATTICE as usize;
+        let curvature = bounds.curvature_term(uv);
+        let remainder = curvature * (1.0 / (n * n) as f32) + bounds.slack;
+        let mut refined = [remainder; 4];
+        for (r, w) in refined.iter_mut().zip(self.worst).take(3) {
+            *r = w + remainder;
+        }
+        TriangleBound {
+            refined,
+            curvature,
+            slack: bounds.slack,
+            at: self.at,
+            points: self.points,
+        }
     }
 }
 

@@ -43,6 +43,11 @@ pub struct PatchSlot {
     pub(super) factor: u8,
     /// Largest bound over threshold of the frame's triangles.
     pub(super) error_ratio: f32,
+    /// Whether the patch's patterns were checked with its factors and its curves' factors
+    /// `checked_curves` as they are now (refinement rounds skip it then).
+    pub(super) settled: bool,
+    /// Its sides' curve factors when it was last checked.
+    pub(super) checked_curves: [u8; 4],
 }
 
 impl PatchSlot {
@@ -80,10 +85,19 @@ pub struct TriangleSlot {
     pub(super) bound: TriangleBound,
     /// Whether `bound` is about `corners`.
     pub(super) known: bool,
+    /// Whether `bound`'s remainder is from the triangle's own box (else from the whole
+    /// patch's: looser for refinement factors above 1).
+    pub(super) local: bool,
     /// Its refinement factor in the current frame.
     pub(super) factor: u8,
     /// Bound of every piece it is cut into in the current frame, in object units.
     pub(super) pieces: f32,
+    /// Its threshold in the current frame when it is a prefix triangle of an exhausted patch
+    /// left uncut without a computed bound (object units); otherwise the patch's.
+    pub(super) threshold: f32,
+    /// The factor and edge factors of the non-uniform pattern `pieces` bounds this frame
+    /// (zeros when none).
+    pub(super) pattern: [u8; 4],
 }
 
 impl TriangleSlot {
