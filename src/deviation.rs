@@ -389,67 +389,163 @@ impl PatchBounds {
 /// The bound of the domain triangle `corners` of `patch`, and of its uniform refinements by 2,
 /// 3 and 6 (see the module docs).
 pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> TriangleBound {
-    let lattice = Lattice::sample(patch, corners);
+    let mut lattice = Lattice::coarse(patch, corners);
+    lattice.complete(patch);
+    lattice.pieces();
     let uv = corners.map(GridPoint::to_unit);
-    lattice.bound(&PatchBounds::around(patch, uv), uv)
+    lattice.bound(&PatchBounds::around(patch, uv), uv, true)
 }
 
-/// [`triangle_bound`] with the remainder taken first from `whole`, bounds over a region that
-/// contains the triangle (the whole patch): where that bound is `good_enough`, it is returned
-/// with `false`, and the patch is not cut to the triangle's box; otherwise the bound with
-/// the cut, with `true`. Both are bounds: second derivatives over a larger region are at least
-/// those over the box.
+/// [`triangle_bound`] staged to spend as little as it can: first the lattice of step `1/3`
+/// (10 points, the corners included) with the remainder `½ ρ² / 9` from `whole`, bounds over
+/// a region that contains the triangle (the whole patch); then the full lattice with `whole`;
+/// then the full lattice with the patch cut to the triangle's box. The first of these that is
+/// `good_enough` is returned, with `false`; the last with `true`. Each is a bound (the same
+/// argument with a lattice of step 1/3; second derivatives over a larger region are at least
+/// those over the box). The first two leave the refinement bounds to the curvature term alone.
 pub(crate) fn triangle_bound_staged(
     patch: &BezierPatch<'_>,
     corners: [GridPoint; 3],
     whole: &PatchBounds,
-    good_enough: impl FnOnce(&TriangleBound) -> bool,
+    good_enough: impl Fn(&TriangleBound) -> bool,
 ) -> (TriangleBound, bool) {
-    let lattice = Lattice::sample(patch, corners);
     let uv = corners.map(GridPoint::to_unit);
-    let first = lattice.bound(whole, uv);
+    let mut lattice = Lattice::coarse(patch, corners);
+    let coarse = lattice.coarse_bound(whole, uv);
+    if good_enough(&coarse) {
+        return (coarse, false);
+    }
+    lattice.complete(patch);
+    let first = lattice.bound(whole, uv, false);
     if good_enough(&first) {
         return (first, false);
     }
-    (lattice.bound(&PatchBounds::around(patch, uv), uv), true)
+    lattice.pieces();
+    (
+        lattice.bound(&PatchBounds::around(patch, uv), uv, true),
+        true,
+    )
 }
 
-/// The surface on a triangle's lattice: the largest sampled deviations of the triangle and of
-/// its uniform pieces, before any remainder.
+/// The surface on a triangle's lattice: its samples, and the largest sampled deviations of
+/// the triangle and of its uniform pieces, before any remainder.
 struct Lattice {
+    /// Samples, indexed by (i, j): weight i on corner 1, j on corner 2 (in sixths).
+    s: [[Vec3; LATTICE as usize + 1]; LATTICE as usize + 1],
     /// Largest sampled deviation of the pieces of [`SAMPLED_FACTORS`] (the last unused).
     worst: [f32; 4],
     /// Lattice point of the triangle's own largest sampled deviation.
-    at: GridPoint,
-    /// The surface at the corners.
-    points: [[f32; 3]; 3],
+    at: (usize, usize),
+    /// The triangle's corners.
+    corners: [GridPoint; 3],
+}
+
+/// Unit parameters of lattice point (i, j) of `corners`.
+fn lattice_point(corners: [GridPoint; 3], i: usize, j: usize) -> (f32, f32) {
+    let n = LATTICE as usize;
+    let scale = 1.0 / (LATTICE as f32 * GridPoint::MAX as f32);
+    let k = n - i - j;
+    let g = |f: fn(GridPoint) -> u16| {
+        (k as u32 * f(corners[0]) as u32
+            + i as u32 * f(corners[1]) as u32
+            + j as u32 * f(corners[2]) as u32) as f32
+            * scale
+    };
+    (g(|p| p.u), g(|p| p.v))
 }
 
 impl Lattice {
-    fn sample(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Lattice {
+    /// The points with even indices only (the lattice of step 1/3).
+    fn coarse(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Lattice {
         let n = LATTICE as usize;
-        let scale = 1.0 / (LATTICE as f32 * GridPoint::MAX as f32);
-        // Samples on the lattice, indexed by (i, j): weight i on corner 1, j on corner 2.
         let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
-        let at = |i: usize, j: usize| {
-            let k = n - i - j;
-            let g = |f: fn(GridPoint) -> u16| {
-                (k as u32 * f(corners[0]) as u32
-                    + i as u32 * f(corners[1]) as u32
-                    + j as u32 * f(corners[2]) as u32) as f32
-                    * scale
-            };
-            (g(|p| p.u), g(|p| p.v))
-        };
-        for (i, row) in s.iter_mut().enumerate() {
-            for (j, cell) in row.iter_mut().enumerate().take(n + 1 - i) {
-                let (u, v) = at(i, j);
-                *cell = patch.position_direct(u, v);
+        for i in (0..=n).step_by(2) {
+            for j in (0..=n - i).step_by(2) {
+                let (u, v) = lattice_point(corners, i, j);
+                s[i][j] = patch.position_direct(u, v);
             }
         }
-        let mut worst = [0.0f32; 4];
+        Lattice {
+            s,
+            worst: [0.0; 4],
+            at: (1, 1),
+            corners,
+        }
+    }
+
+    /// The bound from the coarse points: the largest deviation at them and `½ ρ² / 9`.
+    fn coarse_bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
+        let n = LATTICE as usize;
+        let s = &self.s;
+        let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
+        let inv = 1.0 / n as f32;
+        let (mut worst, mut at) = (0.0f32, (2, 2));
+        for i in (0..=n).step_by(2) {
+            for j in (0..=n - i).step_by(2) {
+                let k = n - i - j;
+                let linear = (q0 * k as f32 + q1 * i as f32 + q2 * j as f32) * inv;
+                let d = (s[i][j] - linear).dot(s[i][j] - linear);
+                if d > worst {
+                    (worst, at) = (d, (i, j));
+                }
+            }
+        }
+        let curvature = bounds.curvature_term(uv);
+        let remainder = curvature * (1.0 / 9.0) + bounds.slack;
+        let (bu, bv) = lattice_point(self.corners, at.0, at.1);
+        TriangleBound {
+            refined: [
+                sqrt(worst) + remainder,
+                f32::INFINITY,
+                f32::INFINITY,
+                f32::INFINITY,
+            ],
+            curvature,
+            slack: bounds.slack,
+            at: GridPoint::from_unit(bu, bv),
+            points: [q0, q1, q2].map(|p| p.to_array()),
+        }
+    }
+
+    /// Every point, and the largest deviation of the triangle itself.
+    fn complete(&mut self, patch: &BezierPatch<'_>) {
+        let n = LATTICE as usize;
+        let corners = self.corners;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                if i % 2 == 1 || j % 2 == 1 {
+                    let (u, v) = lattice_point(corners, i, j);
+                    self.s[i][j] = patch.position_direct(u, v);
+                }
+            }
+        }
+        let s = &self.s;
+        let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
+        let inv = 1.0 / n as f32;
         let mut best = (-1.0f32, (1usize, 1usize));
-        for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3) {
+        for (i, row) in s.iter().enumerate() {
+            for (j, &point) in row.iter().enumerate().take(n + 1 - i) {
+                let k = n - i - j;
+                if i == n || j == n || k == n {
+                    continue;
+                }
+                let linear = (q0 * k as f32 + q1 * i as f32 + q2 * j as f32) * inv;
+                let d = length(point - linear);
+                if d > best.0 {
+                    best = (d, (i, j));
+                }
+            }
+        }
+        self.worst[0] = best.0.max(0.0);
+        self.at = best.1;
+    }
+
+    /// The largest deviations of the pieces of a uniform refinement by 2 and 3, each against
+    /// its own interpolant.
+    fn pieces(&mut self) {
+        let n = LATTICE as usize;
+        let s = &self.s;
+        for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3).skip(1) {
             let m = n / *factor as usize; // lattice steps per piece side
             let mut w = 0.0f32;
             // Pieces: upright (a, b) and inverted, in piece-lattice coordinates.
@@ -478,31 +574,23 @@ impl Lattice {
                                 let gi = c0.0 * z + c1.0 * x + c2.0 * y;
                                 let gj = c0.1 * z + c1.1 * x + c2.1 * y;
                                 let linear = (q0 * z as f32 + q1 * x as f32 + q2 * y as f32) * inv;
-                                let d = length(s[gi][gj] - linear);
-                                if d > w {
-                                    w = d;
-                                }
-                                if f == 0 && d > best.0 {
-                                    best = (d, (gi, gj));
-                                }
+                                let e = s[gi][gj] - linear;
+                                // Squared, one root at the end (the same value).
+                                w = w.max(e.dot(e));
                             }
                         }
                     }
                 }
             }
-            worst[f] = w;
-        }
-        let (bu, bv) = at(best.1 .0, best.1 .1);
-        Lattice {
-            worst,
-            at: GridPoint::from_unit(bu, bv),
-            points: [s[0][0], s[n][0], s[0][n]].map(|p| p.to_array()),
+            self.worst[f] = sqrt(w);
         }
     }
 
     /// The bounds, with the remainder from `bounds` (over a region containing the triangle
     /// `uv`).
-    fn bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
+    /// Without `with_pieces` (no [`pieces`](Self::pieces) taken), only the triangle's own
+    /// bound is sampled; its pieces are left to the curvature term.
+    fn bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3], with_pieces: bool) -> TriangleBound {
         let n = LATTICE as usize;
         let curvature = bounds.curvature_term(uv);
         let remainder = curvature * (1.0 / (n * n) as f32) + bounds.slack;
@@ -510,12 +598,16 @@ impl Lattice {
         for (r, w) in refined.iter_mut().zip(self.worst).take(3) {
             *r = w + remainder;
         }
+        if !with_pieces {
+            refined[1..].fill(f32::INFINITY);
+        }
+        let (bu, bv) = lattice_point(self.corners, self.at.0, self.at.1);
         TriangleBound {
             refined,
             curvature,
             slack: bounds.slack,
-            at: self.at,
-            points: self.points,
+            at: GridPoint::from_unit(bu, bv),
+            points: [self.s[0][0], self.s[n][0], self.s[0][n]].map(|p| p.to_array()),
         }
     }
 }

@@ -137,7 +137,7 @@ impl Tessellator<'_, '_> {
         corners: [GridPoint; 3],
         stats: &mut FrameStats,
         whole: &PatchBounds,
-        good_enough: impl FnOnce(&TriangleBound) -> bool,
+        good_enough: impl Fn(&TriangleBound) -> bool,
     ) -> TriangleBound {
         let state = &mut self.storage.triangle_states[slot_index];
         if let Some(b) = state.cached(corners) {
