@@ -29,6 +29,12 @@
 //! circle, or the circumcircle for an acute triangle). So `R_s = ½ ρ(T)² / 36`. The smallest
 //! of a few choices of `t` is taken.
 //!
+//! The same argument with the lattice of step `1/3` (its 10 points are among the 28) gives
+//! `max |e_k| + ½ ρ(T)² / 9`, and any second-derivative bounds over a region containing `T`
+//! (the whole patch's) may stand in for the triangle's own: the run time tries these cheaper
+//! forms first and keeps one where it already settles the triangle (see
+//! `tessellator::refine`).
+//!
 //! **Refinement.** The same 28 samples bound the pieces of `T` cut uniformly by 2, 3 and 6:
 //! a piece's own interpolant is sampled on the sub-lattice it contains, with the same
 //! remainder `R_s`. Past 6, or for a piece of another shape, the remainder alone on the piece,
