@@ -2,8 +2,8 @@
 //! that stores them in flash.
 //!
 //! - [`sample_curve`] samples one boundary curve; every patch sharing it uses that one list.
-//! - [`sample_interior`] samples one patch's interior, starting from its corners and curve
-//!   samples.
+//! - [`sample_patch`] samples one patch: its interior and how far into each boundary curve it
+//!   reaches, starting from its corners.
 //! - [`bake_model`] does both for a whole [`Model`](crate::Model), in caller scratch, straight
 //!   into the bytes of the compact format, which [`BakedModel`] reads in place.
 //!
