@@ -402,40 +402,9 @@ pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Trian
     lattice.bound(&PatchBounds::around(patch, uv), uv, true)
 }
 
-/// [`triangle_bound`] staged to spend as little as it can: first the lattice of step `1/3`
-/// (10 points, the corners included) with the remainder `½ ρ² / 9` from `whole`, bounds over
-/// a region that contains the triangle (the whole patch); then the full lattice with `whole`;
-/// then the full lattice with the patch cut to the triangle's box. The first of these that is
-/// `good_enough` is returned, with `false`; the last with `true`. Each is a bound (the same
-/// argument with a lattice of step 1/3; second derivatives over a larger region are at least
-/// those over the box). The first two leave the refinement bounds to the curvature term alone.
-pub(crate) fn triangle_bound_staged(
-    patch: &BezierPatch<'_>,
-    corners: [GridPoint; 3],
-    whole: &PatchBounds,
-    good_enough: impl Fn(&TriangleBound) -> bool,
-) -> (TriangleBound, bool) {
-    let uv = corners.map(GridPoint::to_unit);
-    let mut lattice = Lattice::coarse(patch, corners);
-    let coarse = lattice.coarse_bound(whole, uv);
-    if good_enough(&coarse) {
-        return (coarse, false);
-    }
-    lattice.complete(patch);
-    let first = lattice.bound(whole, uv, false);
-    if good_enough(&first) {
-        return (first, false);
-    }
-    lattice.pieces();
-    (
-        lattice.bound(&PatchBounds::around(patch, uv), uv, true),
-        true,
-    )
-}
-
 /// The surface on a triangle's lattice: its samples, and the largest sampled deviations of
 /// the triangle and of its uniform pieces, before any remainder.
-struct Lattice {
+pub(crate) struct Lattice {
     /// Samples, indexed by (i, j): weight i on corner 1, j on corner 2 (in sixths).
     s: [[Vec3; LATTICE as usize + 1]; LATTICE as usize + 1],
     /// Largest sampled deviation of the pieces of [`SAMPLED_FACTORS`] (the last unused).
@@ -444,6 +413,15 @@ struct Lattice {
     at: (usize, usize),
     /// The triangle's corners.
     corners: [GridPoint; 3],
+}
+
+/// The surface at the corners of `corners`, computed as every bound computes them.
+pub(crate) fn corner_points(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> [[f32; 3]; 3] {
+    let n = LATTICE as usize;
+    [(0, 0), (n, 0), (0, n)].map(|(i, j)| {
+        let (u, v) = lattice_point(corners, i, j);
+        patch.position_direct(u, v).to_array()
+    })
 }
 
 /// Unit parameters of lattice point (i, j) of `corners`.
@@ -462,7 +440,7 @@ fn lattice_point(corners: [GridPoint; 3], i: usize, j: usize) -> (f32, f32) {
 
 impl Lattice {
     /// The points with even indices only (the lattice of step 1/3).
-    fn coarse(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Lattice {
+    pub(crate) fn coarse(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Lattice {
         let n = LATTICE as usize;
         let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
         for i in (0..=n).step_by(2) {
@@ -480,7 +458,7 @@ impl Lattice {
     }
 
     /// The bound from the coarse points: the largest deviation at them and `½ ρ² / 9`.
-    fn coarse_bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
+    pub(crate) fn coarse_bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
         let n = LATTICE as usize;
         let s = &self.s;
         let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
@@ -514,7 +492,7 @@ impl Lattice {
     }
 
     /// Every point, and the largest deviation of the triangle itself.
-    fn complete(&mut self, patch: &BezierPatch<'_>) {
+    pub(crate) fn complete(&mut self, patch: &BezierPatch<'_>) {
         let n = LATTICE as usize;
         let corners = self.corners;
         for i in 0..=n {
@@ -548,7 +526,7 @@ impl Lattice {
 
     /// The largest deviations of the pieces of a uniform refinement by 2 and 3, each against
     /// its own interpolant.
-    fn pieces(&mut self) {
+    pub(crate) fn pieces(&mut self) {
         let n = LATTICE as usize;
         let s = &self.s;
         for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3).skip(1) {
@@ -596,7 +574,12 @@ impl Lattice {
     /// `uv`).
     /// Without `with_pieces` (no [`pieces`](Self::pieces) taken), only the triangle's own
     /// bound is sampled; its pieces are left to the curvature term.
-    fn bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3], with_pieces: bool) -> TriangleBound {
+    pub(crate) fn bound(
+        &self,
+        bounds: &PatchBounds,
+        uv: [(f32, f32); 3],
+        with_pieces: bool,
+    ) -> TriangleBound {
         let n = LATTICE as usize;
         let curvature = bounds.curvature_term(uv);
         let remainder = curvature * (1.0 / (n * n) as f32) + bounds.slack;

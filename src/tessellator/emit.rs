@@ -153,8 +153,24 @@ impl PatchView<'_, '_, '_> {
     /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
     pub(super) fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
         let own = self.factor(t);
+        let asked = |t: usize, i: usize| self.tess.storage.triangle_states[self.to + t].split[i];
         match n[i] {
-            Some(nb) => own.max(self.factor(nb as usize)),
+            Some(nb) => {
+                let nb = nb as usize;
+                // The neighbour's side of the same edge (looked up only when it asks).
+                let asks = self.tess.storage.triangle_states[self.to + nb].split != [0; 3];
+                let back = asks
+                    .then(|| self.triangle(nb))
+                    .flatten()
+                    .and_then(|(_, nn)| {
+                        (0..3)
+                            .find(|&j| nn[j] == Some(t as u16))
+                            .map(|j| asked(nb, j))
+                    });
+                own.max(self.factor(nb))
+                    .max(asked(t, i))
+                    .max(back.unwrap_or(0))
+            }
             None => {
                 let (a, b) = (self.point_of(v[(i + 1) % 3]), self.point_of(v[(i + 2) % 3]));
                 match common_side(a, b).map(|s| self.edges[s.index()]) {

@@ -6,42 +6,57 @@
 //! patch whose prefix does not reach `c`) is judged against its own threshold `c(T)`, from the
 //! flat triangle of its corner points widened by the bound at hand (see [`crate::view`]), so a
 //! triangle off the screen or behind the near plane asks for nothing and a near one for the
-//! most. The cheapest bound that settles it is used, each one a bound on its own:
+//! most. The cheapest bound that settles it is used, each one a bound on its own, tried in
+//! this order:
 //!
-//! 1. a bound already at hand: the recorded bound for a prefix triangle, and for any triangle
-//!    the curvature term of the whole patch, `½ ρ²` from the patch's second-derivative
-//!    bounds, plus the rounding slack (no surface point needed beyond the corners);
-//! 2. otherwise its own bound ([`triangle_bound`]: 28 surface points; cached per triangle slot
-//!    while the triangle stays), first with the whole patch's second derivatives in the
-//!    remainder, kept when it leaves the triangle uncut;
-//! 3. and where it must be cut, the same samples with the patch cut to the triangle's box,
-//!    whose smaller second derivatives give the tighter `½ ρ² / n²` for the pieces.
+//! 1. a bound already at hand: the recorded bound for a prefix triangle (where the recorded
+//!    value is the prefix's own, see `bake::interior`), and for any triangle the curvature
+//!    term of the whole patch, `½ ρ²` from the patch's second-derivative bounds, plus the
+//!    rounding slack (no surface point needed beyond the corners);
+//! 2. the lattice of step 1/3 (10 points) with the whole patch's second derivatives in the
+//!    remainder `½ ρ² / 9`;
+//! 3. the full lattice ([`triangle_bound`]'s 28 points) with the whole patch's remainder;
+//! 4. its own bound: the same samples with the patch cut to the triangle's box, whose smaller
+//!    second derivatives give the tighter `½ ρ² / n²` for the pieces. Only this one chooses a
+//!    factor above 1.
 //!
-//! Second derivatives over the whole patch are at least those over any part of it, so every
-//! step's value is a bound, and a triangle that step 2 leaves uncut step 3 would too: the
-//! stages save work (on the teapot at 1024x768, 1 px, default bake: a third of the triangles
-//! settled at step 1, most of the rest at step 2) without cutting more.
+//! Steps 1 to 3 leave a triangle uncut where their bound is within the threshold it implies.
+//! Each step's value depends on the triangle alone, and the values computed are cached per
+//! triangle slot while the triangle stays; the steps are always tried in the same order, so
+//! the outcome is the same whether a value came from the cache or not (a frame does not
+//! depend on earlier frames). On the teapot at 1024x768, 1 px, default bake, about a third of
+//! the triangles that need a bound are settled at step 1 and most of the rest at steps 2 and
+//! 3.
 //!
-//! Such a triangle is cut uniformly by the smallest factor `n` whose pieces are within `c(T)`:
-//! for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
+//! A triangle whose own bound asks for a factor of 2 is first halved instead, across its
+//! longest inner edge, where both halves' bounds (below) are within its threshold: a cut into
+//! four can leave its pieces far below the threshold. The neighbour across that edge gets a
+//! pattern with that edge halved.
+//!
+//! Otherwise a triangle is cut uniformly by the smallest factor `n` whose pieces are within
+//! `c(T)`: for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
 //! curvature term `½ ρ² / n²` plus the rounding slack (both in [`TriangleBound`]). Each edge
-//! takes the larger factor of its two triangles and each curve the largest of the triangles
-//! along it, so both sides of every edge place the same points (see `pattern`). A triangle
-//! whose edges then differ from its inside is cut in a pattern whose pieces are not uniform:
-//! each piece is bounded on its own, from its corners and edge midpoints and the curvature term
-//! of the piece at a quarter (the same argument as the bound's, with a lattice of step 1/2),
-//! first with the whole patch's second derivatives and, where a piece is over, with the
-//! triangle's box; where one is still over, the triangle's factor grows and the edges are
-//! agreed again. A round skips a patch whose factors and curve factors have not changed since
-//! it was last checked, and a pattern keeps its bound for the frame once computed.
+//! takes the larger factor of its two triangles (and any halving asked of it) and each curve
+//! the largest of the triangles along it, so both sides of every edge place the same points
+//! (see `pattern`). A triangle whose edges then differ from its inside is cut in a pattern
+//! whose pieces are not uniform: each piece is bounded on its own, from its corners and edge
+//! midpoints and the curvature term of the piece at a quarter (the same argument as the
+//! bound's, with a lattice of step 1/2), first with the whole patch's second derivatives and,
+//! where a piece is over, with the triangle's box; where one is still over, the triangle's
+//! factor grows and the edges are agreed again. The factors a round raises are applied when
+//! the round ends, so every triangle of a round sees the same factors and the result does not
+//! depend on the order of the triangles in storage. A round skips a patch whose factors and
+//! curve factors have not changed since it was last checked, and a pattern keeps its bound for
+//! the frame once computed.
 //!
 //! The frame's statistics report the largest bound over threshold of every triangle written,
 //! in the view's units: at most the tolerance unless refinement hit
 //! [`Settings::max_factor`](super::Settings::max_factor).
 
 use super::select::recorded;
+use super::storage::{KNOW_COARSE, KNOW_POINTS, KNOW_WHOLE};
 use super::{common_side, FrameStats, Tessellator};
-use crate::deviation::{triangle_bound, triangle_bound_staged, PatchBounds, TriangleBound};
+use crate::deviation::{corner_points, triangle_bound, Lattice, PatchBounds, TriangleBound};
 use crate::domain::GridPoint;
 use crate::math::{length, sqrt};
 use crate::model::EdgeLink;
@@ -105,8 +120,8 @@ fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]
 }
 
 impl Tessellator<'_, '_> {
-    /// The bound of live triangle `t` of patch `p` with corners `corners`, computed when the
-    /// cache does not hold it.
+    /// The own bound of live triangle slot `slot_index` with corners `corners`, computed when
+    /// the cache does not hold it.
     fn bound_of(
         &mut self,
         patch: &BezierPatch<'_>,
@@ -115,41 +130,103 @@ impl Tessellator<'_, '_> {
         stats: &mut FrameStats,
     ) -> TriangleBound {
         let state = &mut self.storage.triangle_states[slot_index];
-        if let (Some(b), true) = (state.cached(corners), state.local) {
-            return *b;
+        state.about(corners);
+        if let Some(b) = state.cached(corners) {
+            return b;
         }
         let b = triangle_bound(patch, corners);
-        state.corners = corners;
-        state.bound = b;
-        state.known = true;
-        state.local = true;
+        state.keep_own(&b);
         stats.estimated += 1;
         b
     }
 
-    /// [`bound_of`](Self::bound_of), except that a new bound is first tried with the whole
-    /// patch's remainder `whole`, and kept where it is `good_enough` (see
-    /// [`triangle_bound_staged`]).
-    fn quick_bound_of(
+    /// Judges a triangle that needs a bound, by the cheapest bound that settles it (see the
+    /// module docs): `at_hand` (step 1), then the coarse lattice and the full lattice with
+    /// the whole patch's remainder `whole`, each leaving it uncut where it is within the
+    /// threshold it implies, then its own bound, which chooses its factor. The steps and their
+    /// values depend on the triangle and the view alone (computed values are cached, never
+    /// replaced by others), so the outcome does not depend on what earlier frames cached.
+    /// Returns the factor, the pieces' bound, the threshold and the own bound where used.
+    #[allow(clippy::too_many_arguments)]
+    fn judge(
         &mut self,
         patch: &BezierPatch<'_>,
         slot_index: usize,
         corners: [GridPoint; 3],
-        stats: &mut FrameStats,
         whole: &PatchBounds,
-        good_enough: impl Fn(&TriangleBound) -> bool,
-    ) -> TriangleBound {
+        at_hand: f32,
+        view: &View,
+        tol: f32,
+        max: u8,
+        stats: &mut FrameStats,
+    ) -> (u8, f32, f32, Option<TriangleBound>) {
+        let uv = corners.map(GridPoint::to_unit);
         let state = &mut self.storage.triangle_states[slot_index];
-        if let Some(b) = state.cached(corners) {
-            return *b;
+        state.about(corners);
+        if state.known & KNOW_POINTS == 0 {
+            state.points = corner_points(patch, corners);
+            state.known |= KNOW_POINTS;
         }
-        let (b, local) = triangle_bound_staged(patch, corners, whole, good_enough);
-        state.corners = corners;
-        state.bound = b;
-        state.known = true;
-        state.local = local;
-        stats.estimated += 1;
-        b
+        let points = state.points;
+        let own_threshold = |bound: f32| {
+            let (scale, culled) = view.triangle_scale(points, bound);
+            if culled {
+                f32::INFINITY
+            } else {
+                tol * scale
+            }
+        };
+        // 1. A bound at hand.
+        let c = own_threshold(at_hand);
+        if at_hand <= c {
+            return (1, at_hand, c, None);
+        }
+        // 2. The coarse lattice.
+        let mut lattice: Option<(Lattice, bool)> = None;
+        if state.known & KNOW_COARSE == 0 {
+            let l = Lattice::coarse(patch, corners);
+            state.coarse = l.coarse_bound(whole, uv).bound();
+            state.known |= KNOW_COARSE;
+            lattice = Some((l, false));
+            stats.estimated += 1;
+        }
+        let c = own_threshold(state.coarse);
+        if state.coarse <= c {
+            return (1, state.coarse, c, None);
+        }
+        // 3. The full lattice, with the whole patch's remainder.
+        if state.known & KNOW_WHOLE == 0 {
+            let (l, complete) =
+                lattice.get_or_insert_with(|| (Lattice::coarse(patch, corners), false));
+            if !*complete {
+                l.complete(patch);
+                *complete = true;
+            }
+            state.whole = l.bound(whole, uv, false).bound();
+            state.known |= KNOW_WHOLE;
+        }
+        let c = own_threshold(state.whole);
+        if state.whole <= c {
+            return (1, state.whole, c, None);
+        }
+        // 4. Its own bound: the factor.
+        let b = match state.cached(corners) {
+            Some(b) => b,
+            None => {
+                let (l, complete) =
+                    lattice.get_or_insert_with(|| (Lattice::coarse(patch, corners), false));
+                if !*complete {
+                    l.complete(patch);
+                }
+                l.pieces();
+                let b = l.bound(&PatchBounds::around(patch, uv), uv, true);
+                state.keep_own(&b);
+                b
+            }
+        };
+        let c = threshold(view, tol, &b);
+        let f = factor_for(&b, c, max);
+        (f, refined_bound(&b, f), c, Some(b))
     }
 
     /// Chooses every triangle's and curve's refinement factor for `view` (factors 1 when
@@ -214,52 +291,72 @@ impl Tessellator<'_, '_> {
                 state.threshold = slot.c;
                 state.pieces = slot.recorded;
                 state.pattern = [0; 4];
+                state.split = [0; 3];
                 let needs = exhausted || near_extra;
-                if let (false, Some(b)) = (needs, state.cached(corners).copied()) {
-                    // A prefix triangle with a bound from an earlier frame: both hold.
-                    state.threshold = slot.c.max(threshold(view, tol, &b));
-                    state.pieces = slot.recorded.min(b.bound());
-                }
-                // Before computing a bound of its own, a triangle is accepted uncut when a
-                // bound at hand is within its own threshold (the flat triangle of its corner
-                // points widened by that bound): the recorded bound for a prefix triangle, and
-                // the curvature term of the whole patch for any triangle.
-                let quick = needs && state.cached(corners).is_none() && {
-                    let uv = corners.map(GridPoint::to_unit);
-                    let whole = whole.get_or_insert_with(|| PatchBounds::of(&patch));
-                    let mut known = whole.curvature_term(uv) + whole.slack;
-                    if let (false, Some(r)) = (near_extra, own) {
-                        known = known.min(r);
-                    }
-                    let points = uv.map(|(u, v)| patch.position_direct(u, v).to_array());
-                    let (scale, culled) = view.triangle_scale(points, known);
-                    let c = if culled { f32::INFINITY } else { tol * scale };
-                    let accept = known <= c;
-                    if accept {
-                        state.threshold = c;
-                        state.pieces = known;
-                        slot.error_ratio = slot.error_ratio.max(known / c);
-                    }
-                    accept
-                };
-                let f = if needs && !quick {
+                state.judged = needs;
+                let f = if needs {
+                    // A bound at hand: the whole patch's curvature term, and the recorded
+                    // bound for a prefix triangle.
                     let whole = *whole.get_or_insert_with(|| PatchBounds::of(&patch));
-                    let mut b = self.quick_bound_of(&patch, to + t, corners, stats, &whole, |b| {
-                        refined_bound(b, 1) <= threshold(view, tol, b)
-                    });
-                    let mut c = threshold(view, tol, &b);
-                    let mut f = factor_for(&b, c, max);
-                    if f > 1 && !self.storage.triangle_states[to + t].local {
-                        // Cut only with the triangle's own remainder.
-                        b = self.bound_of(&patch, to + t, corners, stats);
-                        c = threshold(view, tol, &b);
-                        f = factor_for(&b, c, max);
+                    let uv = corners.map(GridPoint::to_unit);
+                    let mut at_hand = whole.curvature_term(uv) + whole.slack;
+                    if let (false, Some(r)) = (near_extra, own) {
+                        at_hand = at_hand.min(r);
                     }
+                    let (f, pieces, c, own_bound) = self.judge(
+                        &patch,
+                        to + t,
+                        corners,
+                        &whole,
+                        at_hand,
+                        view,
+                        tol,
+                        max,
+                        stats,
+                    );
                     let state = &mut self.storage.triangle_states[to + t];
                     state.threshold = c;
-                    state.pieces = refined_bound(&b, f);
-                    slot.error_ratio = slot.error_ratio.max(refined_bound(&b, f) / c);
-                    f
+                    state.pieces = pieces;
+                    slot.error_ratio = slot.error_ratio.max(pieces / c);
+                    match own_bound {
+                        Some(b) if f == 2 => {
+                            // Cut in four, the pieces may sit far below the threshold: first
+                            // try halving the longest inner edge (its two pieces, and the
+                            // neighbour's, are bounded with the patterns; where one is over,
+                            // the factor grows).
+                            let length_of = |i: usize| {
+                                let (a, c) = (b.points[(i + 1) % 3], b.points[(i + 2) % 3]);
+                                length(glam::Vec3::from_array(a) - glam::Vec3::from_array(c))
+                            };
+                            let longest = (0..3)
+                                .filter(|&i| n[i].is_some())
+                                .max_by(|&i, &j| length_of(i).total_cmp(&length_of(j)));
+                            // Halves checked here, so a halving that would not do is not
+                            // tried (and undone) in the rounds below.
+                            let halves_fit = longest.is_some_and(|i| {
+                                let uv = corners.map(GridPoint::to_unit);
+                                let (a, b1, b2) = (uv[i], uv[(i + 1) % 3], uv[(i + 2) % 3]);
+                                let m = (0.5 * (b1.0 + b2.0), 0.5 * (b1.1 + b2.1));
+                                let local = PatchBounds::around(&patch, uv);
+                                piece_bound(&patch, &local, [a, b1, m]).max(piece_bound(
+                                    &patch,
+                                    &local,
+                                    [a, m, b2],
+                                )) <= c
+                            });
+                            let state = &mut self.storage.triangle_states[to + t];
+                            match longest.filter(|_| halves_fit) {
+                                Some(i) => {
+                                    state.split[i] = 2;
+                                    // (The patch is refined: no fast path for it.)
+                                    slot.factor = slot.factor.max(2);
+                                    1
+                                }
+                                None => f,
+                            }
+                        }
+                        _ => f,
+                    }
                 } else {
                     1
                 };
@@ -366,7 +463,10 @@ impl Tessellator<'_, '_> {
             // The whole patch's bounds, computed when first needed.
             let mut whole: Option<PatchBounds> = None;
             let plain = curve_factor <= 1
-                && (0..tc).all(|t| self.storage.triangle_states[to + t].factor <= 1);
+                && (0..tc).all(|t| {
+                    let state = &self.storage.triangle_states[to + t];
+                    state.factor <= 1 && state.split.iter().all(|&s| s <= 1)
+                });
             for t in 0..tc {
                 let Some((v, _)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
@@ -383,7 +483,7 @@ impl Tessellator<'_, '_> {
                     worst_ratio = worst_ratio.max(state.pieces / state.threshold);
                     continue;
                 }
-                let mut bound = state.cached(corners).copied();
+                let mut bound = state.cached(corners);
                 let n = self.storage.triangles[to + t]
                     .live_parts()
                     .map_or([None; 3], |x| x.1);
@@ -391,11 +491,26 @@ impl Tessellator<'_, '_> {
                     .patch_view(p)
                     .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
                 let uniform = edges.is_none_or(|e| e == [f; 3]);
-                if !uniform && bound.is_none() {
-                    // Its pieces are judged at its own depth, not at its patch's nearest.
-                    let b = self.bound_of(&patch, to + t, corners, stats);
-                    self.storage.triangle_states[to + t].threshold = threshold(view, tol, &b);
-                    bound = Some(b);
+                if !uniform {
+                    // Its pieces are judged at its own depth, not at its patch's nearest: a
+                    // cut triangle by its own bound (which chose its factor), an uncut one by
+                    // the threshold it was judged with, or, for a baked prefix triangle, the
+                    // one the recorded bound gives at its corners.
+                    if f > 1 {
+                        let b = self.bound_of(&patch, to + t, corners, stats);
+                        self.storage.triangle_states[to + t].threshold = threshold(view, tol, &b);
+                        bound = Some(b);
+                    } else if !self.storage.triangle_states[to + t].judged {
+                        let state = &mut self.storage.triangle_states[to + t];
+                        state.about(corners);
+                        if state.known & KNOW_POINTS == 0 {
+                            state.points = corner_points(&patch, corners);
+                            state.known |= KNOW_POINTS;
+                        }
+                        let (scale, culled) = view.triangle_scale(state.points, slot.recorded);
+                        let own = if culled { f32::INFINITY } else { tol * scale };
+                        state.threshold = slot.c.max(own);
+                    }
                 }
                 let c = self.storage.triangle_states[to + t].threshold;
                 // Pieces of a non-uniform pattern, each bounded on its own.
@@ -444,30 +559,57 @@ impl Tessellator<'_, '_> {
                         if allow_raise && worst > c && f < max {
                             // Pieces shrink about as the factor grows.
                             let grow = libm::ceilf(f as f32 * sqrt(worst / c));
-                            let next = if grow >= max as f32 {
+                            let bisected = self.storage.triangle_states[to + t]
+                                .split
+                                .iter()
+                                .any(|&s| s > 1);
+                            let next = if f == 1 && bisected {
+                                // A halving that was not enough: the uniform cut its own
+                                // bound chose.
+                                2
+                            } else if grow >= max as f32 {
                                 max
                             } else {
                                 (grow as u8).max(f + 1)
                             };
+                            // Applied after the round, so that every triangle of a round
+                            // sees the same factors (the outcome does not depend on the
+                            // order of the triangles in storage).
                             changed = true;
-                            self.raise_factor(p, t, next, view, tol, stats);
+                            self.storage.triangle_states[to + t].pending = next;
                             continue;
                         }
                         worst
                     }
-                    // Uncut, with a bound at hand too: the smaller.
-                    (None, Some(b)) if f == 1 => {
-                        refined_bound(&b, 1).min(self.storage.triangle_states[to + t].pieces)
-                    }
-                    (None, Some(b)) => refined_bound(&b, f),
-                    // Uncut without a bound of its own: a baked prefix triangle within the
-                    // recorded bound, or one accepted by a bound at hand (`choose_factors`).
-                    (None, None) => self.storage.triangle_states[to + t].pieces,
+                    // Cut uniformly: by its own bound, which chose the factor.
+                    (None, Some(b)) if f > 1 => refined_bound(&b, f),
+                    // Uncut: a baked prefix triangle within the recorded bound, or one
+                    // judged uncut in `choose_factors` (by whichever bound settled it).
+                    (None, _) => self.storage.triangle_states[to + t].pieces,
                 };
                 self.storage.triangle_states[to + t].pieces = piece_bound;
                 worst_ratio = worst_ratio.max(piece_bound / c);
             }
             self.storage.patches[p].error_ratio = worst_ratio;
+        }
+        if changed {
+            for p in 0..baked.patch_count() {
+                let slot = self.storage.patches[p];
+                if slot.culled {
+                    continue;
+                }
+                let (to, tc) = (
+                    slot.triangle_offset as usize,
+                    slot.triangle_capacity as usize,
+                );
+                for t in 0..tc {
+                    let next = self.storage.triangle_states[to + t].pending;
+                    if next > 0 {
+                        self.storage.triangle_states[to + t].pending = 0;
+                        self.raise_factor(p, t, next, view, tol, stats);
+                    }
+                }
+            }
         }
         changed
     }

@@ -76,34 +76,79 @@ pub struct CurveSlot {
     pub(super) side: Side,
 }
 
-/// One domain triangle's cached bound (storage slot; contents are private).
+/// One domain triangle's cached bounds (storage slot; contents are private).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriangleSlot {
     /// The triangle the cache is about.
     pub(super) corners: [GridPoint; 3],
-    /// Its bound, when computed.
-    pub(super) bound: TriangleBound,
-    /// Whether `bound` is about `corners`.
-    pub(super) known: bool,
-    /// Whether `bound`'s remainder is from the triangle's own box (else from the whole
-    /// patch's: looser for refinement factors above 1).
-    pub(super) local: bool,
+    /// What is known about `corners`: [`KNOW_POINTS`], [`KNOW_COARSE`], [`KNOW_WHOLE`],
+    /// [`KNOW_OWN`].
+    pub(super) known: u8,
+    /// The surface at the corners.
+    pub(super) points: [[f32; 3]; 3],
+    /// Its bound from the lattice of step 1/3 and the whole patch's remainder.
+    pub(super) coarse: f32,
+    /// Its bound from the full lattice and the whole patch's remainder.
+    pub(super) whole: f32,
+    /// Its own bound, and its pieces' (the remainder from its box): `refined`, then
+    /// `curvature` and `slack` of its [`TriangleBound`] (whose corner points are `points`).
+    pub(super) own: [f32; 6],
     /// Its refinement factor in the current frame.
     pub(super) factor: u8,
     /// Bound of every piece it is cut into in the current frame, in object units.
     pub(super) pieces: f32,
-    /// Its threshold in the current frame when it is a prefix triangle of an exhausted patch
-    /// left uncut without a computed bound (object units); otherwise the patch's.
+    /// Its threshold in the current frame (object units): its own where it was judged on its
+    /// own, otherwise its patch's.
     pub(super) threshold: f32,
     /// The factor and edge factors of the non-uniform pattern `pieces` bounds this frame
     /// (zeros when none).
     pub(super) pattern: [u8; 4],
+    /// Factors its edges (edge `i` opposite corner `i`) are asked to take this frame beyond
+    /// the triangle's own: a bisection where a uniform cut would overshoot (0 when none).
+    pub(super) split: [u8; 3],
+    /// The factor a round of agreement raises it to, applied when the round ends (0: none).
+    pub(super) pending: u8,
+    /// Whether it was judged on its own bounds this frame (else it is a baked prefix
+    /// triangle within the recorded bound).
+    pub(super) judged: bool,
 }
 
+/// [`TriangleSlot::points`] holds the corners' surface points.
+pub(super) const KNOW_POINTS: u8 = 1;
+/// [`TriangleSlot::coarse`] holds its bound.
+pub(super) const KNOW_COARSE: u8 = 2;
+/// [`TriangleSlot::whole`] holds its bound.
+pub(super) const KNOW_WHOLE: u8 = 4;
+/// [`TriangleSlot::bound`] holds its bound.
+pub(super) const KNOW_OWN: u8 = 8;
+
 impl TriangleSlot {
-    /// The cached bound, if it is about `corners`.
-    pub(super) fn cached(&self, corners: [GridPoint; 3]) -> Option<&TriangleBound> {
-        (self.known && self.corners == corners).then_some(&self.bound)
+    /// The triangle's own bound, if the cache holds it for `corners`.
+    pub(super) fn cached(&self, corners: [GridPoint; 3]) -> Option<TriangleBound> {
+        let o = self.own;
+        (self.known & KNOW_OWN != 0 && self.corners == corners).then_some(TriangleBound {
+            refined: [o[0], o[1], o[2], o[3]],
+            curvature: o[4],
+            slack: o[5],
+            at: GridPoint::default(),
+            points: self.points,
+        })
+    }
+
+    /// Keeps `b` as the triangle's own bound.
+    pub(super) fn keep_own(&mut self, b: &TriangleBound) {
+        let r = b.refined;
+        self.own = [r[0], r[1], r[2], r[3], b.curvature, b.slack];
+        self.points = b.points;
+        self.known |= KNOW_OWN | KNOW_POINTS;
+    }
+
+    /// Makes the cache about `corners` (forgetting what it knew about other corners).
+    pub(super) fn about(&mut self, corners: [GridPoint; 3]) {
+        if self.corners != corners {
+            self.corners = corners;
+            self.known = 0;
+        }
     }
 }
 
