@@ -273,8 +273,6 @@ impl Tessellator<'_, '_> {
                 slot.triangle_offset as usize,
                 slot.triangle_capacity as usize,
             );
-            // The whole patch's bounds, computed when first needed.
-            let mut whole: Option<PatchBounds> = None;
             for t in 0..tc {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
@@ -297,7 +295,7 @@ impl Tessellator<'_, '_> {
                 let f = if needs {
                     // A bound at hand: the whole patch's curvature term, and the recorded
                     // bound for a prefix triangle.
-                    let whole = *whole.get_or_insert_with(|| PatchBounds::of(&patch));
+                    let whole = *slot.whole.get_or_insert_with(|| PatchBounds::of(&patch));
                     let uv = corners.map(GridPoint::to_unit);
                     let mut at_hand = whole.curvature_term(uv) + whole.slack;
                     if let (false, Some(r)) = (near_extra, own) {
@@ -452,6 +450,7 @@ impl Tessellator<'_, '_> {
             }
             self.storage.patches[p].settled = true;
             self.storage.patches[p].checked_curves = curve_factors;
+
             let mut worst_ratio = if slot.exhausted() {
                 0.0
             } else {
@@ -460,8 +459,6 @@ impl Tessellator<'_, '_> {
             // Without a factor above 1 in the patch or on its curves, every pattern is the
             // triangle itself.
             let curve_factor = curve_factors.into_iter().max().unwrap_or(1);
-            // The whole patch's bounds, computed when first needed.
-            let mut whole: Option<PatchBounds> = None;
             let plain = curve_factor <= 1
                 && (0..tc).all(|t| {
                     let state = &self.storage.triangle_states[to + t];
@@ -518,6 +515,15 @@ impl Tessellator<'_, '_> {
                 let mut pieces = None;
                 let mut computed = None;
                 let known = self.storage.triangle_states[to + t];
+                // The whole patch's bounds (cached in its slot) where a pattern is new.
+                let whole = match edges {
+                    Some(e) if e != [f; 3] && known.pattern != [f, e[0], e[1], e[2]] => Some(
+                        *self.storage.patches[p]
+                            .whole
+                            .get_or_insert_with(|| PatchBounds::of(&patch)),
+                    ),
+                    _ => None,
+                };
                 if let (Some(view_p), Some(edges)) = (self.patch_view(p), edges) {
                     let key = [f, edges[0], edges[1], edges[2]];
                     if edges != [f; 3] && known.pattern == key {
@@ -526,7 +532,6 @@ impl Tessellator<'_, '_> {
                         computed = Some(key);
                         // First with the whole patch's remainder; cut to the triangle's box
                         // only where that is over the threshold.
-                        let whole = *whole.get_or_insert_with(|| PatchBounds::of(&patch));
                         let worst_with = |bounds: &PatchBounds| {
                             let mut worst = 0.0f32;
                             view_p.refine(
@@ -541,6 +546,7 @@ impl Tessellator<'_, '_> {
                             );
                             worst
                         };
+                        let whole = whole.unwrap_or_else(|| PatchBounds::of(&patch));
                         let mut worst = worst_with(&whole);
                         if worst > c {
                             let local =

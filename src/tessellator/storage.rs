@@ -4,7 +4,7 @@
 use core::fmt;
 
 use crate::bake::{BakedModel, BakedPatch};
-use crate::deviation::TriangleBound;
+use crate::deviation::{PatchBounds, TriangleBound};
 use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
 use crate::model::EdgeLink;
 use crate::patch::Side;
@@ -48,6 +48,8 @@ pub struct PatchSlot {
     pub(super) settled: bool,
     /// Its sides' curve factors when it was last checked.
     pub(super) checked_curves: [u8; 4],
+    /// The whole patch's bounds, once computed (they do not depend on the view).
+    pub(super) whole: Option<PatchBounds>,
 }
 
 impl PatchSlot {
