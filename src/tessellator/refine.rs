@@ -28,10 +28,10 @@
 //! the triangles that need a bound are settled at step 1 and most of the rest at steps 2 and
 //! 3.
 //!
-//! A triangle whose own bound asks for a factor of 2 is first halved instead, across its
-//! longest inner edge, where both halves' bounds (below) are within its threshold: a cut into
-//! four can leave its pieces far below the threshold. The neighbour across that edge gets a
-//! pattern with that edge halved.
+//! A triangle whose own bound asks for a factor of 2 is halved instead, across the inner edge
+//! whose halves have the smallest bound (below), where that is within its threshold: a cut
+//! into four can leave its pieces far below the threshold. The neighbour across that edge gets
+//! a pattern with that edge halved.
 //!
 //! Otherwise a triangle is cut uniformly by the smallest factor `n` whose pieces are within
 //! `c(T)`: for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
@@ -39,10 +39,11 @@
 //! takes the larger factor of its two triangles (and any halving asked of it) and each curve
 //! the largest of the triangles along it, so both sides of every edge place the same points
 //! (see `pattern`). A triangle whose edges then differ from its inside is cut in a pattern
-//! whose pieces are not uniform: each piece is bounded on its own, from its corners and edge
-//! midpoints and the curvature term of the piece at a quarter (the same argument as the
-//! bound's, with a lattice of step 1/2), first with the whole patch's second derivatives and,
-//! where a piece is over, with the triangle's box; where one is still over, the triangle's
+//! whose pieces are not uniform: each piece is bounded on its own, from the lattice of step
+//! 1/3 on the piece (7 points besides its corners) and a ninth of the piece's curvature term
+//! (the same argument as the bound's; the coarser step 1/2 left most halvings and their
+//! neighbours over), first with the whole patch's second derivatives and, where a piece is
+//! over, with the triangle's box; where one is still over, the triangle's
 //! factor grows and the edges are agreed again. The factors a round raises are applied when
 //! the round ends, so every triangle of a round sees the same factors and the result does not
 //! depend on the order of the triangles in storage. A round skips a patch whose factors and
@@ -107,16 +108,22 @@ fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
     }
 }
 
-/// Bound of the piece `uv` of a triangle whose box has the bounds `local`: the piece's
-/// corners and edge midpoints sampled, and a quarter of its curvature term.
+/// Bound of the piece `uv` of a triangle whose box has the bounds `local` (or any region
+/// containing the piece): the lattice of step 1/3 on the piece sampled (its 7 points besides
+/// the corners), and a ninth of its curvature term (the bound's argument, see
+/// [`crate::deviation`]).
 fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]) -> f32 {
     let s = uv.map(|(u, v)| patch.position_direct(u, v));
     let mut worst = 0.0f32;
-    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
-        let mid = patch.position_direct(0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
-        worst = worst.max(length(mid - (s[a] + s[b]) * 0.5));
+    for (i, j) in [(1, 0), (2, 0), (0, 1), (0, 2), (1, 1), (2, 1), (1, 2)] {
+        let k = 3 - i - j;
+        let (a, b, c) = (k as f32 / 3.0, i as f32 / 3.0, j as f32 / 3.0);
+        let u = a * uv[0].0 + b * uv[1].0 + c * uv[2].0;
+        let v = a * uv[0].1 + b * uv[1].1 + c * uv[2].1;
+        let linear = s[0] * a + s[1] * b + s[2] * c;
+        worst = worst.max(length(patch.position_direct(u, v) - linear));
     }
-    worst + 0.25 * local.curvature_term(uv) + local.slack
+    worst + local.curvature_term(uv) * (1.0 / 9.0) + local.slack
 }
 
 impl Tessellator<'_, '_> {
@@ -317,40 +324,37 @@ impl Tessellator<'_, '_> {
                     state.pieces = pieces;
                     slot.error_ratio = slot.error_ratio.max(pieces / c);
                     match own_bound {
-                        Some(b) if f == 2 => {
+                        Some(_) if f == 2 => {
                             // Cut in four, the pieces may sit far below the threshold: first
-                            // try halving the longest inner edge (its two pieces, and the
-                            // neighbour's, are bounded with the patterns; where one is over,
-                            // the factor grows).
-                            let length_of = |i: usize| {
-                                let (a, c) = (b.points[(i + 1) % 3], b.points[(i + 2) % 3]);
-                                length(glam::Vec3::from_array(a) - glam::Vec3::from_array(c))
-                            };
-                            let longest = (0..3)
-                                .filter(|&i| n[i].is_some())
-                                .max_by(|&i, &j| length_of(i).total_cmp(&length_of(j)));
-                            // Halves checked here, so a halving that would not do is not
-                            // tried (and undone) in the rounds below.
-                            let halves_fit = longest.is_some_and(|i| {
-                                let uv = corners.map(GridPoint::to_unit);
+                            // try halving an inner edge, the one whose halves have the
+                            // smallest bound, where that is within the threshold (checked
+                            // here, so a halving that would not do is not tried, and undone,
+                            // in the rounds below). The neighbour across it gets a pattern
+                            // with that edge halved, bounded in the rounds.
+                            let uv = corners.map(GridPoint::to_unit);
+                            let local = PatchBounds::around(&patch, uv);
+                            let halves = |i: usize| {
                                 let (a, b1, b2) = (uv[i], uv[(i + 1) % 3], uv[(i + 2) % 3]);
                                 let m = (0.5 * (b1.0 + b2.0), 0.5 * (b1.1 + b2.1));
-                                let local = PatchBounds::around(&patch, uv);
                                 piece_bound(&patch, &local, [a, b1, m]).max(piece_bound(
                                     &patch,
                                     &local,
                                     [a, m, b2],
-                                )) <= c
-                            });
+                                ))
+                            };
+                            let best = (0..3)
+                                .filter(|&i| n[i].is_some())
+                                .map(|i| (i, halves(i)))
+                                .min_by(|x, y| x.1.total_cmp(&y.1));
                             let state = &mut self.storage.triangle_states[to + t];
-                            match longest.filter(|_| halves_fit) {
-                                Some(i) => {
+                            match best {
+                                Some((i, h)) if h <= c => {
                                     state.split[i] = 2;
                                     // (The patch is refined: no fast path for it.)
                                     slot.factor = slot.factor.max(2);
                                     1
                                 }
-                                None => f,
+                                _ => f,
                             }
                         }
                         _ => f,
