@@ -12,8 +12,11 @@
 //! inner point, or an inner segment to a point of the parallel side, so none is inverted or
 //! flat.
 //!
-//! Triangle counts: `n²` when uniform; otherwise `(n-3)² + e0 + e1 + e2 + 3 (n-3)` for `n >= 4`
-//! and `e0 + e1 + e2` for `n <= 3`.
+//! An uncut inside (`n` = 1) with one side cut is a fan from the opposite corner instead (a
+//! triangle halved across one edge is two triangles, not a fan of four around its centroid).
+//!
+//! Triangle counts: `n²` when uniform; `e[s]` for one cut side `s` of an uncut inside;
+//! otherwise `(n-3)² + e0 + e1 + e2 + 3 (n-3)` for `n >= 4` and `e0 + e1 + e2` for `n <= 3`.
 
 /// A point of a refined triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,8 +36,25 @@ pub(crate) fn is_uniform(n: u8, e: [u8; 3]) -> bool {
     e == [n; 3]
 }
 
+/// The one side cut when the inside is not (`n` = 1) and no other side is: such a triangle is
+/// a fan from the opposite corner to that side's points, without an inner point.
+fn single_side(n: u8, e: [u8; 3]) -> Option<u8> {
+    if n != 1 {
+        return None;
+    }
+    match e.map(|x| x > 1) {
+        [true, false, false] => Some(0),
+        [false, true, false] => Some(1),
+        [false, false, true] => Some(2),
+        _ => None,
+    }
+}
+
 /// Points strictly inside (lattice and centroid) that the pattern adds.
 pub(crate) fn inner_points(n: u8, e: [u8; 3]) -> u32 {
+    if single_side(n, e).is_some() {
+        return 0;
+    }
     let n = n as u32;
     if is_uniform(n as u8, e) || n >= 3 {
         if n >= 3 {
@@ -65,7 +85,9 @@ pub(crate) fn inner_index(n: u8, p: Local) -> Option<u32> {
 #[cfg(test)]
 pub(crate) fn triangle_count(n: u8, e: [u8; 3]) -> u32 {
     let n32 = n as u32;
-    if is_uniform(n, e) {
+    if let Some(s) = single_side(n, e) {
+        e[s as usize] as u32
+    } else if is_uniform(n, e) {
         n32 * n32
     } else {
         let ring = e.iter().map(|&x| x as u32).sum::<u32>();
@@ -96,6 +118,18 @@ fn lattice(n: u8, a: u8, b: u8) -> Local {
 pub(crate) fn for_each_triangle(n: u8, e: [u8; 3], mut out: impl FnMut([Local; 3])) {
     if is_uniform(n, e) {
         uniform(n, 0, n, &mut out);
+        return;
+    }
+    if let Some(s) = single_side(n, e) {
+        // A fan from the opposite corner: the side's segments, each with that corner.
+        let point = |r: u8| match r {
+            0 => Local::Corner(s),
+            r if r == e[s as usize] => Local::Corner((s + 1) % 3),
+            r => Local::Side { side: s, r },
+        };
+        for r in 0..e[s as usize] {
+            out([point(r), point(r + 1), Local::Corner((s + 2) % 3)]);
+        }
         return;
     }
     if n >= 4 {
