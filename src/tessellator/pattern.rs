@@ -13,9 +13,12 @@
 //! flat.
 //!
 //! An uncut inside (`n` = 1) with one side cut is a fan from the opposite corner instead (a
-//! triangle halved across one edge is two triangles, not a fan of four around its centroid).
+//! triangle halved across one edge is two triangles, not a fan of four around its centroid);
+//! with two sides halved it is three triangles (the corner between them cut off), with all
+//! three halved the four of the uniform pattern of 2.
 //!
-//! Triangle counts: `n²` when uniform; `e[s]` for one cut side `s` of an uncut inside;
+//! Triangle counts: `n²` when uniform; `e[s]` for one cut side `s` of an uncut inside, 3 and
+//! 4 for two and three halved sides;
 //! otherwise `(n-3)² + e0 + e1 + e2 + 3 (n-3)` for `n >= 4` and `e0 + e1 + e2` for `n <= 3`.
 
 /// A point of a refined triangle.
@@ -50,9 +53,29 @@ fn single_side(n: u8, e: [u8; 3]) -> Option<u8> {
     }
 }
 
+/// The one side left whole when the inside is not cut (`n` = 1) and the other two sides are
+/// halved: such a triangle is three, the corner between the halved sides cut off at their
+/// midpoints, without an inner point.
+fn two_halved(n: u8, e: [u8; 3]) -> Option<u8> {
+    if n != 1 {
+        return None;
+    }
+    match e {
+        [1, 2, 2] => Some(0),
+        [2, 1, 2] => Some(1),
+        [2, 2, 1] => Some(2),
+        _ => None,
+    }
+}
+
+/// An uncut inside with every side halved: the uniform pattern of 2, without an inner point.
+fn all_halved(n: u8, e: [u8; 3]) -> bool {
+    n == 1 && e == [2; 3]
+}
+
 /// Points strictly inside (lattice and centroid) that the pattern adds.
 pub(crate) fn inner_points(n: u8, e: [u8; 3]) -> u32 {
-    if single_side(n, e).is_some() {
+    if single_side(n, e).is_some() || two_halved(n, e).is_some() || all_halved(n, e) {
         return 0;
     }
     let n = n as u32;
@@ -87,6 +110,10 @@ pub(crate) fn triangle_count(n: u8, e: [u8; 3]) -> u32 {
     let n32 = n as u32;
     if let Some(s) = single_side(n, e) {
         e[s as usize] as u32
+    } else if two_halved(n, e).is_some() {
+        3
+    } else if all_halved(n, e) {
+        4
     } else if is_uniform(n, e) {
         n32 * n32
     } else {
@@ -130,6 +157,19 @@ pub(crate) fn for_each_triangle(n: u8, e: [u8; 3], mut out: impl FnMut([Local; 3
         for r in 0..e[s as usize] {
             out([point(r), point(r + 1), Local::Corner((s + 2) % 3)]);
         }
+        return;
+    }
+    if let Some(u) = two_halved(n, e) {
+        // Sides a and b are halved; they meet at corner b.
+        let (a, b) = ((u + 1) % 3, (u + 2) % 3);
+        let (ma, mb) = (Local::Side { side: a, r: 1 }, Local::Side { side: b, r: 1 });
+        out([ma, Local::Corner(b), mb]);
+        out([Local::Corner(u), Local::Corner(a), ma]);
+        out([Local::Corner(u), ma, mb]);
+        return;
+    }
+    if all_halved(n, e) {
+        uniform(2, 0, 2, &mut out);
         return;
     }
     if n >= 4 {
