@@ -29,9 +29,10 @@
 //! 3.
 //!
 //! A triangle whose own bound asks for a factor of 2 is halved instead, across the inner edge
-//! whose halves have the smallest bound (below), where that is within its threshold: a cut
-//! into four can leave its pieces far below the threshold. The neighbour across that edge gets
-//! a pattern with that edge halved.
+//! whose halves have the smallest bound (below), where that is within its threshold, or else
+//! has two inner edges halved (three pieces), where those fit: a cut into four can leave its
+//! pieces far below the threshold. The neighbour across a halved edge gets a pattern with that
+//! edge halved (two triangles; see `pattern`).
 //!
 //! Otherwise a triangle is cut uniformly by the smallest factor `n` whose pieces are within
 //! `c(T)`: for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
@@ -346,6 +347,27 @@ impl Tessellator<'_, '_> {
                                 .filter(|&i| n[i].is_some())
                                 .map(|i| (i, halves(i)))
                                 .min_by(|x, y| x.1.total_cmp(&y.1));
+                            // Else two inner edges halved: the corner between them cut off,
+                            // the rest cut along one of two diagonals (the larger bound of
+                            // both is taken; the pattern chooses one).
+                            let mid = |a: usize, b: usize| {
+                                (0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1))
+                            };
+                            let two = |i: usize, j: usize| {
+                                let k = 3 - i - j;
+                                let (mi, mj) = (mid(j, k), mid(i, k));
+                                let piece = |q: [(f32, f32); 3]| piece_bound(&patch, &local, q);
+                                piece([mi, uv[k], mj])
+                                    .max(piece([uv[i], uv[j], mi]).max(piece([uv[i], mi, mj])))
+                                    .max(piece([uv[i], uv[j], mj]).max(piece([uv[j], mi, mj])))
+                            };
+                            let pair = || {
+                                [(0, 1), (0, 2), (1, 2)]
+                                    .into_iter()
+                                    .filter(|&(i, j)| n[i].is_some() && n[j].is_some())
+                                    .map(|(i, j)| (i, j, two(i, j)))
+                                    .min_by(|x, y| x.2.total_cmp(&y.2))
+                            };
                             let state = &mut self.storage.triangle_states[to + t];
                             match best {
                                 Some((i, h)) if h <= c => {
@@ -354,7 +376,16 @@ impl Tessellator<'_, '_> {
                                     slot.factor = slot.factor.max(2);
                                     1
                                 }
-                                _ => f,
+                                _ => match pair() {
+                                    Some((i, j, h)) if h <= c => {
+                                        let state = &mut self.storage.triangle_states[to + t];
+                                        state.split[i] = 2;
+                                        state.split[j] = 2;
+                                        slot.factor = slot.factor.max(2);
+                                        1
+                                    }
+                                    _ => f,
+                                },
                             }
                         }
                         _ => f,
