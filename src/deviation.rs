@@ -413,6 +413,8 @@ pub(crate) struct Lattice {
     at: (usize, usize),
     /// The triangle's corners.
     corners: [GridPoint; 3],
+    /// Whether every point is sampled (not only the coarse ones).
+    complete: bool,
 }
 
 /// The surface at the corners of `corners`, computed as every bound computes them.
@@ -454,6 +456,7 @@ impl Lattice {
             worst: [0.0; 4],
             at: (1, 1),
             corners,
+            complete: false,
         }
     }
 
@@ -491,8 +494,13 @@ impl Lattice {
         }
     }
 
-    /// Every point, and the largest deviation of the triangle itself.
+    /// Every point, and the largest deviation of the triangle itself (once; later calls do
+    /// nothing).
     pub(crate) fn complete(&mut self, patch: &BezierPatch<'_>) {
+        if self.complete {
+            return;
+        }
+        self.complete = true;
         let n = LATTICE as usize;
         let corners = self.corners;
         for i in 0..=n {

@@ -56,9 +56,9 @@
 //! [`Settings::max_factor`](super::Settings::max_factor).
 
 use super::select::recorded;
-use super::storage::{KNOW_COARSE, KNOW_POINTS, KNOW_WHOLE};
+use super::storage::{KNOW_COARSE, KNOW_WHOLE};
 use super::{common_side, FrameStats, Tessellator};
-use crate::deviation::{corner_points, triangle_bound, Lattice, PatchBounds, TriangleBound};
+use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
 use crate::domain::GridPoint;
 use crate::math::{length, sqrt};
 use crate::model::EdgeLink;
@@ -98,15 +98,70 @@ fn factor_for(b: &TriangleBound, c: f32, max: u8) -> u8 {
     (1..=max).find(|&n| refined_bound(b, n) <= c).unwrap_or(max)
 }
 
-/// The threshold of a triangle whose surface piece lies within its bound of the flat
-/// triangle of `b`'s points.
-fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
-    let (scale, culled) = view.triangle_scale(b.points, b.bound());
+/// The threshold of a triangle whose surface piece lies within `bound` of the flat triangle
+/// of `points`.
+fn own_threshold(view: &View, tol: f32, points: [[f32; 3]; 3], bound: f32) -> f32 {
+    let (scale, culled) = view.triangle_scale(points, bound);
     if culled {
         f32::INFINITY
     } else {
         tol * scale
     }
+}
+
+/// [`own_threshold`] with a triangle's own bound.
+fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
+    own_threshold(view, tol, b.points, b.bound())
+}
+
+/// A cheaper cut than four for a triangle with unit corners `uv` whose own bound asks for a
+/// factor of 2, as split requests per edge: one inner edge halved (the one whose halves bound
+/// smallest), or else two (the corner between them cut off, the rest along one of two
+/// diagonals: the larger bound of both is taken, the pattern chooses one), where the pieces
+/// are within `c`. `inner[i]` says whether edge `i` (opposite corner `i`) has a neighbour.
+fn halving(
+    patch: &BezierPatch<'_>,
+    uv: [(f32, f32); 3],
+    inner: [bool; 3],
+    c: f32,
+) -> Option<[u8; 3]> {
+    let local = PatchBounds::around(patch, uv);
+    let piece = |q: [(f32, f32); 3]| piece_bound(patch, &local, q);
+    let mid = |a: usize, b: usize| (0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
+    let one = (0..3)
+        .filter(|&i| inner[i])
+        .map(|i| {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let m = mid(j, k);
+            (i, piece([uv[i], uv[j], m]).max(piece([uv[i], m, uv[k]])))
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1));
+    if let Some((i, h)) = one {
+        if h <= c {
+            let mut split = [0; 3];
+            split[i] = 2;
+            return Some(split);
+        }
+    }
+    let two = |i: usize, j: usize| {
+        let k = 3 - i - j;
+        let (mi, mj) = (mid(j, k), mid(i, k));
+        piece([mi, uv[k], mj])
+            .max(piece([uv[i], uv[j], mi]).max(piece([uv[i], mi, mj])))
+            .max(piece([uv[i], uv[j], mj]).max(piece([uv[j], mi, mj])))
+    };
+    [(0, 1), (0, 2), (1, 2)]
+        .into_iter()
+        .filter(|&(i, j)| inner[i] && inner[j])
+        .map(|(i, j)| (i, j, two(i, j)))
+        .min_by(|x, y| x.2.total_cmp(&y.2))
+        .filter(|&(_, _, h)| h <= c)
+        .map(|(i, j, _)| {
+            let mut split = [0; 3];
+            split[i] = 2;
+            split[j] = 2;
+            split
+        })
 }
 
 /// Bound of the piece `uv` of a triangle whose box has the bounds `local` (or any region
@@ -170,32 +225,20 @@ impl Tessellator<'_, '_> {
     ) -> (u8, f32, f32, Option<TriangleBound>) {
         let uv = corners.map(GridPoint::to_unit);
         let state = &mut self.storage.triangle_states[slot_index];
-        state.about(corners);
-        if state.known & KNOW_POINTS == 0 {
-            state.points = corner_points(patch, corners);
-            state.known |= KNOW_POINTS;
-        }
-        let points = state.points;
-        let own_threshold = |bound: f32| {
-            let (scale, culled) = view.triangle_scale(points, bound);
-            if culled {
-                f32::INFINITY
-            } else {
-                tol * scale
-            }
-        };
+        let points = state.corner_points(patch, corners);
+        let own_threshold = |bound: f32| own_threshold(view, tol, points, bound);
         // 1. A bound at hand.
         let c = own_threshold(at_hand);
         if at_hand <= c {
             return (1, at_hand, c, None);
         }
         // 2. The coarse lattice.
-        let mut lattice: Option<(Lattice, bool)> = None;
+        let mut lattice: Option<Lattice> = None;
         if state.known & KNOW_COARSE == 0 {
             let l = Lattice::coarse(patch, corners);
             state.coarse = l.coarse_bound(whole, uv).bound();
             state.known |= KNOW_COARSE;
-            lattice = Some((l, false));
+            lattice = Some(l);
             stats.estimated += 1;
         }
         let c = own_threshold(state.coarse);
@@ -204,12 +247,8 @@ impl Tessellator<'_, '_> {
         }
         // 3. The full lattice, with the whole patch's remainder.
         if state.known & KNOW_WHOLE == 0 {
-            let (l, complete) =
-                lattice.get_or_insert_with(|| (Lattice::coarse(patch, corners), false));
-            if !*complete {
-                l.complete(patch);
-                *complete = true;
-            }
+            let l = lattice.get_or_insert_with(|| Lattice::coarse(patch, corners));
+            l.complete(patch);
             state.whole = l.bound(whole, uv, false).bound();
             state.known |= KNOW_WHOLE;
         }
@@ -221,11 +260,8 @@ impl Tessellator<'_, '_> {
         let b = match state.cached(corners) {
             Some(b) => b,
             None => {
-                let (l, complete) =
-                    lattice.get_or_insert_with(|| (Lattice::coarse(patch, corners), false));
-                if !*complete {
-                    l.complete(patch);
-                }
+                let l = lattice.get_or_insert_with(|| Lattice::coarse(patch, corners));
+                l.complete(patch);
                 l.pieces();
                 let b = l.bound(&PatchBounds::around(patch, uv), uv, true);
                 state.keep_own(&b);
@@ -324,71 +360,21 @@ impl Tessellator<'_, '_> {
                     state.threshold = c;
                     state.pieces = pieces;
                     slot.error_ratio = slot.error_ratio.max(pieces / c);
-                    match own_bound {
-                        Some(_) if f == 2 => {
-                            // Cut in four, the pieces may sit far below the threshold: first
-                            // try halving an inner edge, the one whose halves have the
-                            // smallest bound, where that is within the threshold (checked
-                            // here, so a halving that would not do is not tried, and undone,
-                            // in the rounds below). The neighbour across it gets a pattern
-                            // with that edge halved, bounded in the rounds.
-                            let uv = corners.map(GridPoint::to_unit);
-                            let local = PatchBounds::around(&patch, uv);
-                            let halves = |i: usize| {
-                                let (a, b1, b2) = (uv[i], uv[(i + 1) % 3], uv[(i + 2) % 3]);
-                                let m = (0.5 * (b1.0 + b2.0), 0.5 * (b1.1 + b2.1));
-                                piece_bound(&patch, &local, [a, b1, m]).max(piece_bound(
-                                    &patch,
-                                    &local,
-                                    [a, m, b2],
-                                ))
-                            };
-                            let best = (0..3)
-                                .filter(|&i| n[i].is_some())
-                                .map(|i| (i, halves(i)))
-                                .min_by(|x, y| x.1.total_cmp(&y.1));
-                            // Else two inner edges halved: the corner between them cut off,
-                            // the rest cut along one of two diagonals (the larger bound of
-                            // both is taken; the pattern chooses one).
-                            let mid = |a: usize, b: usize| {
-                                (0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1))
-                            };
-                            let two = |i: usize, j: usize| {
-                                let k = 3 - i - j;
-                                let (mi, mj) = (mid(j, k), mid(i, k));
-                                let piece = |q: [(f32, f32); 3]| piece_bound(&patch, &local, q);
-                                piece([mi, uv[k], mj])
-                                    .max(piece([uv[i], uv[j], mi]).max(piece([uv[i], mi, mj])))
-                                    .max(piece([uv[i], uv[j], mj]).max(piece([uv[j], mi, mj])))
-                            };
-                            let pair = || {
-                                [(0, 1), (0, 2), (1, 2)]
-                                    .into_iter()
-                                    .filter(|&(i, j)| n[i].is_some() && n[j].is_some())
-                                    .map(|(i, j)| (i, j, two(i, j)))
-                                    .min_by(|x, y| x.2.total_cmp(&y.2))
-                            };
-                            let state = &mut self.storage.triangle_states[to + t];
-                            match best {
-                                Some((i, h)) if h <= c => {
-                                    state.split[i] = 2;
-                                    // (The patch is refined: no fast path for it.)
-                                    slot.factor = slot.factor.max(2);
-                                    1
-                                }
-                                _ => match pair() {
-                                    Some((i, j, h)) if h <= c => {
-                                        let state = &mut self.storage.triangle_states[to + t];
-                                        state.split[i] = 2;
-                                        state.split[j] = 2;
-                                        slot.factor = slot.factor.max(2);
-                                        1
-                                    }
-                                    _ => f,
-                                },
-                            }
+                    // Cut in four, the pieces may sit far below the threshold: a halving is
+                    // tried first (checked here, so one that would not do is not tried, and
+                    // undone, in the rounds below). A neighbour across a halved edge gets a
+                    // pattern with that edge halved, bounded in the rounds.
+                    let cheaper = (own_bound.is_some() && f == 2)
+                        .then(|| halving(&patch, uv, n.map(|x| x.is_some()), c))
+                        .flatten();
+                    match cheaper {
+                        Some(split) => {
+                            self.storage.triangle_states[to + t].split = split;
+                            // (The patch is refined: no fast path for it.)
+                            slot.factor = slot.factor.max(2);
+                            1
                         }
-                        _ => f,
+                        None => f,
                     }
                 } else {
                     1
@@ -500,7 +486,7 @@ impl Tessellator<'_, '_> {
                     state.factor <= 1 && state.split.iter().all(|&s| s <= 1)
                 });
             for t in 0..tc {
-                let Some((v, _)) = self.storage.triangles[to + t].live_parts() else {
+                let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
                 };
                 let corners = v.map(|id| {
@@ -516,9 +502,6 @@ impl Tessellator<'_, '_> {
                     continue;
                 }
                 let mut bound = state.cached(corners);
-                let n = self.storage.triangles[to + t]
-                    .live_parts()
-                    .map_or([None; 3], |x| x.1);
                 let edges = self
                     .patch_view(p)
                     .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
@@ -534,13 +517,8 @@ impl Tessellator<'_, '_> {
                         bound = Some(b);
                     } else if !self.storage.triangle_states[to + t].judged {
                         let state = &mut self.storage.triangle_states[to + t];
-                        state.about(corners);
-                        if state.known & KNOW_POINTS == 0 {
-                            state.points = corner_points(&patch, corners);
-                            state.known |= KNOW_POINTS;
-                        }
-                        let (scale, culled) = view.triangle_scale(state.points, slot.recorded);
-                        let own = if culled { f32::INFINITY } else { tol * scale };
+                        let points = state.corner_points(&patch, corners);
+                        let own = own_threshold(view, tol, points, slot.recorded);
                         state.threshold = slot.c.max(own);
                     }
                 }

@@ -4,9 +4,10 @@
 use core::fmt;
 
 use crate::bake::{BakedModel, BakedPatch};
-use crate::deviation::{PatchBounds, TriangleBound};
+use crate::deviation::{corner_points, PatchBounds, TriangleBound};
 use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
 use crate::model::EdgeLink;
+use crate::patch::BezierPatch;
 use crate::patch::Side;
 
 use super::Settings;
@@ -135,6 +136,20 @@ impl TriangleSlot {
             at: GridPoint::default(),
             points: self.points,
         })
+    }
+
+    /// The surface at `corners` (computed once and kept; the cache is made about `corners`).
+    pub(super) fn corner_points(
+        &mut self,
+        patch: &BezierPatch<'_>,
+        corners: [GridPoint; 3],
+    ) -> [[f32; 3]; 3] {
+        self.about(corners);
+        if self.known & KNOW_POINTS == 0 {
+            self.points = corner_points(patch, corners);
+            self.known |= KNOW_POINTS;
+        }
+        self.points
     }
 
     /// Keeps `b` as the triangle's own bound.
