@@ -7,8 +7,7 @@ use crate::bake::{BakedModel, BakedPatch};
 use crate::deviation::{corner_points, PatchBounds, TriangleBound};
 use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
 use crate::model::EdgeLink;
-use crate::patch::BezierPatch;
-use crate::patch::Side;
+use crate::patch::{BezierPatch, Side};
 
 use super::Settings;
 
@@ -122,7 +121,7 @@ pub(super) const KNOW_POINTS: u8 = 1;
 pub(super) const KNOW_COARSE: u8 = 2;
 /// [`TriangleSlot::whole`] holds its bound.
 pub(super) const KNOW_WHOLE: u8 = 4;
-/// [`TriangleSlot::bound`] holds its bound.
+/// [`TriangleSlot::own`] holds its own bound.
 pub(super) const KNOW_OWN: u8 = 8;
 
 impl TriangleSlot {
