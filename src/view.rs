@@ -361,6 +361,27 @@ impl Camera {
         }
     }
 
+    /// True when every point of `points` (so their convex hull) lies inside the view: in
+    /// front of the near plane and within the four side planes.
+    pub(crate) fn hull_inside(&self, points: &[[f32; 3]]) -> bool {
+        let perspective = matches!(self.projection, Projection::Perspective { .. });
+        let [sx, sy] = self.slope;
+        let (half_w, half_h) = (
+            0.5 * self.viewport[0] as f32 / self.focal,
+            0.5 * self.viewport[1] as f32 / self.focal,
+        );
+        points.iter().all(|p| {
+            let v = self.to_view(Vec3::from_array(*p));
+            let (lx, ly) = if perspective {
+                (sx * v.z, sy * v.z)
+            } else {
+                (half_w, half_h)
+            };
+            // (NaN fails.)
+            v.z >= self.near && v.x.abs() <= lx && v.y.abs() <= ly
+        })
+    }
+
     /// The largest object-space length within `margin` of the flat triangle `points` that
     /// projects to at most `tol` pixels, over `tol`, and whether that region lies wholly
     /// outside the view.
@@ -507,6 +528,15 @@ impl View {
                 tolerance_px,
             } => camera.triangle_pixel_size(points, margin, *tolerance_px),
             View::Object { .. } => (1.0, false),
+        }
+    }
+
+    /// True when the convex hull of `points` lies wholly inside the view (always in object
+    /// mode, which culls nothing).
+    pub(crate) fn hull_inside(&self, points: &[[f32; 3]]) -> bool {
+        match self {
+            View::Screen { camera, .. } => camera.hull_inside(points),
+            View::Object { .. } => true,
         }
     }
 

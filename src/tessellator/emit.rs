@@ -6,6 +6,29 @@
 //! points inside its refined triangles. Every refined point's parameter is an exact integer
 //! combination of grid coordinates divided once, so it does not depend on which triangle
 //! asks for it, nor on the history of the mesh.
+//!
+//! # What is off the view is not written
+//!
+//! In a refined frame ([`update`](super::Tessellator::update)), a patch whose control points'
+//! hull is not wholly inside the view has its triangles checked against the view's planes
+//! (near, left, right, bottom, top):
+//!
+//! - **A domain triangle** with corner points `P_0, P_1, P_2` has a bound `m` of its
+//!   deviation (the one that judged it, or its prefix's recorded bound): its surface piece lies
+//!   within `m` of the flat triangle `P`. Where every corner is farther than `m` beyond one
+//!   plane, so is the whole flat triangle (a half-space is convex) and the surface piece: the
+//!   triangle is left out with everything it would be cut into.
+//! - **A piece** of a cut triangle, with barycentric corners `w_i` (in the triangle), has
+//!   surface corners `S(q_i)`, each within `m` of `Σ_k w_ik P_k`, so its flat triangle lies
+//!   within `m` of the flat triangle of those combinations, and its surface piece within `m`
+//!   of `P` there. Where the combinations are all farther than `m` (plus their rounding,
+//!   `8 ε` of the largest coordinate) beyond one plane, the piece is left out. No surface point
+//!   is evaluated for the test, so the counting pass and the writing pass agree.
+//!
+//! A gap left this way has its edges beyond that plane: it is out of sight (the host tests
+//! check every edge used once for it). Budget frames, which are not refined, write every
+//! triangle, so their count stays the prediction. In the close-up of the teapot at 1024x768
+//! (BENCHMARKS.md), this leaves 4% of the written triangles with nothing on screen, from 29%.
 
 use super::pattern::{self, Local};
 use super::{along, common_side, Tessellator, CORNER_UV};
@@ -13,6 +36,7 @@ use crate::domain::GridPoint;
 use crate::model::EdgeLink;
 use crate::patch::Side;
 use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
+use crate::view::View;
 
 /// Vertex and triangle counts of the current frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -76,6 +100,8 @@ pub(super) struct PatchView<'t, 'm, 's> {
     edges: [EdgeLink; 4],
     nodes: [u32; 4],
     tess: &'t Tessellator<'m, 's>,
+    /// The view whose hidden pieces [`refine`](Self::refine) leaves out (none: every piece).
+    hide: Option<View>,
 }
 
 impl PatchView<'_, '_, '_> {
@@ -87,6 +113,11 @@ impl PatchView<'_, '_, '_> {
 
     fn triangle(&self, t: usize) -> Option<([u16; 3], [Option<u16>; 3])> {
         self.tess.storage.triangles[self.to + t].live_parts()
+    }
+
+    /// Whether triangle `t` is off the view this frame (not written).
+    fn hidden(&self, t: usize) -> bool {
+        self.tess.storage.triangle_states[self.to + t].hidden
     }
 
     pub(super) fn factor(&self, t: usize) -> u8 {
@@ -230,6 +261,38 @@ impl PatchView<'_, '_, '_> {
             };
             Point::Face { k, u, v: w, den }
         };
+        // Where pieces off the view are left out: the corner points in the rotated order and
+        // the margin (a piece's surface and flat triangle lie within it of the flat triangle
+        // of its corners' barycentric combinations of `points`).
+        let hide = self.hide.map(|view| {
+            let state = &self.tess.storage.triangle_states[self.to + t];
+            let points = [0, 1, 2].map(|k| state.points[(rot + k) % 3]);
+            // (With the rounding of the combinations.)
+            let big = points.iter().flatten().fold(0.0f32, |m, &x| m.max(x.abs()));
+            (view, points, state.margin + 8.0 * f32::EPSILON * big)
+        });
+        let weights = |l: Local| -> [f32; 3] {
+            match l {
+                Local::Corner(k) => {
+                    let mut w = [0.0; 3];
+                    w[k as usize % 3] = 1.0;
+                    w
+                }
+                Local::Side { side, r } => {
+                    let s = side as usize % 3;
+                    let x = r as f32 / e[s] as f32;
+                    let mut w = [0.0; 3];
+                    w[s] = 1.0 - x;
+                    w[(s + 1) % 3] = x;
+                    w
+                }
+                Local::Lattice { a, b } => {
+                    let n = nf as f32;
+                    [(nf - a - b) as f32 / n, a as f32 / n, b as f32 / n]
+                }
+                Local::Centroid => [1.0 / 3.0; 3],
+            }
+        };
         let inner = pattern::inner_points(nf, e);
         if inner > 0 {
             if pattern::is_uniform(nf, e) || nf >= 3 {
@@ -312,6 +375,17 @@ impl PatchView<'_, '_, '_> {
             }
         };
         pattern::for_each_triangle(nf, e, |tri| {
+            if let Some((view, points, margin)) = hide {
+                let flat = tri.map(|l| {
+                    let w = weights(l);
+                    core::array::from_fn(|c| {
+                        w[0] * points[0][c] + w[1] * points[1][c] + w[2] * points[2][c]
+                    })
+                });
+                if view.triangle_scale(flat, margin).1 {
+                    return;
+                }
+            }
             let p = tri.map(|l| match l {
                 Local::Corner(k) => corner[k as usize],
                 Local::Side { side, r } => side_point(side, r),
@@ -341,7 +415,18 @@ impl<'m, 's> Tessellator<'m, 's> {
             edges: bp.edges,
             nodes: slot.nodes,
             tess: self,
+            hide: None,
         })
+    }
+
+    /// [`patch_view`](Self::patch_view) for output: in a refined frame of a patch not wholly
+    /// inside the view, its pieces off the view are left out.
+    fn output_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's>> {
+        let mut view = self.patch_view(p)?;
+        if self.refine && !self.storage.patches[p].inside {
+            view.hide = self.view;
+        }
+        Some(view)
     }
 
     /// Vertex data of an output point.
@@ -488,7 +573,7 @@ impl<'m, 's> Tessellator<'m, 's> {
         };
         let scratch = core::mem::take(&mut self.storage.scratch);
         for p in 0..baked.patch_count() {
-            let Some(view) = self.patch_view(p) else {
+            let Some(view) = self.output_view(p) else {
                 continue;
             };
             let vc = self.storage.patches[p].vertex_capacity as usize;
@@ -520,6 +605,9 @@ impl<'m, 's> Tessellator<'m, 's> {
                     let Some((v, _)) = view.triangle(t) else {
                         continue;
                     };
+                    if view.hidden(t) {
+                        continue;
+                    }
                     let pts = v.map(|id| view.point_of(id));
                     let rot = (0..3).min_by_key(|&k| pts[k]).unwrap_or(0);
                     let vr = [0, 1, 2].map(|k| v[(rot + k) % 3]);
@@ -592,6 +680,9 @@ impl<'m, 's> Tessellator<'m, 's> {
             // Refined triangles.
             let first_triangle = triangles;
             for t in 0..view.tc {
+                if view.hidden(t) {
+                    continue;
+                }
                 let face_base = next;
                 let mut faces = 0u32;
                 view.refine(
@@ -672,7 +763,7 @@ impl<'m, 's> Tessellator<'m, 's> {
     }
 
     fn stream_patch_with_info(&self, p: usize, mut f: impl FnMut(&TriangleInfo, [&Vertex; 3])) {
-        let Some(view) = self.patch_view(p) else {
+        let Some(view) = self.output_view(p) else {
             return;
         };
         // Neighbouring triangles share corners: a small direct-mapped cache of evaluated
@@ -686,6 +777,9 @@ impl<'m, 's> Tessellator<'m, 's> {
             slot.1
         };
         for t in 0..view.tc {
+            if view.hidden(t) {
+                continue;
+            }
             let bound = self.storage.triangle_states[view.to + t].pieces;
             view.refine(
                 t,

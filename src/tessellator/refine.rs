@@ -51,6 +51,11 @@
 //! curve factors have not changed since it was last checked, and a pattern keeps its bound for
 //! the frame once computed.
 //!
+//! A triangle whose threshold is infinite (its region, within the bound that judged it, is off
+//! the view) is marked hidden and not written; in a patch not wholly inside the view, so is
+//! a baked prefix triangle beyond one of the view's planes by more than the recorded bound
+//! (see `emit`).
+//!
 //! The frame's statistics report the largest bound over threshold of every triangle written,
 //! in the view's units: at most the tolerance unless refinement hit
 //! [`Settings::max_factor`](super::Settings::max_factor).
@@ -336,6 +341,14 @@ impl Tessellator<'_, '_> {
                 state.split = [0; 3];
                 let needs = exhausted || near_extra;
                 state.judged = needs;
+                state.hidden = false;
+                // Off the view (with its surface piece): not written in a refined frame.
+                let hide = refine && !slot.inside;
+                state.margin = slot.recorded;
+                if hide && !needs {
+                    let points = state.corner_points(&patch, corners);
+                    state.hidden = view.triangle_scale(points, slot.recorded).1;
+                }
                 let f = if needs {
                     // A bound at hand: the whole patch's curvature term, and the recorded
                     // bound for a prefix triangle.
@@ -359,6 +372,10 @@ impl Tessellator<'_, '_> {
                     let state = &mut self.storage.triangle_states[to + t];
                     state.threshold = c;
                     state.pieces = pieces;
+                    // (An infinite threshold: the triangle, within the bound that judged
+                    // it, is off the view.)
+                    state.hidden = hide && c == f32::INFINITY;
+                    state.margin = own_bound.map_or(pieces, |b| b.bound());
                     slot.error_ratio = slot.error_ratio.max(pieces / c);
                     // Cut in four, the pieces may sit far below the threshold: a halving is
                     // tried first (checked here, so one that would not do is not tried, and

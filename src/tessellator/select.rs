@@ -111,6 +111,10 @@ impl<'m, 's> Tessellator<'m, 's> {
             if culled {
                 continue;
             }
+            slot.inside = self
+                .patches
+                .patch(p)
+                .is_some_and(|patch| view.hull_inside(patch.points()));
             let steps = bp.samples;
             let n = prefix(
                 bp.initial_deviation,

@@ -39,6 +39,9 @@ pub struct PatchSlot {
     /// Recorded bound of the current prefix (every triangle of the baked prefix is within it).
     pub(super) recorded: f32,
     pub(super) culled: bool,
+    /// Whether its control points' hull lies wholly inside the view this frame (so none of
+    /// its triangles is hidden).
+    pub(super) inside: bool,
     /// Largest refinement factor of the frame.
     pub(super) factor: u8,
     /// Largest bound over threshold of the frame's triangles.
@@ -113,6 +116,13 @@ pub struct TriangleSlot {
     /// Whether it was judged on its own bounds this frame (else it is a baked prefix
     /// triangle within the recorded bound).
     pub(super) judged: bool,
+    /// Whether it lies wholly outside the view this frame, with its surface piece: it is not
+    /// written (refined frames only).
+    pub(super) hidden: bool,
+    /// A bound of its deviation this frame (the one that judged it, or the prefix's recorded
+    /// bound): its surface piece, and every flat piece it is cut into, lie within it of the
+    /// flat triangle of `points`.
+    pub(super) margin: f32,
 }
 
 /// [`TriangleSlot::points`] holds the corners' surface points.
