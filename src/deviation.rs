@@ -443,12 +443,29 @@ fn lattice_point(corners: [GridPoint; 3], i: usize, j: usize) -> (f32, f32) {
 impl Lattice {
     /// The points with even indices only (the lattice of step 1/3).
     pub(crate) fn coarse(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Lattice {
+        Self::coarse_with(patch, corners, corner_points(patch, corners))
+    }
+
+    /// [`coarse`](Self::coarse) with the corners' surface points already at hand (as
+    /// [`corner_points`] computes them).
+    pub(crate) fn coarse_with(
+        patch: &BezierPatch<'_>,
+        corners: [GridPoint; 3],
+        points: [[f32; 3]; 3],
+    ) -> Lattice {
         let n = LATTICE as usize;
         let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
         for i in (0..=n).step_by(2) {
             for j in (0..=n - i).step_by(2) {
-                let (u, v) = lattice_point(corners, i, j);
-                s[i][j] = patch.position_direct(u, v);
+                s[i][j] = match (i, j) {
+                    (0, 0) => Vec3::from_array(points[0]),
+                    (i, 0) if i == n => Vec3::from_array(points[1]),
+                    (0, j) if j == n => Vec3::from_array(points[2]),
+                    _ => {
+                        let (u, v) = lattice_point(corners, i, j);
+                        patch.position_direct(u, v)
+                    }
+                };
             }
         }
         Lattice {

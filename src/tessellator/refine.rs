@@ -126,12 +126,12 @@ fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
 /// are within `c`. `inner[i]` says whether edge `i` (opposite corner `i`) has a neighbour.
 fn halving(
     patch: &BezierPatch<'_>,
+    local: &PatchBounds,
     uv: [(f32, f32); 3],
     inner: [bool; 3],
     c: f32,
 ) -> Option<[u8; 3]> {
-    let local = PatchBounds::around(patch, uv);
-    let piece = |q: [(f32, f32); 3]| piece_bound(patch, &local, q);
+    let piece = |q: [(f32, f32); 3]| piece_bound(patch, local, q, c);
     let mid = |a: usize, b: usize| (0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
     let one = (0..3)
         .filter(|&i| inner[i])
@@ -170,10 +170,17 @@ fn halving(
 }
 
 /// Bound of the piece `uv` of a triangle whose box has the bounds `local` (or any region
-/// containing the piece): the lattice of step 1/3 on the piece sampled (its 7 points besides
-/// the corners), and a ninth of its curvature term (the bound's argument, see
-/// [`crate::deviation`]).
-fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]) -> f32 {
+/// containing the piece): its curvature term alone where that is within `c` (no surface point
+/// needed), otherwise the lattice of step 1/3 on the piece sampled (its 7 points besides the
+/// corners) and a ninth of its curvature term (the bound's argument, see
+/// [`crate::deviation`]). Either way the bound is within `c` exactly when the smaller of the
+/// two is.
+fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3], c: f32) -> f32 {
+    let curvature = local.curvature_term(uv);
+    let general = curvature + local.slack;
+    if general <= c {
+        return general;
+    }
     let s = uv.map(|(u, v)| patch.position_direct(u, v));
     let mut worst = 0.0f32;
     for (i, j) in [(1, 0), (2, 0), (0, 1), (0, 2), (1, 1), (2, 1), (1, 2)] {
@@ -184,7 +191,7 @@ fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]
         let linear = s[0] * a + s[1] * b + s[2] * c;
         worst = worst.max(length(patch.position_direct(u, v) - linear));
     }
-    worst + local.curvature_term(uv) * (1.0 / 9.0) + local.slack
+    (worst + curvature * (1.0 / 9.0) + local.slack).min(general)
 }
 
 impl Tessellator<'_, '_> {
@@ -214,7 +221,8 @@ impl Tessellator<'_, '_> {
     /// threshold it implies, then its own bound, which chooses its factor. The steps and their
     /// values depend on the triangle and the view alone (computed values are cached, never
     /// replaced by others), so the outcome does not depend on what earlier frames cached.
-    /// Returns the factor, the pieces' bound, the threshold and the own bound where used.
+    /// Returns the factor, the pieces' bound, the threshold, and the own bound where used
+    /// (with the bounds of the patch cut to the triangle's box where they were computed).
     #[allow(clippy::too_many_arguments)]
     fn judge(
         &mut self,
@@ -227,7 +235,7 @@ impl Tessellator<'_, '_> {
         tol: f32,
         max: u8,
         stats: &mut FrameStats,
-    ) -> (u8, f32, f32, Option<TriangleBound>) {
+    ) -> (u8, f32, f32, Option<(TriangleBound, Option<PatchBounds>)>) {
         let uv = corners.map(GridPoint::to_unit);
         let state = &mut self.storage.triangle_states[slot_index];
         let points = state.corner_points(patch, corners);
@@ -240,7 +248,7 @@ impl Tessellator<'_, '_> {
         // 2. The coarse lattice.
         let mut lattice: Option<Lattice> = None;
         if state.known & KNOW_COARSE == 0 {
-            let l = Lattice::coarse(patch, corners);
+            let l = Lattice::coarse_with(patch, corners, points);
             state.coarse = l.coarse_bound(whole, uv).bound();
             state.known |= KNOW_COARSE;
             lattice = Some(l);
@@ -252,7 +260,7 @@ impl Tessellator<'_, '_> {
         }
         // 3. The full lattice, with the whole patch's remainder.
         if state.known & KNOW_WHOLE == 0 {
-            let l = lattice.get_or_insert_with(|| Lattice::coarse(patch, corners));
+            let l = lattice.get_or_insert_with(|| Lattice::coarse_with(patch, corners, points));
             l.complete(patch);
             state.whole = l.bound(whole, uv, false).bound();
             state.known |= KNOW_WHOLE;
@@ -262,20 +270,21 @@ impl Tessellator<'_, '_> {
             return (1, state.whole, c, None);
         }
         // 4. Its own bound: the factor.
-        let b = match state.cached(corners) {
-            Some(b) => b,
+        let (b, local) = match state.cached(corners) {
+            Some(b) => (b, None),
             None => {
-                let l = lattice.get_or_insert_with(|| Lattice::coarse(patch, corners));
+                let l = lattice.get_or_insert_with(|| Lattice::coarse_with(patch, corners, points));
                 l.complete(patch);
                 l.pieces();
-                let b = l.bound(&PatchBounds::around(patch, uv), uv, true);
+                let local = PatchBounds::around(patch, uv);
+                let b = l.bound(&local, uv, true);
                 state.keep_own(&b);
-                b
+                (b, Some(local))
             }
         };
         let c = threshold(view, tol, &b);
         let f = factor_for(&b, c, max);
-        (f, refined_bound(&b, f), c, Some(b))
+        (f, refined_bound(&b, f), c, Some((b, local)))
     }
 
     /// Chooses every triangle's and curve's refinement factor for `view` (factors 1 when
@@ -375,15 +384,19 @@ impl Tessellator<'_, '_> {
                     // (An infinite threshold: the triangle, within the bound that judged
                     // it, is off the view.)
                     state.hidden = hide && c == f32::INFINITY;
-                    state.margin = own_bound.map_or(pieces, |b| b.bound());
+                    state.margin = own_bound.map_or(pieces, |(b, _)| b.bound());
                     slot.error_ratio = slot.error_ratio.max(pieces / c);
                     // Cut in four, the pieces may sit far below the threshold: a halving is
                     // tried first (checked here, so one that would not do is not tried, and
                     // undone, in the rounds below). A neighbour across a halved edge gets a
                     // pattern with that edge halved, bounded in the rounds.
-                    let cheaper = (own_bound.is_some() && f == 2)
-                        .then(|| halving(&patch, uv, n.map(|x| x.is_some()), c))
-                        .flatten();
+                    let cheaper = match own_bound {
+                        Some((_, local)) if f == 2 => {
+                            let local = local.unwrap_or_else(|| PatchBounds::around(&patch, uv));
+                            halving(&patch, &local, uv, n.map(|x| x.is_some()), c)
+                        }
+                        _ => None,
+                    };
                     match cheaper {
                         Some(split) => {
                             self.storage.triangle_states[to + t].split = split;
@@ -571,7 +584,7 @@ impl Tessellator<'_, '_> {
                                     let piece = local_uv.map(|[u, v, d]| {
                                         (u as f32 / d as f32, v as f32 / d as f32)
                                     });
-                                    worst = worst.max(piece_bound(&patch, bounds, piece));
+                                    worst = worst.max(piece_bound(&patch, bounds, piece, c));
                                 },
                             );
                             worst
