@@ -1,0 +1,222 @@
+//! Insertion: the triangle (or edge) holding the point is split, then edges are flipped until
+//! they are Delaunay (Lawson).
+
+use super::{in_circle, index_of, orient, DomainMesh, GridPoint, InsertError, MeshTriangle, NONE};
+
+impl DomainMesh<'_> {
+    /// A live triangle containing `p` (inside or on its boundary).
+    pub(super) fn locate(&self, p: GridPoint) -> u16 {
+        let mut t = self.hint;
+        if !self.triangles.get(t as usize).is_some_and(|x| x.alive) {
+            t = self.first_live_triangle();
+        }
+        // A visibility walk terminates in a Delaunay triangulation; the bound only guards
+        // against a bug turning into a hang, with a scan as the fallback.
+        for _ in 0..self.triangles.len() + 4 {
+            let [a, b, c] = self.tri_points(t);
+            let n = self.triangles[t as usize].n;
+            let next = if orient(b, c, p) < 0 {
+                n[0]
+            } else if orient(c, a, p) < 0 {
+                n[1]
+            } else if orient(a, b, p) < 0 {
+                n[2]
+            } else {
+                return t;
+            };
+            if next == NONE {
+                break;
+            }
+            t = next;
+        }
+        self.scan_for(p)
+    }
+
+    fn first_live_triangle(&self) -> u16 {
+        self.triangles.iter().position(|t| t.alive).unwrap_or(0) as u16
+    }
+
+    fn scan_for(&self, p: GridPoint) -> u16 {
+        (0..self.triangles.len() as u16)
+            .find(|&t| {
+                self.triangles[t as usize].alive && {
+                    let [a, b, c] = self.tri_points(t);
+                    orient(b, c, p) >= 0 && orient(c, a, p) >= 0 && orient(a, b, p) >= 0
+                }
+            })
+            .unwrap_or_else(|| self.first_live_triangle())
+    }
+
+    /// Inserts `p`; returns its vertex index.
+    ///
+    /// The triangle (or edge) holding `p` is split and the edges around `p` are flipped until
+    /// they are Delaunay (Lawson). Needs one vertex slot and two triangle slots (one when `p`
+    /// lies on the square's boundary) and no other memory, whatever the number of triangles
+    /// that change.
+    pub fn insert(&mut self, p: GridPoint) -> Result<u16, InsertError> {
+        let t = self.locate(p);
+        let tri = self.triangles[t as usize];
+        if let Some(vertex) = tri.v.into_iter().find(|&v| self.pt(v) == p) {
+            return Err(InsertError::Duplicate { vertex });
+        }
+        if self.free_vertex == NONE {
+            return Err(InsertError::VerticesFull);
+        }
+        let [a, b, c] = tri.v.map(|v| self.pt(v));
+        // The edge `p` lies on, if any: the one opposite vertex `i`.
+        let on_edge = [orient(b, c, p), orient(c, a, p), orient(a, b, p)]
+            .iter()
+            .position(|&o| o == 0);
+        let needed = match on_edge {
+            Some(i) if tri.n[i] == NONE => 1,
+            _ => 2,
+        };
+        if self.triangles.len() - self.triangle_count < needed {
+            return Err(InsertError::TrianglesFull { needed });
+        }
+        let id = self.take_vertex(p);
+        match on_edge {
+            None => self.split_triangle(t, id),
+            Some(i) => self.split_edge(t, i, id),
+        }
+        self.legalize(id);
+        self.hint = self.vertices[id as usize].link;
+        Ok(id)
+    }
+
+    /// Splits triangle `t` into three around the new vertex `id` inside it.
+    fn split_triangle(&mut self, t: u16, id: u16) {
+        let MeshTriangle {
+            v: [a, b, c], n, ..
+        } = self.triangles[t as usize];
+        let (t1, t2) = (self.take_triangle(), self.take_triangle());
+        // t: (id, b, c), t1: (id, c, a), t2: (id, a, b).
+        self.set(t, [id, b, c], [n[0], t1, t2]);
+        self.set(t1, [id, c, a], [n[1], t2, t]);
+        self.set(t2, [id, a, b], [n[2], t, t1]);
+        self.replace_neighbor(n[1], t, t1);
+        self.replace_neighbor(n[2], t, t2);
+        for (v, tri) in [(id, t), (a, t1), (b, t), (c, t)] {
+            self.vertices[v as usize].link = tri;
+        }
+    }
+
+    /// Splits the edge of `t` opposite its vertex `i`, on which the new vertex `id` lies, and
+    /// the triangle across it (if any).
+    fn split_edge(&mut self, t: u16, i: usize, id: u16) {
+        let tri = self.triangles[t as usize];
+        let (c, a, b) = (tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]);
+        let (na, nb, o) = (tri.n[(i + 1) % 3], tri.n[(i + 2) % 3], tri.n[i]);
+        // t: (c, a, id), t1: (c, id, b).
+        let t1 = self.take_triangle();
+        if o == NONE {
+            self.set(t, [c, a, id], [NONE, t1, nb]);
+            self.set(t1, [c, id, b], [NONE, na, t]);
+            self.replace_neighbor(na, t, t1);
+            for (v, tri) in [(id, t), (a, t), (b, t1), (c, t)] {
+                self.vertices[v as usize].link = tri;
+            }
+            return;
+        }
+        let ot = self.triangles[o as usize];
+        let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+        // o is (d, b, a); it becomes o: (d, b, id) and o1: (d, id, a).
+        let d = ot.v[j];
+        let (oa, ob) = (ot.n[(j + 2) % 3], ot.n[(j + 1) % 3]);
+        let o1 = self.take_triangle();
+        self.set(t, [c, a, id], [o1, t1, nb]);
+        self.set(t1, [c, id, b], [o, na, t]);
+        self.set(o, [d, b, id], [t1, o1, oa]);
+        self.set(o1, [d, id, a], [t, ob, o]);
+        self.replace_neighbor(na, t, t1);
+        self.replace_neighbor(ob, o, o1);
+        for (v, tri) in [(id, t), (a, t), (b, t1), (c, t), (d, o)] {
+            self.vertices[v as usize].link = tri;
+        }
+    }
+
+    /// Flips the edges opposite the new vertex `id` until every one is Delaunay, in one pass
+    /// counter-clockwise around its star.
+    ///
+    /// Flipping the edge `(a, b)` of `(id, a, b)` leaves `(id, a, d)` in the same slot, checked
+    /// again at once, and `(id, d, b)` as its counter-clockwise neighbour, checked next; the
+    /// rest of the star is untouched. An edge found Delaunay stays so: its test involves only
+    /// the two triangles beside it, and a flip elsewhere replaces neither (it removes a
+    /// triangle across another star edge). So every triangle of the final star is found clean
+    /// exactly once, and the pass ends after `degree` clean tests.
+    fn legalize(&mut self, id: u16) {
+        let mut t = self.star_start(id);
+        let mut clean = 0usize;
+        // The star's size: each flip adds a triangle to it.
+        let mut degree = self.star(id).count();
+        // A bound on the work, only a guard: each flip removes an edge for good.
+        let mut budget = 8 * self.triangles.len() + 16;
+        while budget > 0 {
+            budget -= 1;
+            let tri = self.triangles[t as usize];
+            let i = index_of(&tri.v, id);
+            let o = tri.n[i];
+            if o != NONE {
+                let ot = self.triangles[o as usize];
+                let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+                let [p, a, b] = [tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]];
+                if in_circle(
+                    self.metric,
+                    self.pt(p),
+                    self.pt(a),
+                    self.pt(b),
+                    self.pt(ot.v[j]),
+                ) {
+                    self.flip(t, i);
+                    degree += 1;
+                    continue;
+                }
+            }
+            clean += 1;
+            if clean >= degree {
+                break;
+            }
+            let ccw = tri.n[(i + 1) % 3];
+            t = if ccw == NONE {
+                self.star_start(id)
+            } else {
+                ccw
+            };
+        }
+    }
+
+    /// Flips the edge of `t` opposite its vertex `i`: `t = (p, a, b)` and the triangle across,
+    /// `(d, b, a)`, become `(p, a, d)` (in slot `t`) and `(p, d, b)`.
+    pub(super) fn flip(&mut self, t: u16, i: usize) {
+        let tri = self.triangles[t as usize];
+        let o = tri.n[i];
+        let ot = self.triangles[o as usize];
+        let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+        let [p, a, b] = [tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]];
+        let d = ot.v[j];
+        let (across_ad, across_db) = (ot.n[(j + 1) % 3], ot.n[(j + 2) % 3]);
+        let (across_bp, across_pa) = (tri.n[(i + 1) % 3], tri.n[(i + 2) % 3]);
+        self.set(t, [p, a, d], [across_ad, o, across_pa]);
+        self.set(o, [p, d, b], [across_db, across_bp, t]);
+        self.replace_neighbor(across_ad, o, t);
+        self.replace_neighbor(across_bp, t, o);
+        for (v, tri) in [(p, t), (a, t), (d, t), (b, o)] {
+            self.vertices[v as usize].link = tri;
+        }
+    }
+
+    pub(super) fn set(&mut self, t: u16, v: [u16; 3], n: [u16; 3]) {
+        let slot = &mut self.triangles[t as usize];
+        slot.v = v;
+        slot.n = n;
+    }
+
+    /// In triangle `t` (if any), the neighbour `old` becomes `new`.
+    pub(super) fn replace_neighbor(&mut self, t: u16, old: u16, new: u16) {
+        if let Some(tri) = self.triangles.get_mut(t as usize) {
+            if let Some(k) = tri.n.iter().position(|&x| x == old) {
+                tri.n[k] = new;
+            }
+        }
+    }
+}

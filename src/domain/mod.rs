@@ -1,0 +1,512 @@
+//! The domain triangulation: a fixed-capacity Delaunay triangulation of a patch's (u,v) square
+//! with insertion and deletion, shared by the bake and the run time.
+//!
+//! Points live on a 16-bit grid ([`GridPoint`]), so every decision is an exact integer
+//! predicate: orientation in `i64`, the in-circle test in `i128`. Ties (four cocircular points,
+//! which uniform grids produce everywhere) are broken by *simulation of simplicity*: each point's
+//! lift onto the paraboloid is raised by an infinitesimal that ranks the points by their
+//! coordinates. The triangulation is then the unique regular triangulation of the lifted points,
+//! so the same point set gives the same triangles whatever the order of insertions and
+//! deletions (host-tests check this against fresh builds).
+//!
+//! Insertion splits the triangle (or edge) holding the point and flips edges until they are
+//! Delaunay (Lawson); deletion flips "Delaunay ears" off the vertex's link until it has three
+//! triangles (two on the boundary) and merges them (Devillers). Both work in place, with no
+//! memory beyond the mesh whatever the vertex degrees, and check every capacity first: on an
+//! error the mesh is unchanged.
+//!
+//! The four corners are vertices 0 to 3, `(0,0), (1,0), (1,1), (0,1)`, and cannot be removed.
+//! Points on the square's edges are boundary vertices: a triangulation with `b` of them
+//! (corners included) and `n` interior vertices has `2n + b - 2` triangles.
+
+use core::fmt;
+
+mod grid;
+mod insert;
+mod predicates;
+mod remove;
+
+pub use grid::GridPoint;
+use predicates::in_circle;
+pub(crate) use predicates::orient;
+pub use predicates::Metric;
+
+/// "No vertex / no triangle" in index fields.
+const NONE: u16 = u16::MAX;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+/// One vertex slot of a [`DomainMesh`].
+pub struct MeshVertex {
+    point: GridPoint,
+    /// An incident triangle; for a free slot, the next free slot.
+    link: u16,
+    alive: bool,
+}
+
+impl MeshVertex {
+    /// The point of a live slot.
+    pub(crate) fn live_point(&self) -> Option<GridPoint> {
+        self.alive.then_some(self.point)
+    }
+}
+
+impl Default for MeshVertex {
+    fn default() -> Self {
+        MeshVertex {
+            point: GridPoint::default(),
+            link: NONE,
+            alive: false,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+/// One triangle slot of a [`DomainMesh`].
+pub struct MeshTriangle {
+    /// Vertices, counter-clockwise.
+    v: [u16; 3],
+    /// `n[i]`: the triangle across the edge opposite `v[i]`; for a free slot `n[0]` is the
+    /// next free slot.
+    n: [u16; 3],
+    alive: bool,
+}
+
+impl MeshTriangle {
+    /// Vertices (counter-clockwise) and neighbours (`n[i]` across the edge opposite `v[i]`,
+    /// `None` on the square's boundary) of a live slot.
+    pub(crate) fn live_parts(&self) -> Option<([u16; 3], [Option<u16>; 3])> {
+        self.alive
+            .then(|| (self.v, self.n.map(|n| (n != NONE).then_some(n))))
+    }
+}
+
+impl Default for MeshTriangle {
+    fn default() -> Self {
+        MeshTriangle {
+            v: [NONE; 3],
+            n: [NONE; 3],
+            alive: false,
+        }
+    }
+}
+
+/// Why storage cannot hold a [`DomainMesh`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum MeshStorageError {
+    /// Fewer than 4 vertex slots or 2 triangle slots.
+    TooSmall,
+    /// More than 65535 slots of either kind (indices are `u16`).
+    TooLarge,
+}
+
+/// Why a point could not be inserted. The mesh is unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum InsertError {
+    /// A vertex already has these coordinates.
+    Duplicate {
+        /// The existing vertex.
+        vertex: u16,
+    },
+    /// Every vertex slot is in use.
+    VerticesFull,
+    /// Too few free triangle slots.
+    TrianglesFull {
+        /// Free slots the insertion needs.
+        needed: usize,
+    },
+}
+
+/// Why a vertex could not be removed. The mesh is unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum RemoveError {
+    /// The four corners stay.
+    Corner,
+    /// No live vertex has this index.
+    NotAVertex,
+    /// No Delaunay ear was found; exact predicates make this unreachable for a mesh built by
+    /// this type, so it means the storage was tampered with.
+    NoEar,
+}
+
+impl fmt::Display for MeshStorageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            MeshStorageError::TooSmall => "mesh storage needs 4 vertex and 2 triangle slots",
+            MeshStorageError::TooLarge => "mesh storage is limited to 65535 slots of each kind",
+        })
+    }
+}
+
+impl fmt::Display for InsertError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            InsertError::Duplicate { vertex } => write!(f, "vertex {vertex} is already there"),
+            InsertError::VerticesFull => f.write_str("no free vertex slot"),
+            InsertError::TrianglesFull { needed } => {
+                write!(f, "needs {needed} free triangle slots")
+            }
+        }
+    }
+}
+
+impl fmt::Display for RemoveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            RemoveError::Corner => "the corners cannot be removed",
+            RemoveError::NotAVertex => "no such vertex",
+            RemoveError::NoEar => "no Delaunay ear found (corrupted mesh)",
+        })
+    }
+}
+
+impl core::error::Error for MeshStorageError {}
+impl core::error::Error for InsertError {}
+impl core::error::Error for RemoveError {}
+
+/// An edge on the rim of a hole: `(from, to)` counter-clockwise around it, and
+/// the triangle outside it (or `NONE` on the square's boundary).
+type RimEdge = (u16, u16, u16);
+
+/// The state of a [`DomainMesh`] besides its slots (the run time keeps one per patch).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct MeshHeader {
+    free_vertex: u16,
+    free_triangle: u16,
+    vertex_count: u16,
+    triangle_count: u32,
+    hint: u16,
+    metric: Metric,
+}
+
+impl MeshHeader {
+    /// Live triangles of the mesh this header describes.
+    pub(crate) fn triangle_count(&self) -> usize {
+        self.triangle_count as usize
+    }
+}
+
+/// A Delaunay triangulation of the unit square in caller storage.
+///
+/// ```
+/// use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
+///
+/// let mut vertices = [MeshVertex::default(); 16];
+/// let mut triangles = [MeshTriangle::default(); 32];
+/// let mut mesh = DomainMesh::new(&mut vertices, &mut triangles).unwrap();
+/// assert_eq!(mesh.triangle_count(), 2);
+///
+/// let centre = mesh.insert(GridPoint::from_unit(0.5, 0.5)).unwrap();
+/// let edge = mesh.insert(GridPoint::from_unit(0.5, 0.0)).unwrap();
+/// // 1 interior and 5 boundary vertices: 2 * 1 + 5 - 2 triangles.
+/// assert_eq!(mesh.triangle_count(), 5);
+/// mesh.remove(edge).unwrap();
+/// mesh.remove(centre).unwrap();
+/// assert_eq!(mesh.triangle_count(), 2);
+/// ```
+#[derive(Debug)]
+pub struct DomainMesh<'a> {
+    vertices: &'a mut [MeshVertex],
+    triangles: &'a mut [MeshTriangle],
+    free_vertex: u16,
+    free_triangle: u16,
+    vertex_count: usize,
+    triangle_count: usize,
+    hint: u16,
+    metric: Metric,
+}
+
+impl<'a> DomainMesh<'a> {
+    /// The mesh's own state besides its slots, to rebuild it later over the same storage.
+    pub(crate) fn header(&self) -> MeshHeader {
+        MeshHeader {
+            free_vertex: self.free_vertex,
+            free_triangle: self.free_triangle,
+            vertex_count: self.vertex_count as u16,
+            triangle_count: self.triangle_count as u32,
+            hint: self.hint,
+            metric: self.metric,
+        }
+    }
+
+    /// The mesh whose slots are `vertices` and `triangles` and whose state is `header` (as
+    /// saved by [`DomainMesh::header`] over the same slots).
+    pub(crate) fn resume(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+        header: MeshHeader,
+    ) -> Self {
+        DomainMesh {
+            vertices,
+            triangles,
+            free_vertex: header.free_vertex,
+            free_triangle: header.free_triangle,
+            vertex_count: header.vertex_count as usize,
+            triangle_count: header.triangle_count as usize,
+            hint: header.hint,
+            metric: header.metric,
+        }
+    }
+
+    /// Triangle slots enough for `vertices` vertex slots: `2 * vertices - 6` (at least 2).
+    pub const fn triangles_for(vertices: usize) -> usize {
+        if vertices < 4 {
+            2
+        } else {
+            2 * vertices - 6
+        }
+    }
+
+    /// The two triangles of the square, in the given storage (its contents are overwritten),
+    /// with the [`Metric::ISOTROPIC`] Delaunay test.
+    pub fn new(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+    ) -> Result<Self, MeshStorageError> {
+        Self::with_metric(vertices, triangles, Metric::ISOTROPIC)
+    }
+
+    /// Like [`DomainMesh::new`], with circles taken in `metric`'s coordinates.
+    pub fn with_metric(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+        metric: Metric,
+    ) -> Result<Self, MeshStorageError> {
+        if vertices.len() < 4 || triangles.len() < 2 {
+            return Err(MeshStorageError::TooSmall);
+        }
+        if vertices.len() > NONE as usize || triangles.len() > NONE as usize {
+            return Err(MeshStorageError::TooLarge);
+        }
+        let m = GridPoint::MAX;
+        let corners = [
+            GridPoint::new(0, 0),
+            GridPoint::new(m, 0),
+            GridPoint::new(m, m),
+            GridPoint::new(0, m),
+        ];
+        let (nv, nt) = (vertices.len(), triangles.len());
+        for (k, slot) in vertices.iter_mut().enumerate() {
+            *slot = MeshVertex::default();
+            slot.link = if k + 1 < nv { k as u16 + 1 } else { NONE };
+        }
+        for (k, slot) in triangles.iter_mut().enumerate() {
+            *slot = MeshTriangle::default();
+            slot.n[0] = if k + 1 < nt { k as u16 + 1 } else { NONE };
+        }
+        let mut mesh = DomainMesh {
+            vertices,
+            triangles,
+            free_vertex: 0,
+            free_triangle: 0,
+            vertex_count: 0,
+            triangle_count: 0,
+            hint: 0,
+            metric,
+        };
+        for c in corners {
+            mesh.take_vertex(c);
+        }
+        // The corners are cocircular: the tie-break picks the diagonal.
+        let [a, b, c, d] = corners;
+        let (t0, t1) = (mesh.take_triangle(), mesh.take_triangle());
+        if in_circle(mesh.metric, a, b, c, d) {
+            mesh.triangles[t0 as usize].v = [0, 1, 3];
+            mesh.triangles[t1 as usize].v = [1, 2, 3];
+        } else {
+            mesh.triangles[t0 as usize].v = [0, 1, 2];
+            mesh.triangles[t1 as usize].v = [0, 2, 3];
+        }
+        let rim: [RimEdge; 4] = [(0, 1, NONE), (1, 2, NONE), (2, 3, NONE), (3, 0, NONE)];
+        mesh.stitch(&[t0, t1], &rim);
+        Ok(mesh)
+    }
+
+    /// The metric of the Delaunay test.
+    pub fn metric(&self) -> Metric {
+        self.metric
+    }
+
+    /// Live vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+
+    /// Live triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.triangle_count
+    }
+
+    /// The point of vertex `id`, or `None` if it is not live.
+    pub fn point(&self, id: u16) -> Option<GridPoint> {
+        let v = self.vertices.get(id as usize)?;
+        v.alive.then_some(v.point)
+    }
+
+    /// Live vertices with their points.
+    pub fn vertices(&self) -> impl Iterator<Item = (u16, GridPoint)> + '_ {
+        self.vertices
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.alive)
+            .map(|(k, v)| (k as u16, v.point))
+    }
+
+    /// Live triangles as counter-clockwise vertex triples.
+    pub fn triangles(&self) -> impl Iterator<Item = [u16; 3]> + '_ {
+        self.triangles.iter().filter(|t| t.alive).map(|t| t.v)
+    }
+
+    /// Live triangles with, for each, the triangle across the edge opposite each vertex
+    /// (`None` on the square's boundary), keyed by slot.
+    pub fn triangles_with_neighbors(
+        &self,
+    ) -> impl Iterator<Item = (u16, [u16; 3], [Option<u16>; 3])> + '_ {
+        self.triangles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.alive)
+            .map(|(k, t)| (k as u16, t.v, t.n.map(|n| (n != NONE).then_some(n))))
+    }
+
+    /// Vertex slots, live or free.
+    pub fn vertex_capacity(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Triangle slots, live or free: the bound of the slot numbers [`DomainMesh::triangle`]
+    /// and [`DomainMesh::star`] use.
+    pub fn triangle_capacity(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The counter-clockwise vertices of the triangle in slot `slot`, or `None` if it is free.
+    pub fn triangle(&self, slot: u16) -> Option<[u16; 3]> {
+        let t = self.triangles.get(slot as usize)?;
+        t.alive.then_some(t.v)
+    }
+
+    /// The slots of the triangles around vertex `id`, counter-clockwise (empty if `id` is not
+    /// live). After an insertion these are exactly the triangles it created.
+    pub fn star(&self, id: u16) -> Star<'_, 'a> {
+        let start = match self.vertices.get(id as usize) {
+            Some(v) if v.alive => self.star_start(id),
+            _ => NONE,
+        };
+        Star {
+            mesh: self,
+            id,
+            start,
+            next: start,
+            steps: 0,
+        }
+    }
+
+    /// The first triangle of `id`'s star in counter-clockwise order: for a boundary vertex the
+    /// one whose clockwise neighbour is outside the square, else the incident triangle.
+    fn star_start(&self, id: u16) -> u16 {
+        let first = self.vertices[id as usize].link;
+        let mut t = first;
+        for _ in 0..=self.triangles.len() {
+            let tri = self.triangles[t as usize];
+            let i = index_of(&tri.v, id);
+            // Clockwise: across the edge (id, v[i+1]), opposite v[i+2].
+            let cw = tri.n[(i + 2) % 3];
+            if cw == NONE || cw == first {
+                break;
+            }
+            t = cw;
+        }
+        t
+    }
+
+    /// The vertex at `p`, if any.
+    pub fn find(&self, p: GridPoint) -> Option<u16> {
+        let t = self.locate(p);
+        self.triangles[t as usize]
+            .v
+            .into_iter()
+            .find(|&v| self.vertices[v as usize].point == p)
+    }
+
+    fn pt(&self, v: u16) -> GridPoint {
+        self.vertices[v as usize].point
+    }
+
+    fn tri_points(&self, t: u16) -> [GridPoint; 3] {
+        self.triangles[t as usize].v.map(|v| self.pt(v))
+    }
+
+    fn take_vertex(&mut self, p: GridPoint) -> u16 {
+        let id = self.free_vertex;
+        let slot = &mut self.vertices[id as usize];
+        self.free_vertex = slot.link;
+        *slot = MeshVertex {
+            point: p,
+            link: NONE,
+            alive: true,
+        };
+        self.vertex_count += 1;
+        id
+    }
+
+    fn take_triangle(&mut self) -> u16 {
+        let id = self.free_triangle;
+        let slot = &mut self.triangles[id as usize];
+        self.free_triangle = slot.n[0];
+        *slot = MeshTriangle {
+            v: [NONE; 3],
+            n: [NONE; 3],
+            alive: true,
+        };
+        self.triangle_count += 1;
+        id
+    }
+
+    fn free_triangle(&mut self, t: u16) {
+        self.triangles[t as usize] = MeshTriangle {
+            v: [NONE; 3],
+            n: [self.free_triangle, NONE, NONE],
+            alive: false,
+        };
+        self.free_triangle = t;
+        self.triangle_count -= 1;
+    }
+}
+
+/// The triangles around a vertex, counter-clockwise: see [`DomainMesh::star`].
+#[derive(Debug)]
+pub struct Star<'m, 'a> {
+    mesh: &'m DomainMesh<'a>,
+    id: u16,
+    start: u16,
+    next: u16,
+    steps: usize,
+}
+
+impl Iterator for Star<'_, '_> {
+    type Item = u16;
+
+    fn next(&mut self) -> Option<u16> {
+        // The step bound only guards against a corrupted mesh turning into a hang.
+        if self.next == NONE || self.steps > self.mesh.triangles.len() {
+            return None;
+        }
+        let t = self.next;
+        let tri = self.mesh.triangles[t as usize];
+        let i = index_of(&tri.v, self.id);
+        // Counter-clockwise: across the edge (v[i+2], id), opposite v[i+1].
+        let ccw = tri.n[(i + 1) % 3];
+        self.next = if ccw == self.start { NONE } else { ccw };
+        self.steps += 1;
+        Some(t)
+    }
+}
+
+fn index_of(v: &[u16; 3], id: u16) -> usize {
+    v.iter().position(|&x| x == id).unwrap_or(0)
+}
