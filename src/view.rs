@@ -35,6 +35,17 @@ use glam::Vec3;
 use crate::bound::BoundingSphere;
 use crate::math::{normalize, sqrt};
 
+/// What the view makes of the convex hull of a set of points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct HullFit {
+    /// Object-space length per unit of tolerance in the hull.
+    pub(crate) scale: f32,
+    /// The hull lies wholly outside the view (beyond one of its planes).
+    pub(crate) culled: bool,
+    /// The hull lies wholly inside the view (within every plane).
+    pub(crate) inside: bool,
+}
+
 /// How the camera projects.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -309,17 +320,19 @@ impl Camera {
     }
 
     /// The largest object-space length in the convex hull of `points` that projects to at
-    /// most `tol` pixels, over `tol`, and whether the hull lies wholly outside the view (see
-    /// the module docs).
-    pub(crate) fn hull_pixel_size(&self, points: &[[f32; 3]], tol: f32) -> (f32, bool) {
+    /// most `tol` pixels, over `tol`, and whether the hull lies wholly outside or wholly
+    /// inside the view (see the module docs).
+    pub(crate) fn hull_pixel_size(&self, points: &[[f32; 3]], tol: f32) -> HullFit {
         let [sx, sy] = self.slope;
         let perspective = matches!(self.projection, Projection::Perspective { .. });
         let (half_w, half_h) = (
             0.5 * self.viewport[0] as f32 / self.focal,
             0.5 * self.viewport[1] as f32 / self.focal,
         );
-        // Outside when every point is beyond one plane: near, left, right, bottom, top.
+        // Outside when every point is beyond one plane: near, left, right, bottom, top;
+        // inside when every point is within every plane.
         let mut inside_some = [false; 5];
+        let mut inside = true;
         let (mut z_min, mut a, mut b) = (f32::INFINITY, 0.0f32, 0.0f32);
         for p in points {
             let v = self.to_view(Vec3::from_array(*p));
@@ -338,6 +351,7 @@ impl Camera {
             for (seen, f) in inside_some.iter_mut().zip(flags) {
                 *seen |= f;
             }
+            inside &= flags.iter().all(|&f| f);
             z_min = z_min.min(v.z);
             if v.z > 0.0 {
                 a = a.max(v.x.abs() / v.z);
@@ -346,40 +360,20 @@ impl Camera {
         }
         // (NaN coordinates land here too: every comparison is false.)
         let culled = !inside_some.iter().all(|&x| x);
-        if !perspective {
-            return (1.0 / self.focal, culled);
-        }
-        // Part of the hull in front of the near plane is clipped: what is drawn is at least
-        // `near` away, with slopes up to the frustum's.
-        if z_min >= self.near {
-            (self.capped_size(z_min, a, b, tol), culled)
+        let scale = if !perspective {
+            1.0 / self.focal
+        } else if z_min >= self.near {
+            self.capped_size(z_min, a, b, tol)
         } else {
-            (
-                self.capped_size(self.near, f32::INFINITY, f32::INFINITY, tol),
-                culled,
-            )
+            // Part of the hull in front of the near plane is clipped: what is drawn is at
+            // least `near` away, with slopes up to the frustum's.
+            self.capped_size(self.near, f32::INFINITY, f32::INFINITY, tol)
+        };
+        HullFit {
+            scale,
+            culled,
+            inside,
         }
-    }
-
-    /// True when every point of `points` (so their convex hull) lies inside the view: in
-    /// front of the near plane and within the four side planes.
-    pub(crate) fn hull_inside(&self, points: &[[f32; 3]]) -> bool {
-        let perspective = matches!(self.projection, Projection::Perspective { .. });
-        let [sx, sy] = self.slope;
-        let (half_w, half_h) = (
-            0.5 * self.viewport[0] as f32 / self.focal,
-            0.5 * self.viewport[1] as f32 / self.focal,
-        );
-        points.iter().all(|p| {
-            let v = self.to_view(Vec3::from_array(*p));
-            let (lx, ly) = if perspective {
-                (sx * v.z, sy * v.z)
-            } else {
-                (half_w, half_h)
-            };
-            // (NaN fails.)
-            v.z >= self.near && v.x.abs() <= lx && v.y.abs() <= ly
-        })
     }
 
     /// The largest object-space length within `margin` of the flat triangle `points` that
@@ -531,24 +525,18 @@ impl View {
         }
     }
 
-    /// True when the convex hull of `points` lies wholly inside the view (always in object
-    /// mode, which culls nothing).
-    pub(crate) fn hull_inside(&self, points: &[[f32; 3]]) -> bool {
-        match self {
-            View::Screen { camera, .. } => camera.hull_inside(points),
-            View::Object { .. } => true,
-        }
-    }
-
-    /// Object-space length per unit of tolerance in the convex hull of `points`, and whether
-    /// it is culled.
-    pub(crate) fn hull_scale(&self, points: &[[f32; 3]]) -> (f32, bool) {
+    /// What the view makes of the convex hull of `points` (object mode culls nothing).
+    pub(crate) fn hull_scale(&self, points: &[[f32; 3]]) -> HullFit {
         match self {
             View::Screen {
                 camera,
                 tolerance_px,
             } => camera.hull_pixel_size(points, *tolerance_px),
-            View::Object { .. } => (1.0, false),
+            View::Object { .. } => HullFit {
+                scale: 1.0,
+                culled: false,
+                inside: true,
+            },
         }
     }
 }

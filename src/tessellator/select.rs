@@ -17,7 +17,7 @@ use crate::bound::BoundingSphere;
 use crate::domain::{DomainMesh, InsertError};
 use crate::model::EdgeLink;
 use crate::patch::Side;
-use crate::view::View;
+use crate::view::{HullFit, View};
 
 use super::storage::PatchSlot;
 
@@ -83,15 +83,22 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
     }
 
-    /// Patch `p`'s threshold for `view` (object units) and whether it is culled: the patch,
-    /// and every triangle between its points, lies in its control points' convex hull (the
-    /// weights are positive).
-    pub(super) fn patch_threshold(&self, p: usize, view: &View, tol: f32) -> (f32, bool) {
-        let (scale, culled) = match self.patches.patch(p) {
+    /// Patch `p`'s threshold for `view` (object units), whether it is culled and whether it
+    /// lies wholly inside the view: the patch, and every triangle between its points, lies in
+    /// its control points' convex hull (the weights are positive).
+    pub(super) fn patch_threshold(&self, p: usize, view: &View, tol: f32) -> (f32, bool, bool) {
+        let fit = match self.patches.patch(p) {
             Some(patch) => view.hull_scale(patch.points()),
-            None => view.scale(&Self::sphere(&self.storage.patches[p])),
+            None => {
+                let (scale, culled) = view.scale(&Self::sphere(&self.storage.patches[p]));
+                HullFit {
+                    scale,
+                    culled,
+                    inside: false,
+                }
+            }
         };
-        (tol * scale, culled)
+        (tol * fit.scale, fit.culled, fit.inside)
     }
 
     /// Thresholds, culling, prefixes, requests, and the curves' counts (sorted parameters kept
@@ -104,17 +111,14 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
         for p in 0..baked.patch_count() {
             let Some(bp) = baked.patch(p) else { continue };
-            let (c, culled) = self.patch_threshold(p, view, tol);
+            let (c, culled, inside) = self.patch_threshold(p, view, tol);
             let slot = &mut self.storage.patches[p];
             slot.c = c;
             slot.culled = culled;
+            slot.inside = inside;
             if culled {
                 continue;
             }
-            slot.inside = self
-                .patches
-                .patch(p)
-                .is_some_and(|patch| view.hull_inside(patch.points()));
             let steps = bp.samples;
             let n = prefix(
                 bp.initial_deviation,
