@@ -183,7 +183,8 @@ fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
     format!(
         "{{\"frame\":{frame},\"tolerance\":{tolerance},\"triangles\":{},\"vertices\":{},\
          \"inserted\":{},\"deleted\":{},\"estimated\":{},\"refined_patches\":{},\
-         \"culled_patches\":{},\"max_predicted_error\":{},\"ms\":{ms:.3}}}",
+         \"culled_patches\":{},\"back_facing_patches\":{},\"max_predicted_error\":{},\
+         \"ms\":{ms:.3}}}",
         s.triangles,
         s.vertices,
         s.inserted,
@@ -191,6 +192,7 @@ fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
         s.estimated,
         s.refined_patches,
         s.culled_patches,
+        s.back_facing_patches,
         s.max_predicted_error
     )
 }

@@ -83,6 +83,7 @@ mod bound;
 mod defmt_impls;
 mod deviation;
 mod domain;
+mod facing;
 mod frame;
 mod math;
 mod model;
@@ -100,6 +101,7 @@ pub use domain::{
     DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex, Metric,
     RemoveError, Star,
 };
+pub use facing::NormalCone;
 pub use frame::SurfacePoint;
 pub use model::{
     BoundaryCurve, EdgeCounts, EdgeLink, Model, PatchHeader, PatchSet, PatchSetError, Topology,

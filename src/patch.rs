@@ -357,6 +357,25 @@ impl<'a> BezierPatch<'a> {
         }
     }
 
+    /// Position and partials `S_u`, `S_v` at `(u, v)` in `[0, 1]²` (for integrals over the
+    /// patch; no special case at poles).
+    pub(crate) fn position_and_partials(&self, u: f32, v: f32) -> (Vec3, Vec3, Vec3) {
+        let ev = tensor_with_derivatives(
+            self.degree_u(),
+            self.degree_v(),
+            Bezier,
+            Bezier,
+            |i, j| self.homogeneous(i, j),
+            u,
+            v,
+        );
+        let w = ev.a.w;
+        let s = ev.a.truncate() / w;
+        let su = (ev.a_u.truncate() - s * ev.a_u.w) / w;
+        let sv = (ev.a_v.truncate() - s * ev.a_v.w) / w;
+        (s, su, sv)
+    }
+
     /// Position, partials and unit normal at `(u, v)`; parameters are clamped to `[0, 1]`
     /// (NaN counts as 0).
     ///

@@ -4,7 +4,8 @@
 
 use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::{
-    CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage, TriangleSlot,
+    BackPatches, CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage,
+    TriangleSlot,
 };
 use spline_tess::{Camera, MeshTriangle, MeshVertex, PatchSet, Projection, Vec3, Vertex, View};
 
@@ -19,6 +20,7 @@ pub const BAKE: spline_tess::bake::BakeSettings = spline_tess::bake::BakeSetting
 pub const SETTINGS: Settings = Settings {
     max_interior_samples: 48,
     max_factor: 8,
+    back_patches: BackPatches::CullWhenClosed,
 };
 
 /// Capacities of the firmware's storage (the host test checks they cover the bake).

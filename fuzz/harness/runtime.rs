@@ -254,6 +254,7 @@ pub fn runtime(data: &[u8]) {
     let settings = Settings {
         max_interior_samples,
         max_factor,
+        ..Settings::default()
     };
     let mut storage = RuntimeStorage::new(&baked, &settings);
     let mut tess = storage.tessellator(b.file.patches(), baked, settings);

@@ -45,6 +45,11 @@ impl Meter {
         }
     }
 
+    /// The eye.
+    pub fn eye(&self) -> V3 {
+        self.eye
+    }
+
     /// View coordinates `(right, up, depth)`.
     fn view(&self, p: V3) -> V3 {
         let d = sub(p, self.eye);

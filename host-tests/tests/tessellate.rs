@@ -14,7 +14,7 @@
 use std::collections::{HashMap, HashSet};
 
 use host_tests::model_file::{bake_to_vec, ModelFile};
-use host_tests::reference::RefPatch;
+use host_tests::reference::{cross, dot, norm, sub, RefPatch};
 use host_tests::runtime::{edge_uses, indexed, streamed, triangle_set, RuntimeStorage, Streamed};
 use host_tests::screen::{triangle_deviation, Measure, Meter};
 use host_tests::{bpt_models, name, nurbs_fixtures, widen};
@@ -69,6 +69,14 @@ fn camera_path(center: Vec3, diag: f32, floor: f32) -> Vec<Step> {
     let low = Vec3::new(center.x, center.y, floor + 0.05 * diag);
     vec![
         camera("far", center + dir * (3.0 * diag), center, 40.0, 1.0),
+        // From below: a closed model shows the eye some patches' backs whole.
+        camera(
+            "far below",
+            center + Vec3::new(-0.5, -0.5, -0.7).normalize() * (3.0 * diag),
+            center,
+            40.0,
+            1.0,
+        ),
         camera("mid", center + dir * (1.2 * diag), center, 40.0, 0.5),
         camera("near", center + dir * (0.6 * diag), center, 50.0, 1.0),
         camera("grazing", low + Vec3::X * (1.5 * diag), low, 40.0, 1.0),
@@ -192,6 +200,45 @@ fn check_watertight(
     out_of_sight
 }
 
+/// +1 when the normals `S_u x S_v` of the closed surface `refs` point out of it, -1 when in:
+/// the sign of its volume, `1/3` of the integral of `(S - c) . (S_u x S_v)`, by a 16 x 16
+/// midpoint rule per patch (`c` the mean control point).
+fn outward_sign(refs: &[RefPatch]) -> f64 {
+    let all: Vec<[f64; 3]> = refs.iter().flat_map(|r| r.pts.iter().copied()).collect();
+    let c = [0, 1, 2].map(|k| all.iter().map(|p| p[k]).sum::<f64>() / all.len() as f64);
+    let n = 16;
+    let mut volume = 0.0;
+    for r in refs {
+        for i in 0..n {
+            for j in 0..n {
+                let (u, v) = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+                let f = r.eval(u, v);
+                volume += dot(sub(f.p, c), cross(f.su, f.sv));
+            }
+        }
+    }
+    volume.signum()
+}
+
+/// Checks that patch `r` shows `eye` only its back: `(P - eye) . n >= 0` at every point of a
+/// 33 x 33 grid, `n` the outward normal (`sign` says which way `S_u x S_v` points).
+fn assert_back_facing(label: &str, patch: usize, r: &RefPatch, eye: [f64; 3], sign: f64) {
+    let n = 32;
+    for i in 0..=n {
+        for j in 0..=n {
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            let f = r.eval(u, v);
+            let normal = cross(f.su, f.sv);
+            let d = sub(f.p, eye);
+            let facing = sign * dot(d, normal);
+            assert!(
+                facing >= -1e-9 * norm(d) * norm(normal),
+                "{label}: patch {patch} culled as facing away, but faces the eye at ({u}, {v})"
+            );
+        }
+    }
+}
+
 fn run_model(path: &std::path::Path) {
     let label = name(path);
     let file = ModelFile::read(path.to_str().unwrap()).unwrap();
@@ -216,6 +263,15 @@ fn run_model(path: &std::path::Path) {
         }
     }
     let mut gaps_out_of_sight = 0;
+    // Back-patch culling is on exactly for the closed models (every curve shared by two).
+    let closed = uses.iter().all(|&n| n == 2);
+    assert_eq!(
+        tess.culls_back_patches(),
+        closed,
+        "{label}: back-patch culling"
+    );
+    let sign = if closed { outward_sign(&refs) } else { 0.0 };
+    let mut back_facing = 0;
     for step in camera_path(center, diag, aabb.min.z) {
         let what = format!("{label} {}", step.label);
         let stats: FrameStats = tess.update(&step.view).unwrap();
@@ -239,6 +295,20 @@ fn run_model(path: &std::path::Path) {
         };
         let gaps = check_watertight(&what, &mesh, &tris, &open, step.meter.as_ref());
         gaps_out_of_sight += gaps;
+        for p in (0..baked.patch_count()).filter(|&p| tess.is_back_facing(p)) {
+            let meter = step
+                .meter
+                .as_ref()
+                .expect("culled for facing only through a camera");
+            assert_back_facing(&what, p, &refs[p], meter.eye(), sign);
+            back_facing += 1;
+        }
+        assert_eq!(
+            stats.back_facing_patches,
+            (0..baked.patch_count())
+                .filter(|&p| tess.is_back_facing(p))
+                .count()
+        );
         let tolerance = step.view.tolerance() as f64;
         assert!(
             stats.max_predicted_error as f64 <= tolerance * (1.0 + 1e-6),
@@ -286,13 +356,18 @@ fn run_model(path: &std::path::Path) {
             "{what}: incremental mesh differs from a fresh build"
         );
     }
+    assert!(
+        !closed || back_facing > 0,
+        "{label}: a closed model, and no patch culled for facing away along the path"
+    );
     // The views from inside and near the model leave out triangles off the view.
     assert!(
         gaps_out_of_sight > 0,
         "{label}: no triangle left out off the view along the path"
     );
     // Budget mode on the mid view.
-    let mid = &camera_path(center, diag, aabb.min.z)[1];
+    let path = camera_path(center, diag, aabb.min.z);
+    let mid = path.iter().find(|s| s.label == "mid").unwrap();
     let full = tess.update_unrefined(&mid.view).unwrap().triangles;
     for budget in [full / 3, full / 2, full + 10] {
         let (stats, fit) = tess.update_to_budget(&mid.view, budget).unwrap();

@@ -82,9 +82,10 @@ impl Tessellator<'_, '_> {
         // The prefix of a patch for `view` and its requests per side.
         let target = |this: &Self, p: usize| -> Option<(usize, [u16; 4])> {
             let slot = this.storage.patches[p];
-            let (c, culled, _) = this.patch_threshold(p, view, tol);
+            let fit = this.patch_threshold(p, view, tol);
+            let c = fit.c;
             let bp = baked.patch(p)?;
-            if culled {
+            if fit.culled {
                 return None;
             }
             let steps = bp.samples;

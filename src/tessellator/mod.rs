@@ -17,6 +17,12 @@
 //! threshold. [`FrameStats::max_predicted_error`] is the largest bound over threshold of the
 //! frame, in the view's units.
 //!
+//! # Back-patch culling
+//!
+//! In a closed model, a patch that shows the eye only its back is culled like one off the
+//! view (see [`BackPatches`]); every ray that meets it has met the front of the surface
+//! before.
+//!
 //! # Output
 //!
 //! [`Tessellator::write_mesh`] writes an indexed mesh; [`Tessellator::stream`] hands every
@@ -25,6 +31,7 @@
 //! along a curve use the same bits (and, in indexed output, the same index). A collapsed edge
 //! is one vertex, and triangles that would have two corners on it are dropped.
 
+mod back;
 mod budget;
 mod emit;
 mod pattern;
@@ -70,6 +77,8 @@ pub struct Settings {
     /// Largest refinement factor of a triangle (1 turns refinement off; values above
     /// [`MAX_FACTOR`] count as it).
     pub max_factor: u8,
+    /// Whether patches that show the eye only their back are left out.
+    pub back_patches: BackPatches,
 }
 
 impl Default for Settings {
@@ -77,8 +86,29 @@ impl Default for Settings {
         Settings {
             max_interior_samples: u16::MAX,
             max_factor: MAX_FACTOR,
+            back_patches: BackPatches::CullWhenClosed,
         }
     }
+}
+
+/// Whether a frame leaves out the patches that face away from the eye.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum BackPatches {
+    /// Left out where that hides nothing. Checked once, when the tessellator is made: the
+    /// model is closed (every boundary curve shared by exactly two patch edges), the two
+    /// patches along every curve have their normals `S_u × S_v` on the same side, and the
+    /// sign of the enclosed volume (by quadrature, taken only when it is at least 1% of the
+    /// integral of its absolute value) says which side is out
+    /// ([`Tessellator::culls_back_patches`] tells). Checked per frame: the model's bounding
+    /// sphere lies wholly beyond the near plane (so the eye is outside and nothing cuts the
+    /// surface open). Then a patch whose outward [`NormalCone`](crate::NormalCone) faces away
+    /// from the eye at every control point is culled like one off the view
+    /// ([`FrameStats::back_facing_patches`]). Drawn otherwise.
+    #[default]
+    CullWhenClosed,
+    /// Always drawn.
+    Draw,
 }
 
 /// Why a frame could not be updated.
@@ -124,8 +154,10 @@ pub struct FrameStats {
     pub estimated: usize,
     /// Patches with at least one refined triangle or edge.
     pub refined_patches: usize,
-    /// Patches culled by the view.
+    /// Patches culled by the view (off it, or facing away from the eye).
     pub culled_patches: usize,
+    /// Of those, patches culled for facing away from the eye.
+    pub back_facing_patches: usize,
     /// Largest predicted error of the frame, in the view's units (pixels or model units);
     /// at most the tolerance unless refinement hit [`Settings::max_factor`] or was off.
     pub max_predicted_error: f32,
@@ -201,6 +233,8 @@ pub struct Tessellator<'m, 's> {
     view: Option<View>,
     refine: bool,
     counts: MeshCounts,
+    /// The model's bounding sphere when back-facing patches may be culled (see `back`).
+    closed: Option<BoundingSphere>,
 }
 
 /// The side both points lie on, if any.
@@ -263,8 +297,12 @@ impl<'m, 's> Tessellator<'m, 's> {
             view: None,
             refine: true,
             counts: MeshCounts::default(),
+            closed: None,
         };
         tess.lay_out()?;
+        if settings.back_patches == BackPatches::CullWhenClosed {
+            tess.closed = tess.orient_patches();
+        }
         Ok(tess)
     }
 
@@ -412,6 +450,17 @@ impl<'m, 's> Tessellator<'m, 's> {
         self.storage.patches.get(p).is_some_and(|s| s.culled)
     }
 
+    /// True when patch `p` was culled in the current frame for facing away from the eye.
+    pub fn is_back_facing(&self, p: usize) -> bool {
+        self.storage.patches.get(p).is_some_and(|s| s.back_facing)
+    }
+
+    /// True when this model's back-facing patches may be culled: it is closed, its normals
+    /// agree and its outside is known (checked when the tessellator was made).
+    pub fn culls_back_patches(&self) -> bool {
+        self.closed.is_some()
+    }
+
     /// Brings every patch to `view`: inserts and deletes samples, estimates new triangles,
     /// chooses refinement factors. Returns the frame's numbers.
     pub fn update(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
@@ -438,6 +487,7 @@ impl<'m, 's> Tessellator<'m, 's> {
         for p in 0..baked.patch_count() {
             if self.storage.patches[p].culled {
                 stats.culled_patches += 1;
+                stats.back_facing_patches += usize::from(self.storage.patches[p].back_facing);
                 continue;
             }
             self.sync_patch(p, &mut stats)

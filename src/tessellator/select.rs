@@ -21,6 +21,18 @@ use crate::view::{HullFit, View};
 
 use super::storage::PatchSlot;
 
+/// A patch's threshold and visibility in one view.
+pub(super) struct PatchFit {
+    /// Threshold, object units.
+    pub(super) c: f32,
+    /// Off the view, or facing away.
+    pub(super) culled: bool,
+    /// Culled for facing away.
+    pub(super) back_facing: bool,
+    /// Its control points' hull wholly inside the view.
+    pub(super) inside: bool,
+}
+
 /// Count of steps recorded with a bound above `c` in a non-increasing list whose value before
 /// the first step is `initial`.
 pub(super) fn prefix(initial: f32, len: usize, bound: impl Fn(usize) -> f32, c: f32) -> usize {
@@ -83,10 +95,11 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
     }
 
-    /// Patch `p`'s threshold for `view` (object units), whether it is culled and whether it
-    /// lies wholly inside the view: the patch, and every triangle between its points, lies in
-    /// its control points' convex hull (the weights are positive).
-    pub(super) fn patch_threshold(&self, p: usize, view: &View, tol: f32) -> (f32, bool, bool) {
+    /// Patch `p`'s threshold for `view` (object units), whether it is culled (off the view, or
+    /// facing away from the eye: see `back`) and whether it lies wholly inside the view: the
+    /// patch, and every triangle between its points, lies in its control points' convex hull
+    /// (the weights are positive).
+    pub(super) fn patch_threshold(&self, p: usize, view: &View, tol: f32) -> PatchFit {
         let fit = match self.patches.patch(p) {
             Some(patch) => view.hull_scale(patch.points()),
             None => {
@@ -98,7 +111,13 @@ impl<'m, 's> Tessellator<'m, 's> {
                 }
             }
         };
-        (tol * fit.scale, fit.culled, fit.inside)
+        let back_facing = !fit.culled && self.faces_away(p, view);
+        PatchFit {
+            c: tol * fit.scale,
+            culled: fit.culled || back_facing,
+            back_facing,
+            inside: fit.inside,
+        }
     }
 
     /// Thresholds, culling, prefixes, requests, and the curves' counts (sorted parameters kept
@@ -111,12 +130,13 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
         for p in 0..baked.patch_count() {
             let Some(bp) = baked.patch(p) else { continue };
-            let (c, culled, inside) = self.patch_threshold(p, view, tol);
+            let fit = self.patch_threshold(p, view, tol);
             let slot = &mut self.storage.patches[p];
-            slot.c = c;
-            slot.culled = culled;
-            slot.inside = inside;
-            if culled {
+            slot.c = fit.c;
+            slot.culled = fit.culled;
+            slot.back_facing = fit.back_facing;
+            slot.inside = fit.inside;
+            if fit.culled {
                 continue;
             }
             let steps = bp.samples;

@@ -6,6 +6,7 @@ use core::fmt;
 use crate::bake::{BakedModel, BakedPatch};
 use crate::deviation::{corner_points, PatchBounds, TriangleBound};
 use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
+use crate::facing::NormalCone;
 use crate::model::EdgeLink;
 use crate::patch::{BezierPatch, Side};
 
@@ -53,6 +54,10 @@ pub struct PatchSlot {
     pub(super) checked_curves: [u8; 4],
     /// The whole patch's bounds, once computed (they do not depend on the view).
     pub(super) whole: Option<PatchBounds>,
+    /// The cone of its outward normals, in a closed model whose outside is known (see `back`).
+    pub(super) cone: Option<NormalCone>,
+    /// Whether it is culled this frame for facing away from the eye.
+    pub(super) back_facing: bool,
 }
 
 impl PatchSlot {
