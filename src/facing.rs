@@ -55,14 +55,14 @@
 
 use glam::Vec3;
 
-use crate::math::{length, normalize};
+use crate::math::{length, normalize, sqrt};
 use crate::patch::BezierPatch;
 
 /// Largest degree whose normal cone is computed.
 const MAX_CONE_DEGREE: usize = 3;
 
-/// Angle added to every cone and test, in radians, for the rounding of the axis, the angles
-/// and the sine.
+/// Taken off the cosine of every cone's half-angle (about that angle in radians near 90°, and
+/// more elsewhere), for the rounding of the axis, the cosines and the sine.
 const ANGLE_MARGIN: f32 = 1e-4;
 
 /// A cone of directions that holds every normal `S_u × S_v` of a patch (see the module docs).
@@ -204,8 +204,10 @@ impl NormalCone {
             }
         }
         let axis = normalize(mean)?;
-        // Second pass: the widest coefficient, widened by its rounding.
-        let mut half = 0.0f32;
+        // Second pass: the widest coefficient, widened by its rounding `δ`, as the cosine of
+        // the half-angle: cos(θ + δ) ≥ cos θ (1 - δ²/2) - sin θ δ for θ, δ ≥ 0 with
+        // cos θ ≥ 0 (no trigonometry, and a lower bound on the cosine is a wider cone).
+        let mut cos_half = 1.0f32;
         for a in 0..=na {
             for b in 0..=nb {
                 let (m, e) = coefficient(patch, a, b);
@@ -213,14 +215,20 @@ impl NormalCone {
                 if len == 0.0 && e == 0.0 {
                     continue;
                 }
-                let cos = (axis.dot(m) / len).clamp(-1.0, 1.0);
-                half = half.max(libm::acosf(cos) + 2.0 * e / len);
+                let cos = (axis.dot(m) / len).min(1.0);
+                if cos <= 0.0 || cos.is_nan() {
+                    return None;
+                }
+                let sin = sqrt((1.0 - cos * cos).max(0.0));
+                let delta = 2.0 * e / len;
+                cos_half = cos_half.min(cos * (1.0 - 0.5 * delta * delta) - sin * delta);
             }
         }
-        let half = half + ANGLE_MARGIN;
-        (half < core::f32::consts::FRAC_PI_2 - ANGLE_MARGIN).then(|| NormalCone {
+        // The margin (an angle of about `ANGLE_MARGIN` near 90°, more elsewhere).
+        let cos_half = cos_half - ANGLE_MARGIN;
+        (cos_half > ANGLE_MARGIN).then(|| NormalCone {
             axis: axis.to_array(),
-            sin_half_angle: libm::sinf(half),
+            sin_half_angle: sqrt((1.0 - cos_half * cos_half).max(0.0)),
         })
     }
 
