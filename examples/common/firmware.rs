@@ -101,3 +101,17 @@ pub fn stack_used_below(sp: usize) -> usize {
     }
     sp.saturating_sub(p)
 }
+
+extern "C" {
+    static __sdata: u32;
+    static __euninit: u32;
+}
+
+/// Bytes of static RAM: `.data`, `.bss` and `.uninit`, from the linker script's symbols.
+#[allow(dead_code)]
+pub fn static_ram() -> usize {
+    // Only the addresses are taken (no read), which is safe.
+    let start = core::ptr::addr_of!(__sdata) as usize;
+    let end = core::ptr::addr_of!(__euninit) as usize;
+    end.saturating_sub(start)
+}

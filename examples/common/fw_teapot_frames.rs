@@ -1,28 +1,28 @@
 // What `fw_teapot` draws, shared (through `#[path]`) with the host test that writes its
 // expected checksums (host-tests/tests/firmware_data.rs): the views, the styles, one frame's
-// update and band-by-band rendering into an Rgb565 framebuffer, and the checksum. Uses the
-// teapot bake, storage and settings of `fw_tessellate_frames.rs` (module `frames` beside this
-// one). `no_std`, no allocation. Hand-written.
+// update, and its rendering band by band into a colour band buffer pushed to the SPI display
+// model (module `spi_display` beside this one, which also hashes the pixels). Uses the
+// teapot bake, storage and settings of `fw_tessellate_frames.rs` (module `frames`). `no_std`,
+// no allocation. Hand-written.
 
-use embedded_graphics::pixelcolor::raw::RawU16;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
-use embedded_graphics::prelude::RawData;
-use spline_tess::render::{RenderStats, Renderer, Shading, Style, Wireframe};
+use spline_tess::render::{RenderStats, Renderer, ScreenTriangle, Shading, Style, Wireframe};
 use spline_tess::{Camera, FrameStats, Projection, Tessellator, Vec3, View};
 
-use super::framebuffer::Framebuffer;
-use super::frames::Fnv;
+use super::spi_display::SpiDisplay;
 
 /// Display size.
 pub const WIDTH: u32 = 240;
 /// Display size.
 pub const HEIGHT: u32 = 240;
-/// Rows per band: the depth buffer holds `WIDTH * BAND_ROWS` values.
+/// Rows per band: the depth and colour band buffers hold `WIDTH * BAND_ROWS` values each.
 pub const BAND_ROWS: u32 = 16;
-/// Pixels of the framebuffer.
-pub const PIXELS: usize = (WIDTH * HEIGHT) as usize;
-/// Depth values of one band.
-pub const DEPTH: usize = (WIDTH * BAND_ROWS) as usize;
+/// Pixels of one band (depth values, and colours).
+pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
+/// Entries of the triangle list (22 bytes each): the demo's far frames fit, its near ones
+/// are streamed band by band. `--cfg fw_no_list` builds the demo without a list, to measure
+/// the streaming path on every frame.
+pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 1536 };
 
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.
 pub const FRAMES: [([f32; 3], f32, Shading, bool); 4] = [
@@ -74,28 +74,20 @@ pub fn update(tess: &mut Tessellator<'_, '_>, k: usize) -> Option<FrameStats> {
     .ok()
 }
 
-/// Draws `tess`'s current frame as frame `k` into `pixels` (`WIDTH * HEIGHT`), band by band
-/// with `depth` (`WIDTH * BAND_ROWS`).
+/// Draws `tess`'s current frame as frame `k` onto `display`, band by band: `depth` and
+/// `colors` (`BAND` each) hold one band, `list` (may be empty) the frame's triangles.
 pub fn render(
     tess: &Tessellator<'_, '_>,
     k: usize,
-    pixels: &mut [Rgb565],
     depth: &mut [u16],
+    colors: &mut [Rgb565],
+    list: &mut [ScreenTriangle],
+    display: &mut SpiDisplay,
 ) -> Option<RenderStats> {
     let camera = camera(k)?;
     let style = style(k)?;
-    let mut target = Framebuffer::new(pixels, WIDTH, HEIGHT)?;
-    let depth = depth.get_mut(..DEPTH)?;
-    Renderer::new(depth)
-        .draw(tess, &camera, &style, &mut target)
+    display.begin_frame();
+    Renderer::with_triangle_list(depth, list)
+        .draw_bands(tess, &camera, &style, colors, display)
         .ok()
-}
-
-/// FNV-1a of the framebuffer's raw Rgb565 values.
-pub fn checksum(pixels: &[Rgb565]) -> u32 {
-    let mut h = Fnv(0x811c_9dc5);
-    for p in pixels {
-        h.word(RawU16::from(*p).into_inner() as u32);
-    }
-    h.0
 }

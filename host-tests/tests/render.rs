@@ -6,14 +6,18 @@
 //! - the teapot's coverage mask at 1 px tolerance agrees with a reference rendering (a dense
 //!   f64 tessellation, rasterised by the same renderer) on at least 99.5% of the pixels;
 //! - the band height changes nothing, streaming equals drawing the written mesh, frames are
-//!   deterministic; target errors and a too-small depth buffer come back as typed errors.
+//!   deterministic; target errors and a too-small depth buffer come back as typed errors;
+//! - band buffers: `draw_bands` pushes every pixel of the viewport exactly once, one window
+//!   per band, with the colours `draw` leaves in a framebuffer; with a triangle list the source
+//!   is streamed once and the pixels are the same as without; a list too small for the frame
+//!   falls back to streaming; `draw_bands_rgb565` sends the same pixels as big-endian bytes.
 
 use std::convert::Infallible;
 
 use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
-use embedded_graphics::prelude::{OriginDimensions, Pixel, Point, RgbColor, Size};
+use embedded_graphics::prelude::{OriginDimensions, Pixel, Point, PointsIter, RgbColor, Size};
 use embedded_graphics::primitives::Rectangle;
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::RefPatch;
@@ -21,7 +25,7 @@ use host_tests::runtime::{indexed, RuntimeStorage};
 use host_tests::{models_dir, Rng};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::render::{
-    IndexedMesh, RenderError, Renderer, Shading, Style, TriangleSource, Wireframe,
+    IndexedMesh, RenderError, Renderer, ScreenTriangle, Shading, Style, TriangleSource, Wireframe,
 };
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
@@ -586,4 +590,205 @@ fn errors_are_typed_and_stop_drawing() {
         .draw(&mesh, &behind, &style, &mut Counting::new(32, 32))
         .unwrap();
     assert_eq!(stats.pixels, 0);
+}
+
+/// A display that takes whole windows only and records each pixel's colour and how often it
+/// was sent.
+struct Windows {
+    counting: Counting,
+    windows: Vec<Rectangle>,
+}
+
+impl OriginDimensions for Windows {
+    fn size(&self) -> Size {
+        self.counting.size
+    }
+}
+
+impl DrawTarget for Windows {
+    type Color = Rgb888;
+    type Error = Infallible;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, _: I) -> Result<(), Infallible> {
+        panic!("band output sends whole windows, not single pixels")
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), Infallible> {
+        self.windows.push(*area);
+        let pixels: Vec<_> = area
+            .points()
+            .zip(colors)
+            .map(|(p, c)| Pixel(p, c))
+            .collect();
+        assert_eq!(pixels.len() as u32, area.size.width * area.size.height);
+        self.counting.draw_iter(pixels)
+    }
+}
+
+#[test]
+fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
+    let (file, bytes) = teapot();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let settings = Settings::default();
+    let mut storage = RuntimeStorage::new(&baked, &settings);
+    let mut tess = storage.tessellator(file.patches(), baked, settings);
+    let (w, h) = (200u32, 150u32);
+    for (k, eye) in EYES.iter().enumerate() {
+        let camera = camera(*eye, [w, h]);
+        tess.update(&View::Screen {
+            camera,
+            tolerance_px: 1.0,
+        })
+        .unwrap();
+        let style = Style {
+            shading: if k % 2 == 0 {
+                Shading::Gouraud
+            } else {
+                Shading::Flat
+            },
+            wireframe: (k % 3 == 0).then_some(Wireframe {
+                color: Rgb888::BLACK,
+                half_width: 0.4,
+            }),
+            background: (k != 1).then_some(Rgb888::BLUE),
+            ..Style::default()
+        };
+        // What a framebuffer holds after `draw` (run by run, background included).
+        let mut depth = vec![0u16; (w * 16) as usize];
+        let mut framebuffer = Counting::new(w, h);
+        let runs = Renderer::new(&mut depth)
+            .draw(&tess, &camera, &style, &mut framebuffer)
+            .unwrap();
+        let bg = style.background.unwrap_or(Rgb888::BLACK);
+        let expected: Vec<Rgb888> = framebuffer.color.iter().map(|c| c.unwrap_or(bg)).collect();
+
+        let mut colors = vec![Rgb888::BLACK; (w * 16) as usize];
+        let mut banded = |list: &mut [ScreenTriangle], rows: u32| {
+            let mut depth = vec![0u16; (w * rows) as usize];
+            let mut target = Windows {
+                counting: Counting::new(w, h),
+                windows: Vec::new(),
+            };
+            let stats = Renderer::with_triangle_list(&mut depth, list)
+                .draw_bands(&tess, &camera, &style, &mut colors, &mut target)
+                .unwrap();
+            assert!(
+                target.counting.hits.iter().all(|&n| n == 1),
+                "eye {eye:?}: every pixel pushed once"
+            );
+            let mut next = 0;
+            for r in &target.windows {
+                assert_eq!((r.top_left, r.size.width), (Point::new(0, next), w));
+                next += r.size.height as i32;
+            }
+            assert_eq!(stats.pushed, w * h);
+            assert_eq!(stats.bands as usize, target.windows.len());
+            assert_eq!(
+                stats.pixels, runs.pixels,
+                "eye {eye:?}: same triangle pixels"
+            );
+            let got: Vec<Rgb888> = target.counting.color.iter().map(|c| c.unwrap()).collect();
+            (stats, got)
+        };
+        // Bands of 16 rows, as many as the colour buffer holds (the depth buffer is larger).
+        let (streamed, pixels) = banded(&mut [], 40);
+        assert_eq!(streamed.bands, h.div_ceil(16));
+        assert_eq!((streamed.passes, streamed.listed), (streamed.bands, 0));
+        assert!(
+            pixels == expected,
+            "eye {eye:?}: bands differ from the framebuffer"
+        );
+
+        let mut list = vec![ScreenTriangle::default(); 20_000];
+        let (listed, from_list) = banded(&mut list, 16);
+        assert_eq!(listed.passes, 1, "eye {eye:?}: one pass with a list");
+        let frame = tess.mesh_size().triangles as u32;
+        assert!(listed.listed > 0 && listed.listed >= frame / 2);
+        assert!(
+            from_list == expected,
+            "eye {eye:?}: the list draws differently"
+        );
+
+        let short = listed.listed as usize - 1;
+        let (fallback, again) = banded(&mut list[..short], 16);
+        assert_eq!((fallback.listed, fallback.passes), (0, 1 + fallback.bands));
+        assert!(
+            again == expected,
+            "eye {eye:?}: the fallback draws differently"
+        );
+
+        // The same pixels as big-endian Rgb565 bytes, band by band.
+        let mut depth = vec![0u16; (w * 8) as usize];
+        let mut bytes = vec![0u8; (2 * w * 8) as usize];
+        let mut sent = Vec::new();
+        let stats = Renderer::with_triangle_list(&mut depth, &mut list)
+            .draw_bands_rgb565(&tess, &camera, &style, &mut bytes, |area, band| {
+                assert_eq!(area.top_left.y as usize, sent.len() / (2 * w as usize));
+                sent.extend_from_slice(band);
+                Ok::<(), Infallible>(())
+            })
+            .unwrap();
+        assert_eq!(stats.bands, h.div_ceil(8));
+        let want: Vec<u8> = expected
+            .iter()
+            .flat_map(|c| {
+                use embedded_graphics::pixelcolor::raw::{RawData, RawU16};
+                RawU16::from(Rgb565::from(*c)).into_inner().to_be_bytes()
+            })
+            .collect();
+        assert!(sent == want, "eye {eye:?}: the bytes differ");
+    }
+}
+
+#[test]
+fn band_buffer_errors_are_typed() {
+    let vs = [
+        vertex([-1.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+        vertex([1.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+        vertex([0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+    ];
+    let mesh = IndexedMesh {
+        vertices: &vs,
+        triangles: &[[0u16, 1, 2]],
+    };
+    let camera = Camera::new(
+        Vec3::Z * 4.0,
+        Vec3::ZERO,
+        Vec3::Y,
+        Projection::Orthographic { height: 3.0 },
+        0.1,
+        [32, 32],
+    )
+    .unwrap();
+    let style = Style::default();
+    let mut depth = [0u16; 32 * 4];
+    let mut colors = [Rgb565::BLACK; 31];
+    let e = Renderer::new(&mut depth)
+        .draw_bands(&mesh, &camera, &style, &mut colors, &mut Failing(100))
+        .unwrap_err();
+    assert_eq!(e, RenderError::ColorsTooSmall { needed: 32 });
+    assert!(e.to_string().contains("32"));
+    let mut bytes = [0u8; 63];
+    let e = Renderer::new(&mut depth)
+        .draw_bands_rgb565(&mesh, &camera, &style, &mut bytes, |_, _| Ok::<(), ()>(()))
+        .unwrap_err();
+    assert_eq!(e, RenderError::ColorsTooSmall { needed: 32 });
+    // A failing push stops the frame with its error.
+    let mut bytes = [0u8; 2 * 32 * 4];
+    let mut pushes = 0;
+    let e = Renderer::new(&mut depth)
+        .draw_bands_rgb565(&mesh, &camera, &style, &mut bytes, |_, _| {
+            pushes += 1;
+            if pushes == 3 {
+                Err("dma")
+            } else {
+                Ok(())
+            }
+        })
+        .unwrap_err();
+    assert_eq!((e, pushes), (RenderError::Target("dma"), 3));
 }

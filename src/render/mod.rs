@@ -1,21 +1,33 @@
 //! Drawing the tessellation onto an [`embedded_graphics`] `DrawTarget` (feature
 //! `embedded-graphics`).
 //!
-//! The [`Renderer`] rasterises in horizontal bands: it owns no memory, only the caller's depth
-//! buffer, and a 240-pixel-wide display drawn in 16-row bands needs `240 * 16` depth values
-//! (7.5 KiB), not a frame's worth. For every band it asks its [`TriangleSource`] for the
-//! triangles that may reach the band: a [`Tessellator`](crate::Tessellator) streams them
-//! straight from its domain meshes (patches off the band skipped by their bounding spheres),
-//! so no mesh buffer is needed; an [`IndexedMesh`] draws what
-//! [`write_mesh`](crate::Tessellator::write_mesh) wrote, for callers with the RAM to keep it.
+//! The [`Renderer`] rasterises in horizontal bands and owns no memory: a 240-pixel-wide display
+//! drawn in 16-row bands needs a depth band of `240 * 16` values (7.5 KiB), not a frame's
+//! worth, and no framebuffer:
+//!
+//! - [`draw_bands`](Renderer::draw_bands) renders each band into a caller colour band
+//!   buffer and pushes it with one `fill_contiguous` over the band's rectangle, so every pixel
+//!   reaches the display exactly once (a driver such as mipidsi turns that into one address
+//!   window); [`draw_bands_rgb565`](Renderer::draw_bands_rgb565) hands each band to a
+//!   callback as big-endian Rgb565 bytes instead, for DMA or async drivers;
+//! - [`draw`](Renderer::draw) sends pixels run by run as they pass the depth test, for
+//!   framebuffers.
+//!
+//! Triangles come from a [`TriangleSource`]. With a caller triangle list
+//! ([`Renderer::with_triangle_list`]), the source is asked once per frame and every triangle is
+//! projected once and kept in 22 bytes ([`ScreenTriangle`]); each band rasterises from the
+//! list. Without one (or when the frame does not fit it), each band asks the source for the
+//! triangles that may reach it: a [`Tessellator`](crate::Tessellator) streams them straight
+//! from its domain meshes, evaluating their vertices again, so no mesh buffer is needed. An
+//! [`IndexedMesh`] draws what [`write_mesh`](crate::Tessellator::write_mesh) wrote. Both ways
+//! give the same pixels: positions snap to 1/16 pixel, depth keys and shades are rounded to
+//! what a list entry holds, before either path rasterises.
 //!
 //! Each triangle is clipped in view space (the near plane, and a guard band at twice the
 //! viewport), snapped to 1/16 pixel and scan-converted with exact integer edge functions and
 //! the top-left fill rule, so triangles that share an edge never draw a pixel twice and never
 //! leave a gap between them. Depth is a `u16` per pixel, linear in `1/z` between the nearest
-//! and farthest point of the source's bounding sphere. Pixels that pass the depth test go to
-//! the target in runs along a row, one
-//! [`fill_contiguous`](embedded_graphics::draw_target::DrawTarget::fill_contiguous) per run.
+//! and farthest point of the source's bounding sphere.
 //!
 //! Colours are computed as [`Rgb888`] and converted to the target's colour type (any RGB type
 //! of `embedded-graphics`: `Rgb565`, `Rgb888`, `Bgr565`, ...). Shading is flat (one normal per
@@ -55,25 +67,25 @@
 //! # Ok::<(), spline_tess::CameraError>(())
 //! ```
 
+mod band;
 mod clip;
+mod list;
+mod project;
 mod raster;
 mod source;
 
 use core::fmt;
-use core::ops::Range;
 
 use embedded_graphics::draw_target::DrawTarget;
-use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
-use glam::Vec3;
 
-use crate::bound::BoundingSphere;
-use crate::math::normalize;
-use crate::sink::{TriangleSink, Vertex};
-use crate::view::{Camera, Projection};
-use clip::{ClipVertex, Frustum};
-use raster::{ScreenVertex, Span, Triangle};
+use crate::view::Camera;
+use band::{Band, BandOutput, BandPixels, Buffered, Rgb565Be, Runs, Typed};
+use list::ListSink;
+pub use list::ScreenTriangle;
+use project::Setup;
 pub use source::{IndexedMesh, TriangleSource};
 
 /// How a triangle's colour varies.
@@ -159,6 +171,12 @@ pub enum RenderError<E> {
         /// Depth values needed for one row.
         needed: usize,
     },
+    /// The colour band buffer holds less than one row of the drawn area.
+    ColorsTooSmall {
+        /// Pixels needed for one row (for [`draw_bands_rgb565`](Renderer::draw_bands_rgb565),
+        /// twice as many bytes).
+        needed: usize,
+    },
     /// The camera's viewport is wider or taller than [`MAX_VIEWPORT`] pixels (the fixed-point
     /// edge functions are exact up to there).
     ViewportTooLarge,
@@ -174,6 +192,12 @@ impl<E: fmt::Debug> fmt::Display for RenderError<E> {
         match self {
             RenderError::DepthTooSmall { needed } => {
                 write!(f, "depth buffer smaller than one row ({needed} values)")
+            }
+            RenderError::ColorsTooSmall { needed } => {
+                write!(
+                    f,
+                    "colour band buffer smaller than one row ({needed} pixels)"
+                )
             }
             RenderError::ViewportTooLarge => {
                 write!(f, "viewport larger than {MAX_VIEWPORT} pixels")
@@ -191,30 +215,83 @@ impl<E: fmt::Debug> core::error::Error for RenderError<E> {}
 pub struct RenderStats {
     /// Bands drawn.
     pub bands: u32,
-    /// Triangles handed over by the source, summed over the bands.
+    /// Times the source was asked for its triangles: once with a triangle list that held the
+    /// frame, otherwise once per band.
+    pub passes: u32,
+    /// Triangles handed over by the source, summed over the passes.
     pub triangles: u32,
-    /// Triangle pixels sent to the target (a pixel nearer than an earlier one is sent again).
+    /// Screen triangles kept in the triangle list (0 when there was none, or it was too small
+    /// and the frame was streamed band by band instead).
+    pub listed: u32,
+    /// Triangle pixels that passed the depth test (a pixel nearer than an earlier one counts
+    /// again).
     pub pixels: u32,
-    /// `fill_contiguous` calls for those pixels.
+    /// Runs of such pixels along a row ([`draw`](Renderer::draw) sends each with one
+    /// `fill_contiguous`).
     pub runs: u32,
-    /// Background pixels sent.
+    /// Background pixels sent by [`draw`](Renderer::draw).
     pub background: u32,
+    /// Pixels pushed as whole bands by [`draw_bands`](Renderer::draw_bands) and
+    /// [`draw_bands_rgb565`](Renderer::draw_bands_rgb565): each pixel of the drawn area once.
+    pub pushed: u32,
 }
 
-/// Draws triangle sources onto `DrawTarget`s, band by band, with a caller depth buffer.
+/// Draws triangle sources band by band, with a caller depth buffer and, optionally, a caller
+/// triangle list.
+///
+/// - [`draw`](Self::draw) sends the visible pixels to a `DrawTarget` as they are found, run
+///   by run (a pixel may be sent again when a nearer triangle covers it): for framebuffers.
+/// - [`draw_bands`](Self::draw_bands) renders each band into a caller colour buffer, then
+///   pushes it with one `fill_contiguous` over the band's rectangle: every pixel is sent
+///   exactly once, as a display driver wants it (one address window per band).
+/// - [`draw_bands_rgb565`](Self::draw_bands_rgb565) does the same into big-endian Rgb565
+///   bytes and hands each band to a callback, for DMA or async drivers.
+///
+/// Without a triangle list, every band asks its source again for the triangles that may reach
+/// it (a [`Tessellator`](crate::Tessellator) evaluates their vertices again). With one
+/// ([`with_triangle_list`](Self::with_triangle_list)), the source is asked once per frame:
+/// each triangle is projected once, kept in 22 bytes, and every band rasterises from the list.
+/// When the frame has more triangles than the list holds, it is streamed band by band instead
+/// ([`RenderStats::listed`] is then 0). Both ways give the same pixels.
 #[derive(Debug)]
 pub struct Renderer<'d> {
     depth: &'d mut [u16],
+    list: &'d mut [ScreenTriangle],
+}
+
+/// The drawn area and its bands.
+struct Area {
+    columns: [i32; 2],
+    rows: [i32; 2],
+    band_rows: usize,
 }
 
 impl<'d> Renderer<'d> {
-    /// A renderer over `depth`. Its length sets the band: `depth.len() / width` rows, where
-    /// `width` is the drawn area's width (the camera's viewport, cut to the target).
+    /// A renderer over `depth`, without a triangle list. The depth buffer's length sets the
+    /// band: `depth.len() / width` rows, where `width` is the drawn area's width (the
+    /// camera's viewport, cut to the target).
     pub fn new(depth: &'d mut [u16]) -> Self {
-        Renderer { depth }
+        Renderer {
+            depth,
+            list: &mut [],
+        }
     }
 
-    /// Draws `source` as `camera` sees it onto `target`.
+    /// A renderer over `depth` that keeps each frame's projected triangles in `list` (see
+    /// the type's docs). The teapot at 240x240 and 1 px needs about 1,300 entries.
+    ///
+    /// ```
+    /// use spline_tess::render::{Renderer, ScreenTriangle};
+    /// let mut depth = [0u16; 240 * 16];
+    /// let mut list = [ScreenTriangle::default(); 256];
+    /// let renderer = Renderer::with_triangle_list(&mut depth, &mut list);
+    /// # let _ = renderer;
+    /// ```
+    pub fn with_triangle_list(depth: &'d mut [u16], list: &'d mut [ScreenTriangle]) -> Self {
+        Renderer { depth, list }
+    }
+
+    /// Draws `source` as `camera` sees it onto `target`, sending visible pixels run by run.
     ///
     /// The drawn area is the camera's viewport (pixel `(0, 0)` at the top left) cut to the
     /// target's bounding box. Triangle pixels are drawn where they are nearer than what the
@@ -232,268 +309,253 @@ impl<'d> Renderer<'d> {
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
+        let Some(area) = self.area(camera, &target.bounding_box(), usize::MAX)? else {
+            return Ok(RenderStats::default());
+        };
+        self.render(source, camera, style, &area, &mut Runs(target))
+            .map_err(RenderError::Target)
+    }
+
+    /// Draws `source` as `camera` sees it onto `target`, one band at a time: each band is
+    /// rendered into `colors` (row-major, the band's width per row) and pushed with one
+    /// [`fill_contiguous`](DrawTarget::fill_contiguous) over its rectangle.
+    ///
+    /// The drawn area is as for [`draw`](Self::draw); a band has as many rows as both `depth`
+    /// and `colors` hold. Every pixel of the area is pushed exactly once, in the
+    /// [`Style::background`] colour (black when `None`) where no triangle is.
+    ///
+    /// ```
+    /// use embedded_graphics::mock_display::MockDisplay;
+    /// use embedded_graphics::pixelcolor::Rgb565;
+    /// use spline_tess::render::{IndexedMesh, Renderer, Style};
+    /// use spline_tess::{Camera, Projection, Vec3, Vertex};
+    ///
+    /// let corner = |x: f32, y: f32| Vertex {
+    ///     position: [x, y, 0.0],
+    ///     normal: [0.0, 0.0, 1.0],
+    ///     ..Vertex::default()
+    /// };
+    /// let vertices = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)];
+    /// let mesh = IndexedMesh { vertices: &vertices, triangles: &[[0u16, 1, 2], [0, 2, 3]] };
+    /// let camera = Camera::new(
+    ///     Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y,
+    ///     Projection::Orthographic { height: 4.0 }, 0.1, [32, 32],
+    /// )?;
+    ///
+    /// let mut display = MockDisplay::<Rgb565>::new(); // panics if a pixel is drawn twice
+    /// let mut depth = [0u16; 32 * 8];
+    /// let mut colors = [Rgb565::default(); 32 * 8];
+    /// let stats = Renderer::new(&mut depth)
+    ///     .draw_bands(&mesh, &camera, &Style::default(), &mut colors, &mut display)
+    ///     .unwrap();
+    /// assert_eq!((stats.bands, stats.pushed, stats.pixels), (4, 32 * 32, 16 * 16));
+    /// # Ok::<(), spline_tess::CameraError>(())
+    /// ```
+    pub fn draw_bands<S, D>(
+        &mut self,
+        source: &S,
+        camera: &Camera,
+        style: &Style,
+        colors: &mut [D::Color],
+        target: &mut D,
+    ) -> Result<RenderStats, RenderError<D::Error>>
+    where
+        S: TriangleSource,
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let bounds = target.bounding_box();
+        let mut out = Buffered {
+            pixels: Typed(colors),
+            push: |area: &Rectangle, pixels: &Typed<'_, D::Color>| {
+                let n = (area.size.width * area.size.height) as usize;
+                target.fill_contiguous(area, pixels.0.iter().take(n).copied())
+            },
+        };
+        self.draw_buffered(source, camera, style, &bounds, &mut out)
+    }
+
+    /// Like [`draw_bands`](Self::draw_bands), into `bytes` as big-endian Rgb565 (two bytes
+    /// per pixel, row-major), handing each band's rectangle and bytes to `push`: what a DMA
+    /// transfer to an SPI display's address window takes. The drawn area is the camera's
+    /// viewport. When `push` fails, drawing stops and its error is returned.
+    ///
+    /// ```
+    /// use spline_tess::render::{IndexedMesh, Renderer, Style};
+    /// use spline_tess::{Camera, Projection, Vec3, Vertex};
+    /// # let corner = |x: f32, y: f32| Vertex {
+    /// #     position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], ..Vertex::default()
+    /// # };
+    /// # let vertices = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)];
+    /// # let mesh = IndexedMesh { vertices: &vertices, triangles: &[[0u16, 1, 2]] };
+    /// # let camera = Camera::new(
+    /// #     Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y,
+    /// #     Projection::Orthographic { height: 4.0 }, 0.1, [32, 32],
+    /// # )?;
+    /// let mut depth = [0u16; 32 * 8];
+    /// let mut bytes = [0u8; 2 * 32 * 8];
+    /// let mut sent = 0;
+    /// Renderer::new(&mut depth)
+    ///     .draw_bands_rgb565(&mesh, &camera, &Style::default(), &mut bytes, |area, band| {
+    ///         // Here: set the display's address window to `area`, then send `band`.
+    ///         assert_eq!(band.len() as u32, 2 * area.size.width * area.size.height);
+    ///         sent += band.len();
+    ///         Ok::<(), ()>(())
+    ///     })
+    ///     .unwrap();
+    /// assert_eq!(sent, 2 * 32 * 32);
+    /// # Ok::<(), spline_tess::CameraError>(())
+    /// ```
+    pub fn draw_bands_rgb565<S, E>(
+        &mut self,
+        source: &S,
+        camera: &Camera,
+        style: &Style,
+        bytes: &mut [u8],
+        mut push: impl FnMut(&Rectangle, &[u8]) -> Result<(), E>,
+    ) -> Result<RenderStats, RenderError<E>>
+    where
+        S: TriangleSource,
+    {
+        let mut out = Buffered {
+            pixels: Rgb565Be(bytes),
+            push: |area: &Rectangle, pixels: &Rgb565Be<'_>| {
+                let n = 2 * (area.size.width * area.size.height) as usize;
+                push(area, pixels.0.get(..n).unwrap_or(&[]))
+            },
+        };
+        let bounds = Rectangle::new(Point::zero(), Size::new(u32::MAX, u32::MAX));
+        self.draw_buffered(source, camera, style, &bounds, &mut out)
+    }
+
+    fn draw_buffered<S, P, F, E>(
+        &mut self,
+        source: &S,
+        camera: &Camera,
+        style: &Style,
+        bounds: &Rectangle,
+        out: &mut Buffered<P, F>,
+    ) -> Result<RenderStats, RenderError<E>>
+    where
+        S: TriangleSource,
+        P: BandPixels,
+        F: FnMut(&Rectangle, &P) -> Result<(), E>,
+    {
+        let Some(area) = self.area(camera, bounds, out.pixels.pixels())? else {
+            return Ok(RenderStats::default());
+        };
+        self.render(source, camera, style, &area, out)
+            .map_err(RenderError::Target)
+    }
+
+    /// The drawn area (the viewport cut to `bounds`) and its band height, for a colour buffer
+    /// of `colors` pixels; `None` when the area is empty.
+    fn area<E>(
+        &self,
+        camera: &Camera,
+        bounds: &Rectangle,
+        colors: usize,
+    ) -> Result<Option<Area>, RenderError<E>> {
         let [vw, vh] = camera.viewport();
         if vw > MAX_VIEWPORT || vh > MAX_VIEWPORT {
             return Err(RenderError::ViewportTooLarge);
         }
-        let bb = target.bounding_box();
         let clamp = |v: i64| v.clamp(0, i32::MAX as i64) as i32;
-        let x0 = clamp(bb.top_left.x as i64);
-        let y0 = clamp(bb.top_left.y as i64);
-        let x1 = clamp(bb.top_left.x as i64 + bb.size.width as i64).min(clamp(vw as i64));
-        let y1 = clamp(bb.top_left.y as i64 + bb.size.height as i64).min(clamp(vh as i64));
-        let mut stats = RenderStats::default();
+        let x0 = clamp(bounds.top_left.x as i64);
+        let y0 = clamp(bounds.top_left.y as i64);
+        let x1 = clamp(bounds.top_left.x as i64 + bounds.size.width as i64).min(clamp(vw as i64));
+        let y1 = clamp(bounds.top_left.y as i64 + bounds.size.height as i64).min(clamp(vh as i64));
         if x0 >= x1 || y0 >= y1 {
-            return Ok(stats);
+            return Ok(None);
         }
         let width = (x1 - x0) as usize;
-        let band_rows = self.depth.len() / width;
-        if band_rows == 0 {
+        if self.depth.len() < width {
             return Err(RenderError::DepthTooSmall { needed: width });
         }
+        if colors < width {
+            return Err(RenderError::ColorsTooSmall { needed: width });
+        }
+        Ok(Some(Area {
+            columns: [x0, x1],
+            rows: [y0, y1],
+            band_rows: self.depth.len().min(colors) / width,
+        }))
+    }
+
+    /// Draws the frame band by band into `out`.
+    fn render<S, O>(
+        &mut self,
+        source: &S,
+        camera: &Camera,
+        style: &Style,
+        area: &Area,
+        out: &mut O,
+    ) -> Result<RenderStats, O::Error>
+    where
+        S: TriangleSource,
+        O: BandOutput,
+    {
+        let mut stats = RenderStats::default();
         let setup = Setup::new(camera, source.bound(), style);
+        let [x0, x1] = area.columns;
+        let [y0, y1] = area.rows;
+        let width = (x1 - x0) as usize;
+        // One pass into the list, when there is one and the frame fits.
+        let mut listed = None;
+        if !self.list.is_empty() && setup.depth.is_some() {
+            let mut sink = ListSink {
+                setup: &setup,
+                list: &mut *self.list,
+                len: 0,
+                handed: 0,
+                overflow: false,
+            };
+            source.stream_rows(camera, y0 as u32..y1 as u32, &mut sink);
+            stats.passes += 1;
+            stats.triangles += sink.handed;
+            if !sink.overflow {
+                listed = Some(sink.len);
+                stats.listed = sink.len as u32;
+            }
+        }
         let mut top = y0;
         while top < y1 {
-            let bottom = (top as i64 + band_rows as i64).min(y1 as i64) as i32;
+            let bottom = (top as i64 + area.band_rows as i64).min(y1 as i64) as i32;
             let depth = &mut self.depth[..width * (bottom - top) as usize];
             depth.fill(0);
             stats.bands += 1;
+            let rect = Rectangle::new(
+                Point::new(x0, top),
+                Size::new(width as u32, (bottom - top) as u32),
+            );
+            out.begin(&rect, style);
             let mut band = Band {
                 setup: &setup,
                 depth,
-                columns: x0..x1,
-                rows: top..bottom,
-                target: &mut *target,
+                area: rect,
+                out: &mut *out,
                 error: None,
                 stats: &mut stats,
             };
-            if setup.depth.is_some() {
-                source.stream_rows(camera, top as u32..bottom as u32, &mut band);
+            match listed {
+                Some(n) => {
+                    for t in self.list.iter().take(n) {
+                        band.draw_listed(t);
+                    }
+                }
+                None if setup.depth.is_some() => {
+                    band.stats.passes += 1;
+                    source.stream_rows(camera, top as u32..bottom as u32, &mut band);
+                }
+                None => {}
             }
             if let Some(e) = band.error.take() {
-                return Err(RenderError::Target(e));
+                return Err(e);
             }
-            if let Some(bg) = style.background {
-                band.fill_background(bg.into())
-                    .map_err(RenderError::Target)?;
-            }
+            let depth = &self.depth[..width * (bottom - top) as usize];
+            out.finish(&rect, depth, style, &mut stats)?;
             top = bottom;
         }
         Ok(stats)
     }
-}
-
-/// Per-frame constants.
-struct Setup<'a> {
-    camera: &'a Camera,
-    style: &'a Style,
-    frustum: Frustum,
-    /// `key = offset + scale * q`, with `q = 1/z` (perspective) or `z` (orthographic).
-    depth: Option<(f32, f32)>,
-    light: Vec3,
-    perspective: bool,
-}
-
-impl<'a> Setup<'a> {
-    fn new(camera: &'a Camera, bound: Option<BoundingSphere>, style: &'a Style) -> Self {
-        let perspective = matches!(camera.projection(), Projection::Perspective { .. });
-        let near = camera.near();
-        let depth = bound.and_then(|s| {
-            let zc = camera.to_view(s.center).z;
-            let zn = (zc - s.radius).max(near);
-            let zf = (zc + s.radius).max(zn);
-            let (qn, qf) = if perspective {
-                (1.0 / zn, 1.0 / zf)
-            } else {
-                (zn, zf)
-            };
-            // Keys 1 (far) to 65535 (near); 0 is an empty pixel.
-            let scale = if qn != qf { 65534.0 / (qn - qf) } else { 0.0 };
-            let ok = scale.is_finite() && zc.is_finite();
-            ok.then_some((1.0 - qf * scale, scale))
-        });
-        let light = normalize(Vec3::from_array(style.light.direction)).unwrap_or(-Vec3::Z);
-        Setup {
-            camera,
-            style,
-            frustum: Frustum::new(near, camera.half_extent(), perspective),
-            depth,
-            light,
-            perspective,
-        }
-    }
-
-    /// Shade of a surface with view-space normal `n` (any length) seen at view position `at`.
-    fn shade(&self, n: Vec3, at: Vec3) -> f32 {
-        let Some(n) = normalize(n) else {
-            return self.style.light.ambient;
-        };
-        let towards_eye = if self.perspective { -at } else { -Vec3::Z };
-        let n = if n.dot(towards_eye) < 0.0 { -n } else { n };
-        let a = self.style.light.ambient;
-        a + (1.0 - a) * n.dot(self.light).max(0.0)
-    }
-
-    fn depth_key(&self, z: f32) -> f32 {
-        let (offset, scale) = self.depth.unwrap_or((0.0, 0.0));
-        let q = if self.perspective { 1.0 / z } else { z };
-        offset + scale * q
-    }
-}
-
-/// One band being drawn: the sink the source streams into.
-struct Band<'a, 'b, D: DrawTarget> {
-    setup: &'a Setup<'a>,
-    depth: &'b mut [u16],
-    columns: Range<i32>,
-    rows: Range<i32>,
-    target: &'b mut D,
-    error: Option<D::Error>,
-    stats: &'b mut RenderStats,
-}
-
-impl<D> TriangleSink for Band<'_, '_, D>
-where
-    D: DrawTarget,
-    D::Color: From<Rgb888>,
-{
-    fn triangle(&mut self, _patch: u32, corners: [&Vertex; 3]) {
-        if self.error.is_some() {
-            return;
-        }
-        self.stats.triangles += 1;
-        let setup = self.setup;
-        let camera = setup.camera;
-        let view = corners.map(|c| camera.to_view(Vec3::from_array(c.position)));
-        let shade = match setup.style.shading {
-            Shading::Gouraud => [0, 1, 2].map(|i| {
-                let n = camera.rotate_to_view(Vec3::from_array(corners[i].normal));
-                setup.shade(n, view[i])
-            }),
-            Shading::Flat => {
-                let n = (view[1] - view[0]).cross(view[2] - view[0]);
-                [setup.shade(n, (view[0] + view[1] + view[2]) / 3.0); 3]
-            }
-        };
-        let wire = setup.style.wireframe.is_some();
-        let t = [0, 1, 2].map(|i| ClipVertex {
-            view: view[i],
-            shade: shade[i],
-        });
-        let poly = setup.frustum.clip(t, [wire; 3]);
-        // Project only the polygon's corners (usually 3 of the 8 slots).
-        let n = poly.len;
-        let mut screen = [ScreenVertex::default(); clip::MAX_CORNERS];
-        for (s, c) in screen.iter_mut().zip(&poly.corners[..n]) {
-            *s = ScreenVertex {
-                xy: camera.view_to_pixel(c.view),
-                depth: setup.depth_key(c.view.z),
-                shade: c.shade,
-            };
-        }
-        for k in 1..n.saturating_sub(1) {
-            let edges = [
-                poly.wire[k],
-                k + 2 == n && poly.wire[n - 1],
-                k == 1 && poly.wire[0],
-            ];
-            if let Some(tri) = Triangle::new([screen[0], screen[k], screen[k + 1]], edges) {
-                if let Err(e) = self.rasterise(&tri) {
-                    self.error = Some(e);
-                    return;
-                }
-            }
-        }
-    }
-}
-
-impl<D> Band<'_, '_, D>
-where
-    D: DrawTarget,
-    D::Color: From<Rgb888>,
-{
-    fn rasterise(&mut self, tri: &Triangle) -> Result<(), D::Error> {
-        let [first, last] = tri.rows();
-        let width = self.columns.len();
-        for row in first.max(self.rows.start)..=last.min(self.rows.end - 1) {
-            let Some(span) = tri.span(row, self.columns.clone()) else {
-                continue;
-            };
-            let base = (row - self.rows.start) as usize * width;
-            let mut x = span.x0;
-            while x < span.x1 {
-                // Skip hidden pixels, then take the run of visible ones.
-                let start = x;
-                while x < span.x1 {
-                    let i = base + (x - self.columns.start) as usize;
-                    let key = depth_key(&span, x);
-                    match self.depth.get_mut(i) {
-                        Some(d) if key > *d => {
-                            *d = key;
-                            x += 1;
-                        }
-                        _ => break,
-                    }
-                }
-                if x > start {
-                    let area =
-                        Rectangle::new(Point::new(start, row), Size::new((x - start) as u32, 1));
-                    let style = self.setup.style;
-                    let colors = (start..x).map(|px| color(style, &span, px).into());
-                    self.target.fill_contiguous(&area, colors)?;
-                    self.stats.pixels += (x - start) as u32;
-                    self.stats.runs += 1;
-                }
-                x += 1;
-            }
-        }
-        Ok(())
-    }
-
-    /// Draws the band's empty pixels in `color`, a run at a time.
-    fn fill_background(&mut self, color: D::Color) -> Result<(), D::Error> {
-        let width = self.columns.len();
-        for (r, row) in self.rows.clone().enumerate() {
-            let line = &self.depth[r * width..(r + 1) * width];
-            let mut x = 0;
-            while x < width {
-                if line[x] != 0 {
-                    x += 1;
-                    continue;
-                }
-                let start = x;
-                while x < width && line[x] == 0 {
-                    x += 1;
-                }
-                let area = Rectangle::new(
-                    Point::new(self.columns.start + start as i32, row),
-                    Size::new((x - start) as u32, 1),
-                );
-                self.target.fill_solid(&area, color)?;
-                self.stats.background += (x - start) as u32;
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Depth key of pixel column `x` of `span`: 1 (far) to 65535 (near).
-fn depth_key(span: &Span, x: i32) -> u16 {
-    let k = span.depth.at((x - span.x0) as u32);
-    (k as u16).max(1)
-}
-
-/// Colour of pixel column `x` of `span`.
-fn color(style: &Style, span: &Span, x: i32) -> Rgb888 {
-    let i = (x - span.x0) as u32;
-    if let Some(w) = style.wireframe {
-        let near_edge = span.edge.iter().any(|e| e.at(i) < w.half_width);
-        if near_edge {
-            return w.color;
-        }
-    }
-    let level = (span.shade.at(i).clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
-    let c = style.color;
-    let ch = |v: u8| ((v as u32 * level + 127) / 255) as u8;
-    Rgb888::new(ch(c.r()), ch(c.g()), ch(c.b()))
 }

@@ -10,7 +10,7 @@ use core::ops::Range;
 
 /// Subpixel steps per pixel.
 pub(crate) const SUBPIXELS: i64 = 16;
-const HALF: i64 = SUBPIXELS / 2;
+pub(crate) const HALF: i64 = SUBPIXELS / 2;
 
 /// A corner after projection: pixel position and the attributes interpolated across the
 /// triangle.
@@ -67,6 +67,11 @@ pub(crate) struct Triangle {
 
 fn snap(v: f32) -> i64 {
     libm::floorf(v * SUBPIXELS as f32 + 0.5) as i64
+}
+
+/// `v` snapped to 1/16 pixel, when it is a finite pixel position within [`COORDINATE_LIMIT`].
+pub(crate) fn snap_checked(v: f32) -> Option<i64> {
+    (v.abs() <= COORDINATE_LIMIT).then(|| snap(v))
 }
 
 /// `ceil(a / b)` for `b > 0`.

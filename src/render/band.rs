@@ -1,0 +1,317 @@
+//! One band of the frame: depth-tested scan conversion into the band's depth buffer, and
+//! where its visible pixels go (runs to a draw target, or a colour band buffer pushed once).
+
+use core::ops::Range;
+
+use embedded_graphics::draw_target::DrawTarget;
+use embedded_graphics::pixelcolor::raw::{RawData, RawU16};
+use embedded_graphics::pixelcolor::{PixelColor, Rgb565, Rgb888, RgbColor};
+use embedded_graphics::prelude::{Point, Size};
+use embedded_graphics::primitives::Rectangle;
+
+use super::list::ScreenTriangle;
+use super::project::Setup;
+use super::raster::{Span, Triangle};
+use super::{RenderStats, Style};
+use crate::sink::{TriangleSink, Vertex};
+
+/// Where a band's visible pixels go.
+pub(super) trait BandOutput {
+    type Error;
+    /// A band covering `area` starts.
+    fn begin(&mut self, area: &Rectangle, style: &Style);
+    /// Pixels `x0..x1` of `row` passed the depth test; their colours come from `span`.
+    fn run(
+        &mut self,
+        area: &Rectangle,
+        row: i32,
+        x0: i32,
+        x1: i32,
+        span: &Span,
+        style: &Style,
+    ) -> Result<(), Self::Error>;
+    /// The band is rasterised; `depth` is 0 where no triangle drew.
+    fn finish(
+        &mut self,
+        area: &Rectangle,
+        depth: &[u16],
+        style: &Style,
+        stats: &mut RenderStats,
+    ) -> Result<(), Self::Error>;
+}
+
+/// Runs along a row go straight to a draw target, one `fill_contiguous` each.
+pub(super) struct Runs<'t, D>(pub &'t mut D);
+
+impl<D> BandOutput for Runs<'_, D>
+where
+    D: DrawTarget,
+    D::Color: From<Rgb888>,
+{
+    type Error = D::Error;
+
+    fn begin(&mut self, _: &Rectangle, _: &Style) {}
+
+    fn run(
+        &mut self,
+        _: &Rectangle,
+        row: i32,
+        x0: i32,
+        x1: i32,
+        span: &Span,
+        style: &Style,
+    ) -> Result<(), D::Error> {
+        let area = Rectangle::new(Point::new(x0, row), Size::new((x1 - x0) as u32, 1));
+        let colors = (x0..x1).map(|px| color(style, span, px).into());
+        self.0.fill_contiguous(&area, colors)
+    }
+
+    fn finish(
+        &mut self,
+        area: &Rectangle,
+        depth: &[u16],
+        style: &Style,
+        stats: &mut RenderStats,
+    ) -> Result<(), D::Error> {
+        let Some(bg) = style.background else {
+            return Ok(());
+        };
+        let color: D::Color = bg.into();
+        let width = area.size.width as usize;
+        for (r, line) in depth.chunks_exact(width).enumerate() {
+            let mut x = 0;
+            while x < width {
+                if line[x] != 0 {
+                    x += 1;
+                    continue;
+                }
+                let start = x;
+                while x < width && line[x] == 0 {
+                    x += 1;
+                }
+                let run = Rectangle::new(
+                    area.top_left + Point::new(start as i32, r as i32),
+                    Size::new((x - start) as u32, 1),
+                );
+                self.0.fill_solid(&run, color)?;
+                stats.background += (x - start) as u32;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A band's colours in caller memory, row-major.
+pub(super) trait BandPixels {
+    /// Pixels it holds.
+    fn pixels(&self) -> usize;
+    /// Sets pixel `i` (ignored when out of range).
+    fn set(&mut self, i: usize, c: Rgb888);
+    /// Sets the first `n` pixels.
+    fn fill(&mut self, n: usize, c: Rgb888);
+}
+
+/// Colours of the target's type.
+pub(super) struct Typed<'c, C>(pub &'c mut [C]);
+
+impl<C: PixelColor + From<Rgb888>> BandPixels for Typed<'_, C> {
+    fn pixels(&self) -> usize {
+        self.0.len()
+    }
+
+    fn set(&mut self, i: usize, c: Rgb888) {
+        if let Some(p) = self.0.get_mut(i) {
+            *p = c.into();
+        }
+    }
+
+    fn fill(&mut self, n: usize, c: Rgb888) {
+        let c = c.into();
+        self.0.iter_mut().take(n).for_each(|p| *p = c);
+    }
+}
+
+/// Rgb565 as two big-endian bytes per pixel, as SPI displays take them.
+pub(super) struct Rgb565Be<'c>(pub &'c mut [u8]);
+
+fn rgb565_be(c: Rgb888) -> [u8; 2] {
+    RawU16::from(Rgb565::from(c)).into_inner().to_be_bytes()
+}
+
+impl BandPixels for Rgb565Be<'_> {
+    fn pixels(&self) -> usize {
+        self.0.len() / 2
+    }
+
+    fn set(&mut self, i: usize, c: Rgb888) {
+        if let Some(p) = self.0.get_mut(2 * i..2 * i + 2) {
+            p.copy_from_slice(&rgb565_be(c));
+        }
+    }
+
+    fn fill(&mut self, n: usize, c: Rgb888) {
+        let b = rgb565_be(c);
+        for p in self.0.chunks_exact_mut(2).take(n) {
+            p.copy_from_slice(&b);
+        }
+    }
+}
+
+/// A colour band buffer, pushed whole when the band is done.
+pub(super) struct Buffered<P, F> {
+    pub pixels: P,
+    pub push: F,
+}
+
+impl<P, F, E> BandOutput for Buffered<P, F>
+where
+    P: BandPixels,
+    F: FnMut(&Rectangle, &P) -> Result<(), E>,
+{
+    type Error = E;
+
+    fn begin(&mut self, area: &Rectangle, style: &Style) {
+        let n = (area.size.width * area.size.height) as usize;
+        self.pixels
+            .fill(n, style.background.unwrap_or(Rgb888::BLACK));
+    }
+
+    fn run(
+        &mut self,
+        area: &Rectangle,
+        row: i32,
+        x0: i32,
+        x1: i32,
+        span: &Span,
+        style: &Style,
+    ) -> Result<(), E> {
+        let width = area.size.width as usize;
+        let base = (row - area.top_left.y) as usize * width;
+        for x in x0..x1 {
+            let i = base + (x - area.top_left.x) as usize;
+            self.pixels.set(i, color(style, span, x));
+        }
+        Ok(())
+    }
+
+    fn finish(
+        &mut self,
+        area: &Rectangle,
+        _: &[u16],
+        _: &Style,
+        stats: &mut RenderStats,
+    ) -> Result<(), E> {
+        stats.pushed += area.size.width * area.size.height;
+        (self.push)(area, &self.pixels)
+    }
+}
+
+/// One band being drawn: the sink a source streams into, or what the triangle list is drawn
+/// into.
+pub(super) struct Band<'a, 'b, O: BandOutput> {
+    pub setup: &'a Setup<'a>,
+    pub depth: &'b mut [u16],
+    pub area: Rectangle,
+    pub out: &'b mut O,
+    pub error: Option<O::Error>,
+    pub stats: &'b mut RenderStats,
+}
+
+impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
+    fn triangle(&mut self, _patch: u32, corners: [&Vertex; 3]) {
+        if self.error.is_some() {
+            return;
+        }
+        self.stats.triangles += 1;
+        let setup = self.setup;
+        setup.project(corners, |v, wire| {
+            if let Some(tri) = Triangle::new(v, wire) {
+                self.rasterise(&tri);
+            }
+        });
+    }
+}
+
+impl<O: BandOutput> Band<'_, '_, O> {
+    /// Draws a triangle of the list, when it reaches the band.
+    pub fn draw_listed(&mut self, t: &ScreenTriangle) {
+        if !t.meets_rows(&self.rows()) {
+            return;
+        }
+        let (v, wire) = t.unpack();
+        if let Some(tri) = Triangle::new(v, wire) {
+            self.rasterise(&tri);
+        }
+    }
+
+    fn rows(&self) -> Range<i32> {
+        self.area.top_left.y..self.area.top_left.y + self.area.size.height as i32
+    }
+
+    fn columns(&self) -> Range<i32> {
+        self.area.top_left.x..self.area.top_left.x + self.area.size.width as i32
+    }
+
+    fn rasterise(&mut self, tri: &Triangle) {
+        if self.error.is_some() {
+            return;
+        }
+        let [first, last] = tri.rows();
+        let (rows, columns) = (self.rows(), self.columns());
+        let width = columns.len();
+        let style = self.setup.style;
+        for row in first.max(rows.start)..=last.min(rows.end - 1) {
+            let Some(span) = tri.span(row, columns.clone()) else {
+                continue;
+            };
+            let base = (row - rows.start) as usize * width;
+            let mut x = span.x0;
+            while x < span.x1 {
+                // Skip hidden pixels, then take the run of visible ones.
+                let start = x;
+                while x < span.x1 {
+                    let i = base + (x - columns.start) as usize;
+                    let key = depth_key(&span, x);
+                    match self.depth.get_mut(i) {
+                        Some(d) if key > *d => {
+                            *d = key;
+                            x += 1;
+                        }
+                        _ => break,
+                    }
+                }
+                if x > start {
+                    if let Err(e) = self.out.run(&self.area, row, start, x, &span, style) {
+                        self.error = Some(e);
+                        return;
+                    }
+                    self.stats.pixels += (x - start) as u32;
+                    self.stats.runs += 1;
+                }
+                x += 1;
+            }
+        }
+    }
+}
+
+/// Depth key of pixel column `x` of `span`: 1 (far) to 65535 (near), rounded, so that
+/// surfaces at one depth (whose corner keys are the same integer) get the same key.
+fn depth_key(span: &Span, x: i32) -> u16 {
+    let k = span.depth.at((x - span.x0) as u32);
+    ((k + 0.5) as u16).max(1)
+}
+
+/// Colour of pixel column `x` of `span`.
+fn color(style: &Style, span: &Span, x: i32) -> Rgb888 {
+    let i = (x - span.x0) as u32;
+    if let Some(w) = style.wireframe {
+        let near_edge = span.edge.iter().any(|e| e.at(i) < w.half_width);
+        if near_edge {
+            return w.color;
+        }
+    }
+    let level = (span.shade.at(i).clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
+    let c = style.color;
+    let ch = |v: u8| ((v as u32 * level + 127) / 255) as u8;
+    Rgb888::new(ch(c.r()), ch(c.g()), ch(c.b()))
+}

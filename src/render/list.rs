@@ -1,0 +1,135 @@
+//! The frame's triangle list: every screen triangle of a frame, projected once and packed in
+//! 22 bytes, so that the bands rasterise from it instead of asking the source again.
+
+use super::project::{depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8, Setup};
+use super::raster::{snap_checked, ScreenVertex, HALF, SUBPIXELS};
+use crate::sink::{TriangleSink, Vertex};
+
+/// A triangle after projection, as the frame's triangle list keeps it: corners at 1/16 pixel
+/// in `i16`, depth keys in `u16`, shades in `u8` and the wireframe edges in one byte (22
+/// bytes). See [`Renderer::with_triangle_list`](super::Renderer::with_triangle_list).
+///
+/// Its contents are private; `Default` gives an empty slot to build the caller's buffer from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ScreenTriangle {
+    x: [i16; 3],
+    y: [i16; 3],
+    depth: [u16; 3],
+    shade: [u8; 3],
+    wire: u8,
+}
+
+impl ScreenTriangle {
+    /// Packs a projected triangle; `None` when a corner does not fit the 1/16-pixel `i16`
+    /// range (beyond about ±2,047 pixels) or is not finite.
+    pub(super) fn pack(v: &[ScreenVertex; 3], wire: [bool; 3]) -> Option<ScreenTriangle> {
+        let fit = |c: f32| {
+            let s = snap_checked(c)?;
+            i16::try_from(s).ok()
+        };
+        let mut t = ScreenTriangle::default();
+        for i in 0..3 {
+            t.x[i] = fit(v[i].xy[0])?;
+            t.y[i] = fit(v[i].xy[1])?;
+            t.depth[i] = depth_to_u16(v[i].depth);
+            t.shade[i] = shade_to_u8(v[i].shade);
+            t.wire |= (wire[i] as u8) << i;
+        }
+        Some(t)
+    }
+
+    /// The corners and wireframe edges as they were packed (positions on the 1/16-pixel
+    /// grid, depth and shade as [`project`](super::project) rounds them).
+    pub(super) fn unpack(&self) -> ([ScreenVertex; 3], [bool; 3]) {
+        let sub = 1.0 / SUBPIXELS as f32;
+        let v = [0, 1, 2].map(|i| ScreenVertex {
+            xy: [self.x[i] as f32 * sub, self.y[i] as f32 * sub],
+            depth: depth_from_u16(self.depth[i]),
+            shade: shade_from_u8(self.shade[i]),
+        });
+        (v, [0, 1, 2].map(|i| self.wire & (1 << i) != 0))
+    }
+
+    /// Whether the pixel rows whose centres it may cover meet `rows` (half-open).
+    pub(super) fn meets_rows(&self, rows: &core::ops::Range<i32>) -> bool {
+        let [a, b, c] = self.y.map(i32::from);
+        let (top, bottom) = (a.min(b).min(c), a.max(b).max(c));
+        // As `Triangle::rows`: first centre at or below `top`, last at or above `bottom`.
+        let sub = SUBPIXELS as i32;
+        let half = HALF as i32;
+        let first = -((half - top).div_euclid(sub));
+        let last = (bottom - half).div_euclid(sub);
+        first < rows.end && last >= rows.start
+    }
+}
+
+/// The sink that fills the list from one pass over the source.
+pub(super) struct ListSink<'a, 'b> {
+    pub setup: &'a Setup<'a>,
+    pub list: &'b mut [ScreenTriangle],
+    pub len: usize,
+    /// Triangles handed over by the source.
+    pub handed: u32,
+    /// Set when a triangle did not fit (the list is full, or a corner is out of `i16`).
+    pub overflow: bool,
+}
+
+impl TriangleSink for ListSink<'_, '_> {
+    fn triangle(&mut self, _patch: u32, corners: [&Vertex; 3]) {
+        self.handed += 1;
+        if self.overflow {
+            return;
+        }
+        self.setup.project(corners, |v, wire| {
+            match (ScreenTriangle::pack(&v, wire), self.list.get_mut(self.len)) {
+                (Some(t), Some(slot)) => {
+                    *slot = t;
+                    self.len += 1;
+                }
+                _ => self.overflow = true,
+            }
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_packed_triangle_is_22_bytes() {
+        assert_eq!(core::mem::size_of::<ScreenTriangle>(), 22);
+    }
+
+    #[test]
+    fn packing_keeps_the_snapped_corners_and_rows() {
+        let v = |x: f32, y: f32| ScreenVertex {
+            xy: [x, y],
+            depth: 300.0,
+            shade: super::super::project::quantize_shade(0.2),
+        };
+        let corners = [v(0.5, 0.49), v(10.25, 3.0), v(-4.0, 20.97)];
+        let t = ScreenTriangle::pack(&corners, [true, false, true]).unwrap();
+        let (back, wire) = t.unpack();
+        assert_eq!(wire, [true, false, true]);
+        for (a, b) in corners.iter().zip(&back) {
+            assert_eq!(snap_checked(a.xy[0]), snap_checked(b.xy[0]));
+            assert_eq!(snap_checked(a.xy[1]), snap_checked(b.xy[1]));
+            assert_eq!((a.depth, a.shade), (b.depth, b.shade));
+        }
+        let tri = super::super::raster::Triangle::new(back, wire).unwrap();
+        let [first, last] = tri.rows();
+        for r in first - 3..=last + 3 {
+            let inside = (first..=last).contains(&r);
+            assert_eq!(t.meets_rows(&(r..r + 1)), inside, "row {r}");
+        }
+        assert!(
+            ScreenTriangle::pack(&[v(0.0, 0.0), v(2100.0, 0.0), v(0.0, 1.0)], [false; 3]).is_none()
+        );
+        assert!(
+            ScreenTriangle::pack(&[v(0.0, 0.0), v(f32::NAN, 0.0), v(0.0, 1.0)], [false; 3])
+                .is_none()
+        );
+    }
+}

@@ -1,0 +1,182 @@
+//! From a triangle in object space to screen triangles: view transform, shading, clipping,
+//! projection, and the quantization every drawing path shares.
+//!
+//! Corners leave here with their depth key rounded to an integer in `0..=65535` and their
+//! shade rounded to a multiple of 1/255 (the rasteriser snaps positions to 1/16 pixel itself).
+//! That is exactly what a [`ScreenTriangle`](super::ScreenTriangle) can hold, so a triangle drawn
+//! straight from the source and one kept in the frame's triangle list give the same pixels.
+
+use glam::Vec3;
+
+use super::clip::{self, ClipVertex, Frustum};
+use super::raster::ScreenVertex;
+use super::{Shading, Style};
+use crate::bound::BoundingSphere;
+use crate::math::normalize;
+use crate::sink::Vertex;
+use crate::view::{Camera, Projection};
+
+/// Per-frame constants.
+pub(super) struct Setup<'a> {
+    pub camera: &'a Camera,
+    pub style: &'a Style,
+    frustum: Frustum,
+    /// `key = offset + scale * q`, with `q = 1/z` (perspective) or `z` (orthographic); `None`
+    /// when there is nothing to draw.
+    pub depth: Option<(f32, f32)>,
+    light: Vec3,
+    perspective: bool,
+}
+
+impl<'a> Setup<'a> {
+    pub fn new(camera: &'a Camera, bound: Option<BoundingSphere>, style: &'a Style) -> Self {
+        let perspective = matches!(camera.projection(), Projection::Perspective { .. });
+        let near = camera.near();
+        let depth = bound.and_then(|s| {
+            let zc = camera.to_view(s.center).z;
+            let zn = (zc - s.radius).max(near);
+            let zf = (zc + s.radius).max(zn);
+            let (qn, qf) = if perspective {
+                (1.0 / zn, 1.0 / zf)
+            } else {
+                (zn, zf)
+            };
+            // Keys 1 (far) to 65535 (near); 0 is an empty pixel.
+            let scale = if qn != qf { 65534.0 / (qn - qf) } else { 0.0 };
+            let ok = scale.is_finite() && zc.is_finite();
+            ok.then_some((1.0 - qf * scale, scale))
+        });
+        let light = normalize(Vec3::from_array(style.light.direction)).unwrap_or(-Vec3::Z);
+        Setup {
+            camera,
+            style,
+            frustum: Frustum::new(near, camera.half_extent(), perspective),
+            depth,
+            light,
+            perspective,
+        }
+    }
+
+    /// Shade of a surface with view-space normal `n` (any length) seen at view position `at`.
+    fn shade(&self, n: Vec3, at: Vec3) -> f32 {
+        let Some(n) = normalize(n) else {
+            return self.style.light.ambient;
+        };
+        let towards_eye = if self.perspective { -at } else { -Vec3::Z };
+        let n = if n.dot(towards_eye) < 0.0 { -n } else { n };
+        let a = self.style.light.ambient;
+        a + (1.0 - a) * n.dot(self.light).max(0.0)
+    }
+
+    /// Depth key at view depth `z`, rounded (see the module docs).
+    fn depth_key(&self, z: f32) -> f32 {
+        let (offset, scale) = self.depth.unwrap_or((0.0, 0.0));
+        let q = if self.perspective { 1.0 / z } else { z };
+        quantize_depth(offset + scale * q)
+    }
+
+    /// Hands `out` the screen triangles of the object-space triangle `corners` after
+    /// clipping (none, one, or a fan), with the edges to draw as wireframe (`wire[i]` for the
+    /// edge opposite corner `i`).
+    pub fn project(
+        &self,
+        corners: [&Vertex; 3],
+        mut out: impl FnMut([ScreenVertex; 3], [bool; 3]),
+    ) {
+        let camera = self.camera;
+        let view = corners.map(|c| camera.to_view(Vec3::from_array(c.position)));
+        let shade = match self.style.shading {
+            Shading::Gouraud => [0, 1, 2].map(|i| {
+                let n = camera.rotate_to_view(Vec3::from_array(corners[i].normal));
+                self.shade(n, view[i])
+            }),
+            Shading::Flat => {
+                let n = (view[1] - view[0]).cross(view[2] - view[0]);
+                [self.shade(n, (view[0] + view[1] + view[2]) / 3.0); 3]
+            }
+        };
+        let wire = self.style.wireframe.is_some();
+        let t = [0, 1, 2].map(|i| ClipVertex {
+            view: view[i],
+            shade: shade[i],
+        });
+        let poly = self.frustum.clip(t, [wire; 3]);
+        // Project only the polygon's corners (usually 3 of the 8 slots).
+        let n = poly.len;
+        let mut screen = [ScreenVertex::default(); clip::MAX_CORNERS];
+        for (s, c) in screen.iter_mut().zip(&poly.corners[..n]) {
+            *s = ScreenVertex {
+                xy: camera.view_to_pixel(c.view),
+                depth: self.depth_key(c.view.z),
+                shade: quantize_shade(c.shade),
+            };
+        }
+        for k in 1..n.saturating_sub(1) {
+            let edges = [
+                poly.wire[k],
+                k + 2 == n && poly.wire[n - 1],
+                k == 1 && poly.wire[0],
+            ];
+            out([screen[0], screen[k], screen[k + 1]], edges);
+        }
+    }
+}
+
+/// A depth key rounded to the nearest integer in `0..=65535` (NaN gives 0).
+pub(super) fn quantize_depth(key: f32) -> f32 {
+    depth_from_u16(depth_to_u16(key))
+}
+
+/// The integer key of [`quantize_depth`].
+pub(super) fn depth_to_u16(key: f32) -> u16 {
+    // `as` saturates and maps NaN to 0.
+    (key + 0.5) as u16
+}
+
+/// A key as `f32`.
+pub(super) fn depth_from_u16(key: u16) -> f32 {
+    key as f32
+}
+
+/// A shade clamped to `[0, 1]` and rounded to a multiple of 1/255.
+pub(super) fn quantize_shade(shade: f32) -> f32 {
+    shade_from_u8(shade_to_u8(shade))
+}
+
+/// The level of [`quantize_shade`], `0..=255`.
+pub(super) fn shade_to_u8(shade: f32) -> u8 {
+    (shade.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
+/// A level as a shade in `[0, 1]`.
+pub(super) fn shade_from_u8(level: u8) -> f32 {
+    level as f32 * (1.0 / 255.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantized_values_round_trip() {
+        for key in [
+            0.0, 0.49, 0.5, 1.0, 1234.4, 1234.6, 65534.6, 65535.0, 7.0e4, -3.0,
+        ] {
+            let q = quantize_depth(key);
+            assert_eq!(depth_from_u16(depth_to_u16(q)), q, "{key}");
+            assert!(
+                q == 0.0 || q == 65535.0 || (q - key).abs() <= 0.5,
+                "{key} -> {q}"
+            );
+        }
+        assert_eq!(quantize_depth(f32::NAN), 0.0);
+        for s in [0.0, 0.001, 0.2, 0.5, 0.999, 1.0, 1.5, -0.5] {
+            let q = quantize_shade(s);
+            assert_eq!(shade_from_u8(shade_to_u8(q)), q, "{s}");
+            assert!(
+                (q - s.clamp(0.0, 1.0)).abs() <= 0.5 / 255.0 + 1e-7,
+                "{s} -> {q}"
+            );
+        }
+    }
+}
