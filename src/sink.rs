@@ -65,6 +65,14 @@ mod private {
 pub trait TriangleSink {
     /// One triangle of patch `patch`.
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]);
+
+    /// Whether the sink wants patch `patch`'s triangles: a source may skip a patch (and the
+    /// work of evaluating it) when this is false. Sources need not ask; the default wants
+    /// every patch.
+    fn wants_patch(&self, patch: u32) -> bool {
+        let _ = patch;
+        true
+    }
 }
 
 /// What [`Tessellator::stream_with_info`](crate::Tessellator::stream_with_info) tells about

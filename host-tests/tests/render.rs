@@ -713,13 +713,38 @@ fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
             "eye {eye:?}: the list draws differently"
         );
 
-        let short = listed.listed as usize - 1;
-        let (fallback, again) = banded(&mut list[..short], 16);
-        assert_eq!((fallback.listed, fallback.passes), (0, 1 + fallback.bands));
-        assert!(
-            again == expected,
-            "eye {eye:?}: the fallback draws differently"
-        );
+        // A list that holds part of the frame keeps whole patches and streams the rest.
+        let short = listed.listed as usize / 2;
+        let (partial, again) = banded(&mut list[..short], 16);
+        assert!(partial.listed > 0 && partial.listed as usize <= short);
+        assert_eq!(partial.passes, 1 + partial.bands);
+        assert!(again == expected, "eye {eye:?}: the partial list draws differently");
+
+        // A source whose patches do not come in increasing order is streamed whole when the
+        // list cannot hold it: the written mesh, triangles reversed.
+        let mesh = indexed(&mut tess);
+        let reversed: Vec<[u32; 3]> = mesh.triangles.iter().rev().copied().collect();
+        let backwards = IndexedMesh {
+            vertices: &mesh.vertices,
+            triangles: &reversed,
+        };
+        for (len, whole) in [(list.len(), true), (short, false)] {
+            let mut depth = vec![0u16; (w * 16) as usize];
+            let mut target = Windows {
+                counting: Counting::new(w, h),
+                windows: Vec::new(),
+            };
+            let stats = Renderer::with_triangle_list(&mut depth, &mut list[..len])
+                .draw_bands(&backwards, &camera, &style, &mut colors, &mut target)
+                .unwrap();
+            if whole {
+                assert_eq!(stats.passes, 1);
+                assert!(stats.listed as usize >= reversed.len() / 2);
+            } else {
+                assert_eq!((stats.passes, stats.listed), (1 + stats.bands, 0));
+            }
+            assert!(target.counting.hits.iter().all(|&n| n == 1));
+        }
 
         // The same pixels as big-endian Rgb565 bytes, band by band.
         let mut depth = vec![0u16; (w * 8) as usize];

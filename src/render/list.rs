@@ -65,31 +65,99 @@ impl ScreenTriangle {
 }
 
 /// The sink that fills the list from one pass over the source.
+///
+/// When a triangle does not fit (the list is full, or a corner is out of `i16`), the list keeps
+/// the patches before that triangle's patch and the frame resumes there: each band draws the
+/// list, then streams the patches from `resume` on. That needs the source to hand patches in
+/// increasing order (a [`Tessellator`](crate::Tessellator) does); when it does not, the list is
+/// given up (`overflow`) and every band streams the whole frame.
 pub(super) struct ListSink<'a, 'b> {
     pub setup: &'a Setup<'a>,
     pub list: &'b mut [ScreenTriangle],
     pub len: usize,
     /// Triangles handed over by the source.
     pub handed: u32,
-    /// Set when a triangle did not fit (the list is full, or a corner is out of `i16`).
+    /// The patch of the last triangle, and where its triangles start in the list.
+    current: Option<(u32, usize)>,
+    /// Whether the patches came in increasing order so far.
+    increasing: bool,
+    /// The first patch the list does not hold.
+    pub resume: Option<u32>,
+    /// Set when the list is given up.
     pub overflow: bool,
 }
 
+impl<'a, 'b> ListSink<'a, 'b> {
+    pub fn new(setup: &'a Setup<'a>, list: &'b mut [ScreenTriangle]) -> Self {
+        ListSink {
+            setup,
+            list,
+            len: 0,
+            handed: 0,
+            current: None,
+            increasing: true,
+            resume: None,
+            overflow: false,
+        }
+    }
+}
+
 impl TriangleSink for ListSink<'_, '_> {
-    fn triangle(&mut self, _patch: u32, corners: [&Vertex; 3]) {
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
         self.handed += 1;
-        if self.overflow {
+        if self.overflow || self.resume.is_some() {
             return;
         }
+        match self.current {
+            Some((p, _)) if p == patch => {}
+            Some((p, _)) if p > patch => {
+                self.increasing = false;
+                self.current = Some((patch, self.len));
+            }
+            _ => self.current = Some((patch, self.len)),
+        }
+        let mut fits = true;
         self.setup.project(corners, |v, wire| {
             match (ScreenTriangle::pack(&v, wire), self.list.get_mut(self.len)) {
-                (Some(t), Some(slot)) => {
+                (Some(t), Some(slot)) if fits => {
                     *slot = t;
                     self.len += 1;
                 }
-                _ => self.overflow = true,
+                _ => fits = false,
             }
         });
+        if !fits {
+            match self.current {
+                Some((p, start)) if self.increasing => {
+                    self.len = start;
+                    self.resume = Some(p);
+                }
+                _ => self.overflow = true,
+            }
+        }
+    }
+
+    fn wants_patch(&self, _patch: u32) -> bool {
+        !self.overflow && self.resume.is_none()
+    }
+}
+
+/// Passes on the triangles of the patches from `first` on (those a partial list does not
+/// hold).
+pub(super) struct Remaining<'s, S> {
+    pub first: u32,
+    pub sink: &'s mut S,
+}
+
+impl<S: TriangleSink> TriangleSink for Remaining<'_, S> {
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
+        if patch >= self.first {
+            self.sink.triangle(patch, corners);
+        }
+    }
+
+    fn wants_patch(&self, patch: u32) -> bool {
+        patch >= self.first && self.sink.wants_patch(patch)
     }
 }
 

@@ -215,13 +215,14 @@ impl<E: fmt::Debug> core::error::Error for RenderError<E> {}
 pub struct RenderStats {
     /// Bands drawn.
     pub bands: u32,
-    /// Times the source was asked for its triangles: once with a triangle list that held the
-    /// frame, otherwise once per band.
+    /// Times the source was asked for triangles: once with a triangle list that held the
+    /// frame, once more per band for what the list did not hold, once per band without a
+    /// list.
     pub passes: u32,
     /// Triangles handed over by the source, summed over the passes.
     pub triangles: u32,
-    /// Screen triangles kept in the triangle list (0 when there was none, or it was too small
-    /// and the frame was streamed band by band instead).
+    /// Screen triangles kept in the triangle list (0 when there was none). When the list
+    /// holds only part of the frame, the rest is streamed band by band (`passes` counts them).
     pub listed: u32,
     /// Triangle pixels that passed the depth test (a pixel nearer than an earlier one counts
     /// again).
@@ -251,8 +252,10 @@ pub struct RenderStats {
 /// it (a [`Tessellator`](crate::Tessellator) evaluates their vertices again). With one
 /// ([`with_triangle_list`](Self::with_triangle_list)), the source is asked once per frame:
 /// each triangle is projected once, kept in 22 bytes, and every band rasterises from the list.
-/// When the frame has more triangles than the list holds, it is streamed band by band instead
-/// ([`RenderStats::listed`] is then 0). Both ways give the same pixels.
+/// When the frame has more triangles than the list holds, the list keeps the whole patches that
+/// fit and every band streams the rest from the source (a source that does not hand its
+/// patches in increasing order is then streamed whole, band by band, and
+/// [`RenderStats::listed`] is 0). All ways give the same pixels.
 #[derive(Debug)]
 pub struct Renderer<'d> {
     depth: &'d mut [u16],
@@ -500,21 +503,16 @@ impl<'d> Renderer<'d> {
         let [x0, x1] = area.columns;
         let [y0, y1] = area.rows;
         let width = (x1 - x0) as usize;
-        // One pass into the list, when there is one and the frame fits.
+        // One pass into the list, when there is one: `Some((n, resume))` when it holds the
+        // frame's first `n` triangles, all of them unless patches from `resume` on are left.
         let mut listed = None;
         if !self.list.is_empty() && setup.depth.is_some() {
-            let mut sink = ListSink {
-                setup: &setup,
-                list: &mut *self.list,
-                len: 0,
-                handed: 0,
-                overflow: false,
-            };
+            let mut sink = ListSink::new(&setup, self.list);
             source.stream_rows(camera, y0 as u32..y1 as u32, &mut sink);
             stats.passes += 1;
             stats.triangles += sink.handed;
             if !sink.overflow {
-                listed = Some(sink.len);
+                listed = Some((sink.len, sink.resume));
                 stats.listed = sink.len as u32;
             }
         }
@@ -537,15 +535,24 @@ impl<'d> Renderer<'d> {
                 error: None,
                 stats: &mut stats,
             };
+            let rows = top as u32..bottom as u32;
             match listed {
-                Some(n) => {
+                Some((n, resume)) => {
                     for t in self.list.iter().take(n) {
                         band.draw_listed(t);
+                    }
+                    if let Some(first) = resume {
+                        band.stats.passes += 1;
+                        let mut rest = list::Remaining {
+                            first,
+                            sink: &mut band,
+                        };
+                        source.stream_rows(camera, rows, &mut rest);
                     }
                 }
                 None if setup.depth.is_some() => {
                     band.stats.passes += 1;
-                    source.stream_rows(camera, top as u32..bottom as u32, &mut band);
+                    source.stream_rows(camera, rows, &mut band);
                 }
                 None => {}
             }

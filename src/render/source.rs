@@ -17,8 +17,9 @@ pub trait TriangleSource {
     fn bound(&self) -> Option<BoundingSphere>;
 
     /// Hands `sink` every triangle that may cover pixel rows `rows` for `camera` (handing
-    /// more is allowed: the rasteriser clips to the band). Called once per band, so a source
-    /// should skip what it cheaply can.
+    /// more is allowed: the rasteriser clips to the band), leaving out the patches the sink
+    /// does not [want](TriangleSink::wants_patch). Called once per band, or once per frame
+    /// with a triangle list, so a source should skip what it cheaply can.
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink);
 }
 
@@ -32,7 +33,7 @@ impl TriangleSource for Tessellator<'_, '_> {
 
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
         for p in 0..self.patches().len() {
-            if self.is_culled(p) {
+            if self.is_culled(p) || !sink.wants_patch(p as u32) {
                 continue;
             }
             // The patch lies in its control points' convex hull (weights are positive), and
@@ -86,7 +87,9 @@ impl<I: MeshIndex> TriangleSource for IndexedMesh<'_, I> {
         for t in self.triangles {
             let [a, b, c] = t.map(|i| self.vertices.get(i.to_u32() as usize));
             if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                sink.triangle(a.patch, [a, b, c]);
+                if sink.wants_patch(a.patch) {
+                    sink.triangle(a.patch, [a, b, c]);
+                }
             }
         }
     }

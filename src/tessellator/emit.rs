@@ -742,9 +742,14 @@ impl<'m, 's> Tessellator<'m, 's> {
     }
 
     /// Hands every triangle of the frame, with its vertices, to `sink`, in the order of
-    /// [`write_mesh`](Self::write_mesh)'s triangles.
+    /// [`write_mesh`](Self::write_mesh)'s triangles (patch by patch, leaving out the patches
+    /// the sink does not [want](TriangleSink::wants_patch)).
     pub fn stream(&self, sink: &mut impl TriangleSink) {
-        self.stream_with_info(|info, corners| sink.triangle(info.patch, corners));
+        for p in 0..self.baked.patch_count() {
+            if sink.wants_patch(p as u32) {
+                self.stream_patch(p, sink);
+            }
+        }
     }
 
     /// Like [`stream`](Self::stream), also passing each triangle's [`TriangleInfo`]: its own
