@@ -260,7 +260,6 @@ mod fw_teapot;
 #[allow(dead_code)]
 #[path = "../../examples/common/spi_display.rs"]
 mod spi_display;
-use fw_tessellate as frames;
 
 /// Every frame of fw_teapot drawn on the host with the same code: triangles, pixels drawn,
 /// checksum of the pixels pushed to the display model. Drawn once with the demo's triangle

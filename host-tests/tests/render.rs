@@ -718,7 +718,10 @@ fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
         let (partial, again) = banded(&mut list[..short], 16);
         assert!(partial.listed > 0 && partial.listed as usize <= short);
         assert_eq!(partial.passes, 1 + partial.bands);
-        assert!(again == expected, "eye {eye:?}: the partial list draws differently");
+        assert!(
+            again == expected,
+            "eye {eye:?}: the partial list draws differently"
+        );
 
         // A source whose patches do not come in increasing order is streamed whole when the
         // list cannot hold it: the written mesh, triangles reversed.

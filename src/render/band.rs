@@ -9,7 +9,7 @@ use embedded_graphics::pixelcolor::{PixelColor, Rgb565, Rgb888, RgbColor};
 use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
-use super::list::ScreenTriangle;
+use super::list::{ScreenTriangle, SubpixelRows};
 use super::project::Setup;
 use super::raster::{Span, Triangle};
 use super::{RenderStats, Style};
@@ -233,14 +233,15 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
 }
 
 impl<O: BandOutput> Band<'_, '_, O> {
-    /// Draws a triangle of the list, when it reaches the band.
-    pub fn draw_listed(&mut self, t: &ScreenTriangle) {
-        if !t.meets_rows(&self.rows()) {
-            return;
-        }
-        let (v, wire) = t.unpack();
-        if let Some(tri) = Triangle::new(v, wire) {
-            self.rasterise(&tri);
+    /// Draws the triangles of `list` that reach the band, in order.
+    pub fn draw_list(&mut self, list: &[ScreenTriangle]) {
+        let rows = SubpixelRows::new(&self.rows());
+        for t in list {
+            if t.meets(&rows) {
+                if let Some(tri) = t.triangle() {
+                    self.rasterise(&tri);
+                }
+            }
         }
     }
 

@@ -2,7 +2,7 @@
 //! 22 bytes, so that the bands rasterise from it instead of asking the source again.
 
 use super::project::{depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8, Setup};
-use super::raster::{snap_checked, ScreenVertex, HALF, SUBPIXELS};
+use super::raster::{snap_checked, ScreenVertex, Triangle, HALF, SUBPIXELS};
 use crate::sink::{TriangleSink, Vertex};
 
 /// A triangle after projection, as the frame's triangle list keeps it: corners at 1/16 pixel
@@ -41,6 +41,7 @@ impl ScreenTriangle {
 
     /// The corners and wireframe edges as they were packed (positions on the 1/16-pixel
     /// grid, depth and shade as [`project`](super::project) rounds them).
+    #[cfg(test)]
     pub(super) fn unpack(&self) -> ([ScreenVertex; 3], [bool; 3]) {
         let sub = 1.0 / SUBPIXELS as f32;
         let v = [0, 1, 2].map(|i| ScreenVertex {
@@ -51,16 +52,41 @@ impl ScreenTriangle {
         (v, [0, 1, 2].map(|i| self.wire & (1 << i) != 0))
     }
 
-    /// Whether the pixel rows whose centres it may cover meet `rows` (half-open).
-    pub(super) fn meets_rows(&self, rows: &core::ops::Range<i32>) -> bool {
-        let [a, b, c] = self.y.map(i32::from);
-        let (top, bottom) = (a.min(b).min(c), a.max(b).max(c));
-        // As `Triangle::rows`: first centre at or below `top`, last at or above `bottom`.
-        let sub = SUBPIXELS as i32;
-        let half = HALF as i32;
-        let first = -((half - top).div_euclid(sub));
-        let last = (bottom - half).div_euclid(sub);
-        first < rows.end && last >= rows.start
+    /// The triangle ready for scan conversion (as [`Triangle::new`] sets up the unpacked
+    /// corners); `None` when it has no area.
+    pub(super) fn triangle(&self) -> Option<Triangle> {
+        let wide = |c: [i16; 3]| c.map(i64::from);
+        Triangle::from_snapped(
+            wide(self.x),
+            wide(self.y),
+            self.depth.map(depth_from_u16),
+            self.shade.map(shade_from_u8),
+            [0, 1, 2].map(|i| self.wire & (1 << i) != 0),
+        )
+    }
+
+    /// Whether it may cover a pixel centre of the rows `rows` stands for.
+    pub(super) fn meets(&self, rows: &SubpixelRows) -> bool {
+        let [a, b, c] = self.y;
+        a.min(b).min(c) as i32 <= rows.top_max && a.max(b).max(c) as i32 >= rows.bottom_min
+    }
+}
+
+/// Pixel rows `first..end` as limits on a triangle's highest and lowest corner, in
+/// subpixels: a triangle covers no centre of those rows when its top lies below the last
+/// row's centre or its bottom above the first row's centre.
+pub(super) struct SubpixelRows {
+    top_max: i32,
+    bottom_min: i32,
+}
+
+impl SubpixelRows {
+    pub fn new(rows: &core::ops::Range<i32>) -> Self {
+        let (sub, half) = (SUBPIXELS as i32, HALF as i32);
+        SubpixelRows {
+            top_max: (rows.end - 1).saturating_mul(sub).saturating_add(half),
+            bottom_min: rows.start.saturating_mul(sub).saturating_add(half),
+        }
     }
 }
 
@@ -186,11 +212,24 @@ mod tests {
             assert_eq!(snap_checked(a.xy[1]), snap_checked(b.xy[1]));
             assert_eq!((a.depth, a.shade), (b.depth, b.shade));
         }
-        let tri = super::super::raster::Triangle::new(back, wire).unwrap();
+        let tri = Triangle::new(back, wire).unwrap();
         let [first, last] = tri.rows();
         for r in first - 3..=last + 3 {
             let inside = (first..=last).contains(&r);
-            assert_eq!(t.meets_rows(&(r..r + 1)), inside, "row {r}");
+            assert_eq!(t.meets(&SubpixelRows::new(&(r..r + 1))), inside, "row {r}");
+            for end in r + 1..r + 4 {
+                let meets = first < end && last >= r;
+                assert_eq!(
+                    t.meets(&SubpixelRows::new(&(r..end))),
+                    meets,
+                    "rows {r}..{end}"
+                );
+            }
+        }
+        let direct = t.triangle().unwrap();
+        assert_eq!(direct.rows(), tri.rows());
+        for r in first..=last {
+            assert_eq!(direct.span(r, -50..50), tri.span(r, -50..50));
         }
         assert!(
             ScreenTriangle::pack(&[v(0.0, 0.0), v(2100.0, 0.0), v(0.0, 1.0)], [false; 3]).is_none()

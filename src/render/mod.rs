@@ -538,9 +538,7 @@ impl<'d> Renderer<'d> {
             let rows = top as u32..bottom as u32;
             match listed {
                 Some((n, resume)) => {
-                    for t in self.list.iter().take(n) {
-                        band.draw_listed(t);
-                    }
+                    band.draw_list(self.list.get(..n).unwrap_or(&[]));
                     if let Some(first) = resume {
                         band.stats.passes += 1;
                         let mut rest = list::Remaining {

@@ -76,7 +76,16 @@ pub(crate) fn snap_checked(v: f32) -> Option<i64> {
 
 /// `ceil(a / b)` for `b > 0`.
 fn ceil_div(a: i64, b: i64) -> i64 {
-    -((-a).div_euclid(b))
+    -floor_div(-a, b)
+}
+
+/// `floor(a / b)` for `b > 0`, in 32 bits when both fit (64-bit division is a library call
+/// on 32-bit cores; the operands of small viewports fit).
+fn floor_div(a: i64, b: i64) -> i64 {
+    match (i32::try_from(a), i32::try_from(b)) {
+        (Ok(a), Ok(b)) if a != i32::MIN => a.div_euclid(b) as i64,
+        _ => a.div_euclid(b),
+    }
 }
 
 /// Largest pixel coordinate, in magnitude, a triangle may have: clipping keeps every corner
@@ -94,10 +103,21 @@ impl Triangle {
         if !v.iter().all(|p| inside(p.xy[0]) && inside(p.xy[1])) {
             return None;
         }
-        let mut x = v.map(|p| snap(p.xy[0]));
-        let mut y = v.map(|p| snap(p.xy[1]));
-        let mut v = v;
-        let mut wire = wire;
+        let x = v.map(|p| snap(p.xy[0]));
+        let y = v.map(|p| snap(p.xy[1]));
+        Triangle::from_snapped(x, y, v.map(|p| p.depth), v.map(|p| p.shade), wire)
+    }
+
+    /// Sets up a triangle from corners already snapped to 1/16 pixel (`x`, `y` in subpixels,
+    /// within [`COORDINATE_LIMIT`] pixels) with their depth keys and shades; `None` when it
+    /// has no area.
+    pub fn from_snapped(
+        mut x: [i64; 3],
+        mut y: [i64; 3],
+        mut depth: [f32; 3],
+        mut shade: [f32; 3],
+        mut wire: [bool; 3],
+    ) -> Option<Triangle> {
         let mut area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
         if area == 0 {
             return None;
@@ -105,7 +125,8 @@ impl Triangle {
         if area < 0 {
             x.swap(1, 2);
             y.swap(1, 2);
-            v.swap(1, 2);
+            depth.swap(1, 2);
+            shade.swap(1, 2);
             wire.swap(1, 2);
             area = -area;
         }
@@ -124,15 +145,15 @@ impl Triangle {
         let top = *y.iter().min()?;
         let bottom = *y.iter().max()?;
         let first = ceil_div(top - HALF, SUBPIXELS);
-        let last = (bottom - HALF).div_euclid(SUBPIXELS);
+        let last = floor_div(bottom - HALF, SUBPIXELS);
         let clamp = |r: i64| r.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
         Some(Triangle {
             x,
             y,
             bias,
             inv_area: 1.0 / area as f32,
-            depth: v.map(|p| p.depth),
-            shade: v.map(|p| p.shade),
+            depth,
+            shade,
             inv_length,
             rows: [clamp(first), clamp(last)],
         })
@@ -165,7 +186,7 @@ impl Triangle {
             if k > 0 {
                 lo = lo.max(ceil_div(m, k));
             } else if k < 0 {
-                hi = hi.min((-m).div_euclid(-k));
+                hi = hi.min(floor_div(-m, -k));
             } else if m > 0 {
                 return None;
             }
@@ -269,6 +290,31 @@ mod tests {
         }
         assert!(hits.iter().all(|&h| h <= 1));
         assert_eq!(hits[4 * 10 + 4], 1);
+    }
+
+    #[test]
+    fn divisions_agree_with_64_bit_ones() {
+        let big = i32::MAX as i64;
+        for a in [
+            0,
+            1,
+            -1,
+            7,
+            -7,
+            15,
+            -17,
+            big,
+            big + 1,
+            -big,
+            -big - 1,
+            -big - 2,
+            1 << 40,
+        ] {
+            for b in [1, 2, 16, 17, big, big + 1, 1 << 40] {
+                assert_eq!(floor_div(a, b), a.div_euclid(b), "{a} / {b}");
+                assert_eq!(ceil_div(a, b), -((-a).div_euclid(b)), "{a} / {b}");
+            }
+        }
     }
 
     #[test]
