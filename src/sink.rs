@@ -75,6 +75,18 @@ pub trait TriangleSink {
     }
 }
 
+/// A sink behind a reference is a sink, so that `&mut dyn TriangleSink` can be handed where
+/// an `impl TriangleSink` is asked for (one copy of a generic source's code for every sink).
+impl<S: TriangleSink + ?Sized> TriangleSink for &mut S {
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
+        (**self).triangle(patch, corners);
+    }
+
+    fn wants_patch(&self, patch: u32) -> bool {
+        (**self).wants_patch(patch)
+    }
+}
+
 /// What [`Tessellator::stream_with_info`](crate::Tessellator::stream_with_info) tells about
 /// each triangle besides its vertices.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

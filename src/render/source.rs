@@ -32,6 +32,10 @@ impl TriangleSource for Tessellator<'_, '_> {
     }
 
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
+        // One copy of the tessellator's streaming code serves every kind of sink (the list,
+        // a band, what a partial list leaves): a call through a pointer per triangle is cheap
+        // against evaluating it, and each copy would cost kilobytes of flash.
+        let mut sink: &mut dyn TriangleSink = sink;
         for p in 0..self.patches().len() {
             if self.is_culled(p) || !sink.wants_patch(p as u32) {
                 continue;
@@ -53,7 +57,7 @@ impl TriangleSource for Tessellator<'_, '_> {
                     bottom >= rows.start as f32 - 1.0 && top <= rows.end as f32 + 1.0
                 });
             if reaches {
-                self.stream_patch(p, sink);
+                self.stream_patch(p, &mut sink);
             }
         }
     }
