@@ -69,7 +69,8 @@ fn snap(v: f32) -> i64 {
     libm::floorf(v * SUBPIXELS as f32 + 0.5) as i64
 }
 
-/// `v` snapped to 1/16 pixel, when it is a finite pixel position within [`COORDINATE_LIMIT`].
+/// `v` snapped to 1/16 pixel, when it is a finite pixel position within [`COORDINATE_LIMIT`]
+/// (the comparison is false for NaN).
 pub(crate) fn snap_checked(v: f32) -> Option<i64> {
     (v.abs() <= COORDINATE_LIMIT).then(|| snap(v))
 }
@@ -99,12 +100,9 @@ impl Triangle {
     /// a finite pixel position within [`COORDINATE_LIMIT`]. `wire[i]` marks the edge opposite
     /// corner `i` for the wireframe.
     pub fn new(v: [ScreenVertex; 3], wire: [bool; 3]) -> Option<Triangle> {
-        let inside = |c: f32| c.abs() <= COORDINATE_LIMIT; // false for NaN
-        if !v.iter().all(|p| inside(p.xy[0]) && inside(p.xy[1])) {
-            return None;
-        }
-        let x = v.map(|p| snap(p.xy[0]));
-        let y = v.map(|p| snap(p.xy[1]));
+        let [x0, x1, x2] = v.map(|p| snap_checked(p.xy[0]));
+        let [y0, y1, y2] = v.map(|p| snap_checked(p.xy[1]));
+        let (x, y) = ([x0?, x1?, x2?], [y0?, y1?, y2?]);
         Triangle::from_snapped(x, y, v.map(|p| p.depth), v.map(|p| p.shade), wire)
     }
 
