@@ -73,6 +73,8 @@ struct Measured {
     windows: u32,
     listed: u32,
     passes: u32,
+    mesh_vertices: u32,
+    mesh_triangles: u32,
     update: u64,
     render: u64,
 }
@@ -122,6 +124,8 @@ fn frame(
         windows: display.windows,
         listed: drawn.listed,
         passes: drawn.passes,
+        mesh_vertices: stats.mesh_vertices as u32,
+        mesh_triangles: stats.mesh_triangles as u32,
         update: t1.saturating_sub(t0),
         render: t2.saturating_sub(t1),
     })
@@ -244,13 +248,15 @@ fn main() -> std::process::ExitCode {
         |k, m, ok| {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
-                 listed {} passes {} {}",
+                 listed {} passes {} mesh_vertices {} mesh_triangles {} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
                 m.pushed,
                 m.listed,
                 m.passes,
+                m.mesh_vertices,
+                m.mesh_triangles,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )
         },

@@ -19,9 +19,13 @@ pub struct RuntimeStorage {
 }
 
 impl RuntimeStorage {
-    /// Storage sized for `baked` with `settings`.
+    /// Storage sized for `baked` with `settings`, with a pool for every baked step.
     pub fn new(baked: &BakedModel<'_>, settings: &Settings) -> Self {
-        let s = StorageSize::of(baked, settings);
+        Self::with_size(&StorageSize::of(baked, settings))
+    }
+
+    /// Storage of `size`.
+    pub fn with_size(s: &StorageSize) -> Self {
         RuntimeStorage {
             patches: vec![PatchSlot::default(); s.patches],
             curves: vec![CurveSlot::default(); s.curves],

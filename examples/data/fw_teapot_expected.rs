@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, checksum of the pixels pushed), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [1230, 6304, 0xd7d79225],
-    [1231, 6317, 0x37218ed1],
-    [2597, 21830, 0x388bd427],
-    [3509, 53323, 0x7536e39e],
+    [1230, 6382, 0xd7d79225],
+    [1231, 6389, 0x37218ed1],
+    [2597, 21773, 0x388bd427],
+    [3509, 53147, 0x7536e39e],
 ];

@@ -205,10 +205,22 @@ impl DomainMesh<'_> {
         }
     }
 
+    /// Writes triangle `t` as `v` with neighbours `n` (`n[i]` across the edge opposite
+    /// `v[i]`), rotated to start at its smallest point: a triangle's corner order then depends
+    /// on its points alone, not on the history of the mesh (the run time's bounds and
+    /// refinement patterns follow the corner order).
     pub(super) fn set(&mut self, t: u16, v: [u16; 3], n: [u16; 3]) {
+        let p = v.map(|id| self.pt(id));
+        let k = if p[1] < p[0] && p[1] < p[2] {
+            1
+        } else if p[2] < p[0] && p[2] < p[1] {
+            2
+        } else {
+            0
+        };
         let slot = &mut self.triangles[t as usize];
-        slot.v = v;
-        slot.n = n;
+        slot.v = [v[k], v[(k + 1) % 3], v[(k + 2) % 3]];
+        slot.n = [n[k], n[(k + 1) % 3], n[(k + 2) % 3]];
     }
 
     /// In triangle `t` (if any), the neighbour `old` becomes `new`.

@@ -21,6 +21,7 @@
 
 use core::fmt;
 
+mod compact;
 mod grid;
 mod insert;
 mod predicates;
@@ -184,6 +185,16 @@ pub(crate) struct MeshHeader {
 }
 
 impl MeshHeader {
+    /// The metric of the mesh this header describes.
+    pub(crate) fn metric(&self) -> Metric {
+        self.metric
+    }
+
+    /// Live vertices of the mesh this header describes.
+    pub(crate) fn vertex_count(&self) -> u16 {
+        self.vertex_count
+    }
+
     /// Live triangles of the mesh this header describes.
     pub(crate) fn triangle_count(&self) -> usize {
         self.triangle_count as usize
@@ -311,12 +322,13 @@ impl<'a> DomainMesh<'a> {
         for c in corners {
             mesh.take_vertex(c);
         }
-        // The corners are cocircular: the tie-break picks the diagonal.
+        // The corners are cocircular: the tie-break picks the diagonal. (Each triangle
+        // starts at its smallest point, as `set` writes them.)
         let [a, b, c, d] = corners;
         let (t0, t1) = (mesh.take_triangle(), mesh.take_triangle());
         if in_circle(mesh.metric, a, b, c, d) {
             mesh.triangles[t0 as usize].v = [0, 1, 3];
-            mesh.triangles[t1 as usize].v = [1, 2, 3];
+            mesh.triangles[t1 as usize].v = [3, 1, 2];
         } else {
             mesh.triangles[t0 as usize].v = [0, 1, 2];
             mesh.triangles[t1 as usize].v = [0, 2, 3];

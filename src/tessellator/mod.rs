@@ -35,11 +35,13 @@ mod back;
 mod budget;
 mod emit;
 mod pattern;
+mod pool;
 mod refine;
 mod select;
 mod storage;
 
 pub use budget::{BudgetError, BudgetFit};
+pub use pool::PoolSize;
 pub use storage::{
     CurveSlot, PatchSlot, StorageSize, TessellatorError, TessellatorStorage, TriangleSlot,
 };
@@ -161,6 +163,18 @@ pub struct FrameStats {
     /// Largest predicted error of the frame, in the view's units (pixels or model units);
     /// at most the tolerance unless refinement hit [`Settings::max_factor`] or was off.
     pub max_predicted_error: f32,
+    /// Live domain-mesh vertices of the visible patches: the vertex slots the frame uses.
+    pub mesh_vertices: usize,
+    /// Live domain-mesh triangles of the visible patches: the triangle slots the frame uses.
+    pub mesh_triangles: usize,
+    /// Pool slots the visible patches would use with every baked step the view asks for: a
+    /// pool of at least this (plus four vertex and two triangle slots per culled patch)
+    /// gives [`prefix_scale`](Self::prefix_scale) 1.
+    pub pool_needed: PoolSize,
+    /// 1 when the pool held every baked step the view asks for; otherwise the factor the
+    /// patches' thresholds were multiplied by to choose the steps that fit (refinement takes
+    /// over from them, within the same bound: see [`StorageSize::minimum`]).
+    pub prefix_scale: f32,
 }
 
 /// The run-time tessellator of one baked model, over caller storage.
@@ -276,7 +290,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             max_factor: settings.max_factor.clamp(1, MAX_FACTOR),
             ..settings
         };
-        let needed = StorageSize::of(&baked, &settings);
+        let needed = StorageSize::minimum(&baked, &settings);
         let s = &storage;
         if s.patches.len() < needed.patches
             || s.curves.len() < needed.curves
@@ -321,7 +335,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             };
             order += n as u32;
         }
-        let (mut vo, mut to) = (0usize, 0usize);
+        // Every mesh starts as its two triangles, packed at the front of the pool.
         for p in 0..baked.patch_count() {
             let (Some(bp), Some(patch)) = (baked.patch(p), self.patches.patch(p)) else {
                 return Err(TessellatorError::ModelMismatch);
@@ -330,14 +344,15 @@ impl<'m, 's> Tessellator<'m, 's> {
             if vc > u16::MAX as usize {
                 return Err(TessellatorError::PatchTooLarge { patch: p });
             }
+            let (vo, to) = (4 * p, 2 * p);
             let mesh = DomainMesh::with_metric(
-                &mut self.storage.vertices[vo..vo + vc],
-                &mut self.storage.triangles[to..to + tc],
+                &mut self.storage.vertices[vo..vo + 4],
+                &mut self.storage.triangles[to..to + 2],
                 bp.metric,
             )
             .map_err(|_| TessellatorError::PatchTooLarge { patch: p })?;
             let header = mesh.header();
-            for t in &mut self.storage.triangle_states[to..to + tc] {
+            for t in &mut self.storage.triangle_states[to..to + 2] {
                 *t = TriangleSlot::default();
             }
             let sphere = BoundingSphere::of_points(patch.points()).unwrap_or(BoundingSphere {
@@ -346,17 +361,17 @@ impl<'m, 's> Tessellator<'m, 's> {
             });
             self.storage.patches[p] = PatchSlot {
                 vertex_offset: vo as u32,
-                vertex_capacity: vc as u32,
+                vertex_capacity: 4,
                 triangle_offset: to as u32,
-                triangle_capacity: tc as u32,
+                triangle_capacity: 2,
+                vertex_limit: vc as u32,
+                triangle_limit: tc as u32,
                 mesh: header,
                 step_cap: cap,
                 center: sphere.center.to_array(),
                 radius: sphere.radius,
                 ..PatchSlot::default()
             };
-            vo += vc;
-            to += tc;
         }
         // Corner nodes: corners with the same control point (bit for bit) are one vertex.
         let mut nodes = 0u32;
@@ -482,16 +497,28 @@ impl<'m, 's> Tessellator<'m, 's> {
         self.refine = refine;
         let mut stats = FrameStats::default();
         let baked = self.baked;
-        self.select(view, tol);
-        // Bring the meshes of the visible patches to their targets.
+        let fit = self.select(view, tol);
+        stats.pool_needed = fit.needed;
+        stats.prefix_scale = fit.scale;
+        if fit.release {
+            self.release_culled();
+        }
+        // Bring the meshes of the visible patches to their targets: deletions, the pool laid
+        // out for the targets if they outgrew it, insertions.
         for p in 0..baked.patch_count() {
             if self.storage.patches[p].culled {
                 stats.culled_patches += 1;
                 stats.back_facing_patches += usize::from(self.storage.patches[p].back_facing);
-                continue;
+            } else {
+                self.shrink_patch(p, &mut stats);
             }
-            self.sync_patch(p, &mut stats)
-                .map_err(|error| UpdateError::Mesh { patch: p, error })?;
+        }
+        self.lay_out_pool();
+        for p in 0..baked.patch_count() {
+            if !self.storage.patches[p].culled {
+                self.grow_patch(p, &mut stats)
+                    .map_err(|error| UpdateError::Mesh { patch: p, error })?;
+            }
         }
         self.choose_factors(view, tol, refine, &mut stats);
         if refine && self.refined_bound() > MAX_REFINED_TRIANGLES {
@@ -504,6 +531,8 @@ impl<'m, 's> Tessellator<'m, 's> {
         let mut worst = 0.0f32;
         for slot in self.storage.patches[..baked.patch_count()].iter() {
             if !slot.culled {
+                stats.mesh_vertices += usize::from(slot.mesh.vertex_count());
+                stats.mesh_triangles += slot.mesh.triangle_count();
                 worst = worst.max(slot.error_ratio);
                 if slot.factor > 1 {
                     stats.refined_patches += 1;

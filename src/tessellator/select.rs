@@ -19,6 +19,7 @@ use crate::model::EdgeLink;
 use crate::patch::Side;
 use crate::view::{HullFit, View};
 
+use super::pool::{PoolFit, PoolSize};
 use super::storage::PatchSlot;
 
 /// A patch's threshold and visibility in one view.
@@ -120,46 +121,19 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
     }
 
-    /// Thresholds, culling, prefixes, requests, and the curves' counts (sorted parameters kept
-    /// up to date).
-    pub(super) fn select(&mut self, view: &View, tol: f32) {
+    /// Thresholds, culling, prefixes (cut to what the pool holds, see `pool`), requests, and
+    /// the curves' counts (sorted parameters kept up to date). Returns the pool's fit.
+    pub(super) fn select(&mut self, view: &View, tol: f32) -> PoolFit {
         let baked = self.baked;
-        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
-            c.used = false;
-            c.predict = 0;
-        }
         for p in 0..baked.patch_count() {
-            let Some(bp) = baked.patch(p) else { continue };
             let fit = self.patch_threshold(p, view, tol);
             let slot = &mut self.storage.patches[p];
             slot.c = fit.c;
             slot.culled = fit.culled;
             slot.back_facing = fit.back_facing;
             slot.inside = fit.inside;
-            if fit.culled {
-                continue;
-            }
-            let steps = bp.samples;
-            let n = prefix(
-                bp.initial_deviation,
-                steps.len(),
-                |i| steps.get(i).map_or(0.0, |s| s.deviation),
-                slot.c,
-            )
-            .min(slot.step_cap as usize);
-            slot.recorded = recorded(&bp, n);
-            // `requests` follows `steps`, the prefix in the mesh; the target's requests are
-            // worked out from it.
-            let mut want = slot.requests;
-            move_requests(&bp, &mut want, slot.steps as usize, n);
-            for (s, link) in bp.edges.into_iter().enumerate() {
-                if let EdgeLink::Curve { curve, .. } = link {
-                    let cs = &mut self.storage.curves[curve as usize];
-                    cs.used = true;
-                    cs.predict = cs.predict.max(want[s]);
-                }
-            }
         }
+        let fit = self.fit_pool();
         for k in 0..baked.curve_count() {
             let cs = self.storage.curves[k];
             let Some(curve) = baked.curve(k) else {
@@ -185,6 +159,74 @@ impl<'m, 's> Tessellator<'m, 's> {
             }
             self.storage.curves[k].count = target;
         }
+        fit
+    }
+
+    /// Sets every visible patch's target prefix for its threshold times `scale` (its
+    /// [`PatchSlot::target`], `target_interior` and `recorded`) and the curves' predicted
+    /// counts, and returns the slots the visible patches' meshes then hold.
+    pub(super) fn set_targets(&mut self, scale: f32) -> PoolSize {
+        let baked = self.baked;
+        for c in self.storage.curves[..baked.curve_count()].iter_mut() {
+            c.used = false;
+            c.predict = 0;
+        }
+        for p in 0..baked.patch_count() {
+            let Some(bp) = baked.patch(p) else { continue };
+            let slot = &mut self.storage.patches[p];
+            if slot.culled {
+                continue;
+            }
+            let steps = bp.samples;
+            let n = prefix(
+                bp.initial_deviation,
+                steps.len(),
+                |i| steps.get(i).map_or(0.0, |s| s.deviation),
+                slot.c * scale,
+            )
+            .min(slot.step_cap as usize);
+            slot.target = n as u16;
+            slot.recorded = recorded(&bp, n);
+            // `requests` follows `steps`, the prefix in the mesh; the target's requests are
+            // worked out from it.
+            let mut want = slot.requests;
+            move_requests(&bp, &mut want, slot.steps as usize, n);
+            slot.target_interior = (n - want.iter().map(|&r| r as usize).sum::<usize>()) as u16;
+            for (s, link) in bp.edges.into_iter().enumerate() {
+                if let EdgeLink::Curve { curve, .. } = link {
+                    let cs = &mut self.storage.curves[curve as usize];
+                    cs.used = true;
+                    cs.predict = cs.predict.max(want[s]);
+                }
+            }
+        }
+        let mut need = PoolSize::default();
+        for p in 0..baked.patch_count() {
+            let slot = self.storage.patches[p];
+            if !slot.culled {
+                let (v, t) = self.target_slots(p);
+                need.vertices += v;
+                need.triangles += t;
+            }
+        }
+        need
+    }
+
+    /// Vertex and triangle slots patch `p`'s mesh holds at its target (set by
+    /// [`set_targets`](Self::set_targets)): `n` interior and `b` boundary vertices make
+    /// `2n + b - 2` triangles.
+    pub(super) fn target_slots(&self, p: usize) -> (usize, usize) {
+        let slot = &self.storage.patches[p];
+        let mut boundary = 4usize;
+        if let Some(bp) = self.baked.patch(p) {
+            for link in bp.edges {
+                if let EdgeLink::Curve { curve, .. } = link {
+                    boundary += usize::from(self.storage.curves[curve as usize].predict);
+                }
+            }
+        }
+        let interior = usize::from(slot.target_interior);
+        (interior + boundary, 2 * interior + boundary - 2)
     }
 
     /// The mesh of patch `p`, over its storage.
@@ -204,36 +246,31 @@ impl<'m, 's> Tessellator<'m, 's> {
         )
     }
 
-    /// Deletes, then inserts, points of patch `p` until it holds its prefix and its curves'
-    /// samples.
-    pub(super) fn sync_patch(
-        &mut self,
-        p: usize,
-        stats: &mut FrameStats,
-    ) -> Result<(), InsertError> {
+    /// The curve sample counts patch `p`'s sides are to hold this frame.
+    fn curve_targets(&self, p: usize) -> [u16; 4] {
+        self.baked.patch(p).map_or([0; 4], |bp| {
+            bp.edges.map(|link| match link {
+                EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].count,
+                EdgeLink::Collapsed => 0,
+            })
+        })
+    }
+
+    /// Deletes the points of patch `p` past its target prefix and its curves' counts (so its
+    /// mesh then needs at most the slots of its target).
+    pub(super) fn shrink_patch(&mut self, p: usize, stats: &mut FrameStats) {
         let baked = self.baked;
         let Some(bp) = baked.patch(p) else {
-            return Ok(());
+            return;
         };
         let mut slot = self.storage.patches[p];
         let steps = bp.samples;
-        let target = prefix(
-            bp.initial_deviation,
-            steps.len(),
-            |i| steps.get(i).map_or(0.0, |s| s.deviation),
-            slot.c,
-        )
-        .min(slot.step_cap as usize) as u16;
-        let curve_targets = bp.edges.map(|link| match link {
-            EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].count,
-            EdgeLink::Collapsed => 0,
-        });
-        if target == slot.steps && curve_targets == slot.sides {
-            return Ok(());
+        let curve_targets = self.curve_targets(p);
+        if slot.steps <= slot.target && (0..4).all(|s| slot.sides[s] <= curve_targets[s]) {
+            return;
         }
         let mut mesh = Self::mesh(&mut self.storage, &slot);
-        // Deletions first, so the mesh never needs more than its capacity.
-        while slot.steps > target {
+        while slot.steps > slot.target {
             slot.steps -= 1;
             if let Some(s) = steps.get(slot.steps as usize) {
                 if let Some(side) = s.requested_side() {
@@ -264,6 +301,28 @@ impl<'m, 's> Tessellator<'m, 's> {
                 }
             }
         }
+        slot.mesh = mesh.header();
+        self.storage.patches[p] = slot;
+    }
+
+    /// Inserts the points of patch `p` up to its target prefix and its curves' counts (after
+    /// [`shrink_patch`](Self::shrink_patch), in storage laid out for the target).
+    pub(super) fn grow_patch(
+        &mut self,
+        p: usize,
+        stats: &mut FrameStats,
+    ) -> Result<(), InsertError> {
+        let baked = self.baked;
+        let Some(bp) = baked.patch(p) else {
+            return Ok(());
+        };
+        let mut slot = self.storage.patches[p];
+        let steps = bp.samples;
+        let curve_targets = self.curve_targets(p);
+        if slot.target == slot.steps && curve_targets == slot.sides {
+            return Ok(());
+        }
+        let mut mesh = Self::mesh(&mut self.storage, &slot);
         let mut result = Ok(());
         'insert: {
             for (s, link) in bp.edges.into_iter().enumerate() {
@@ -285,7 +344,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                     slot.sides[s] += 1;
                 }
             }
-            while slot.steps < target {
+            while slot.steps < slot.target {
                 if let Some(s) = steps.get(slot.steps as usize) {
                     if let Some(side) = s.requested_side() {
                         slot.requests[side.index()] += 1;

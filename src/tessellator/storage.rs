@@ -10,7 +10,7 @@ use crate::facing::NormalCone;
 use crate::model::EdgeLink;
 use crate::patch::{BezierPatch, Side};
 
-use super::Settings;
+use super::{PoolSize, Settings};
 
 /// One patch's run-time state (storage slot; contents are private).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -28,6 +28,14 @@ pub struct PatchSlot {
     pub(super) sides: [u16; 4],
     /// Steps the storage holds, at most.
     pub(super) step_cap: u16,
+    /// Steps of the frame's target prefix.
+    pub(super) target: u16,
+    /// Interior points among them.
+    pub(super) target_interior: u16,
+    /// Vertex slots the patch could ever need (its stretch of the pool is never longer).
+    pub(super) vertex_limit: u32,
+    /// Triangle slots the patch could ever need.
+    pub(super) triangle_limit: u32,
     pub(super) center: [f32; 3],
     pub(super) radius: f32,
     pub(super) nodes: [u32; 4],
@@ -193,9 +201,9 @@ pub struct StorageSize {
     pub curves: usize,
     /// `u16`s for the curves' sorted parameters: one per curve sample.
     pub curve_order: usize,
-    /// [`MeshVertex`] slots, over all patches.
+    /// [`MeshVertex`] slots: the pool shared by all patches.
     pub vertices: usize,
-    /// [`MeshTriangle`] and [`TriangleSlot`] slots, over all patches.
+    /// [`MeshTriangle`] and [`TriangleSlot`] slots: the pool shared by all patches.
     pub triangles: usize,
     /// `u32` scratch for output: the largest patch's vertex slots plus three per triangle
     /// slot.
@@ -203,23 +211,51 @@ pub struct StorageSize {
 }
 
 impl StorageSize {
-    /// What `baked` needs with `settings`.
+    /// What `baked` needs with `settings` for every frame to hold every step it asks for:
+    /// a pool of every patch's slots. (A smaller pool works: see [`StorageSize::minimum`].)
     pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
-        let mut size = StorageSize {
-            patches: baked.patch_count(),
-            curves: baked.curve_count(),
-            curve_order: baked.curve_sample_count(),
-            ..StorageSize::default()
-        };
+        let mut size = StorageSize::minimum(baked, settings);
+        size.vertices = 0;
+        size.triangles = 0;
         for k in 0..baked.patch_count() {
             if let Some(bp) = baked.patch(k) {
                 let (v, t, _) = patch_capacity(baked, &bp, settings);
                 size.vertices += v;
                 size.triangles += t;
+            }
+        }
+        size
+    }
+
+    /// The least storage a [`Tessellator`](super::Tessellator) works with: a pool of four
+    /// vertex and two triangle slots per patch. Frames then cut their prefixes of baked steps
+    /// to what the pool holds, and refinement takes over, within the same error bound (see
+    /// [`FrameStats::prefix_scale`](super::FrameStats::prefix_scale)).
+    pub fn minimum(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
+        let mut size = StorageSize {
+            patches: baked.patch_count(),
+            curves: baked.curve_count(),
+            curve_order: baked.curve_sample_count(),
+            vertices: 4 * baked.patch_count(),
+            triangles: 2 * baked.patch_count(),
+            scratch: 0,
+        };
+        for k in 0..baked.patch_count() {
+            if let Some(bp) = baked.patch(k) {
+                let (v, t, _) = patch_capacity(baked, &bp, settings);
                 size.scratch = size.scratch.max(v + 3 * t);
             }
         }
         size
+    }
+
+    /// This size with a pool of `pool`'s slots.
+    pub fn with_pool(self, pool: PoolSize) -> StorageSize {
+        StorageSize {
+            vertices: pool.vertices,
+            triangles: pool.triangles,
+            ..self
+        }
     }
 }
 
@@ -245,8 +281,10 @@ pub(super) fn patch_capacity(
     (v, DomainMesh::triangles_for(v), cap as u16)
 }
 
-/// The caller's storage for a [`Tessellator`](super::Tessellator), sized by
-/// [`StorageSize::of`] (longer slices are fine).
+/// The caller's storage for a [`Tessellator`](super::Tessellator), at least
+/// [`StorageSize::minimum`] (longer slices are fine). `vertices`, `triangles` and
+/// `triangle_states` are the pool all patches share; [`StorageSize::of`] sizes it for every
+/// baked step.
 #[derive(Debug)]
 pub struct TessellatorStorage<'s> {
     /// Per patch.
@@ -255,11 +293,12 @@ pub struct TessellatorStorage<'s> {
     pub curves: &'s mut [CurveSlot],
     /// Per curve sample.
     pub curve_order: &'s mut [u16],
-    /// Domain-mesh vertices of every patch.
+    /// The pool's domain-mesh vertices.
     pub vertices: &'s mut [MeshVertex],
-    /// Domain-mesh triangles of every patch.
+    /// The pool's domain-mesh triangles.
     pub triangles: &'s mut [MeshTriangle],
-    /// Cached bounds, one per domain triangle slot.
+    /// Cached bounds, one per domain triangle slot (the pool's triangles are the shorter of
+    /// this and `triangles`).
     pub triangle_states: &'s mut [TriangleSlot],
     /// Output scratch.
     pub scratch: &'s mut [u32],
