@@ -75,13 +75,14 @@ struct Measured {
     passes: u32,
     mesh_vertices: u32,
     mesh_triangles: u32,
+    prefix_scale: f32,
     update: u64,
     render: u64,
 }
 
 /// Buffer sizes in bytes: tessellator storage, the two bands, the triangle list.
 #[cfg_attr(fw_quiet, allow(dead_code))]
-const STORAGE_BYTES: usize = core::mem::size_of::<frames::Storage>();
+const STORAGE_BYTES: usize = core::mem::size_of::<teapot::Storage>();
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const BAND_BYTES: usize = teapot::BAND * (2 + core::mem::size_of::<Rgb565>());
 #[cfg_attr(fw_quiet, allow(dead_code))]
@@ -126,6 +127,7 @@ fn frame(
         passes: drawn.passes,
         mesh_vertices: stats.mesh_vertices as u32,
         mesh_triangles: stats.mesh_triangles as u32,
+        prefix_scale: stats.prefix_scale,
         update: t1.saturating_sub(t0),
         render: t2.saturating_sub(t1),
     })
@@ -144,8 +146,8 @@ fn run(
     let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) else {
         return false;
     };
-    let mut storage = frames::Storage::new();
-    let Some(mut tess) = storage.tessellator(patches, baked) else {
+    let mut storage = teapot::Storage::new();
+    let Some(mut tess) = storage.tessellator(patches, baked, frames::SETTINGS) else {
         return false;
     };
     let mut buffers = Buffers {
@@ -248,7 +250,7 @@ fn main() -> std::process::ExitCode {
         |k, m, ok| {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
-                 listed {} passes {} mesh_vertices {} mesh_triangles {} {}",
+                 listed {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
@@ -257,25 +259,35 @@ fn main() -> std::process::ExitCode {
                 m.passes,
                 m.mesh_vertices,
                 m.mesh_triangles,
+                m.prefix_scale,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )
         },
         || 0,
         || {},
     );
-    // What this bake needs at least, against the demo's fixed capacities.
+    // The storage a pool of every baked step would take, and the least one, against the demo's.
     if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
         use core::mem::size_of;
         use spline_tess::tessellator::{CurveSlot, PatchSlot, StorageSize, TriangleSlot};
         use spline_tess::{MeshTriangle, MeshVertex};
-        let n = StorageSize::of(&baked, &frames::SETTINGS);
-        let bytes = n.patches * size_of::<PatchSlot>()
-            + n.curves * size_of::<CurveSlot>()
-            + n.curve_order * 2
-            + n.vertices * size_of::<MeshVertex>()
-            + n.triangles * (size_of::<MeshTriangle>() + size_of::<TriangleSlot>())
-            + n.scratch * 4;
-        println!("fw_teapot (host): storage_needed {bytes} bytes ({n:?})");
+        let bytes = |n: &StorageSize| {
+            n.patches * size_of::<PatchSlot>()
+                + n.curves * size_of::<CurveSlot>()
+                + n.curve_order * 2
+                + n.vertices * size_of::<MeshVertex>()
+                + n.triangles * (size_of::<MeshTriangle>() + size_of::<TriangleSlot>())
+                + n.scratch * 4
+        };
+        let (all, least) = (
+            StorageSize::of(&baked, &frames::SETTINGS),
+            StorageSize::minimum(&baked, &frames::SETTINGS),
+        );
+        println!(
+            "fw_teapot (host): storage for every baked step {} bytes ({all:?}), least {} bytes",
+            bytes(&all),
+            bytes(&least)
+        );
     }
     println!(
         "fw_teapot (host): storage {STORAGE_BYTES} bands {BAND_BYTES} list {LIST_BYTES} \

@@ -29,6 +29,13 @@
 //! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
 //! states what was needed.
 //!
+//! The run time's domain meshes share one pool of slots that the caller sizes (see
+//! [`Tessellator`]'s example): [`StorageSize::of`](tessellator::StorageSize::of) holds every
+//! baked step, and any pool down to
+//! [`StorageSize::minimum`](tessellator::StorageSize::minimum) works. A frame that needs more
+//! than the pool holds cuts its steps to fit and refines instead, within the same bound
+//! ([`FrameStats::prefix_scale`]); [`FrameStats::pool_needed`] tells what a view needs.
+//!
 //! ## Example
 //!
 //! ```

@@ -2,12 +2,18 @@
 // expected checksums (host-tests/tests/firmware_data.rs): the views, the styles, one frame's
 // update, and its rendering band by band into a colour band buffer pushed to the SPI display
 // model (module `spi_display` beside this one, which also hashes the pixels). Uses the
-// teapot bake, storage and settings of `fw_tessellate_frames.rs` (module `frames`). `no_std`,
-// no allocation. Hand-written.
+// teapot bake and settings of `fw_tessellate_frames.rs`, in its own storage: a pool of
+// domain-mesh slots sized for the far frames. `no_std`, no allocation. Hand-written.
 
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+use spline_tess::bake::BakedModel;
 use spline_tess::render::{RenderStats, Renderer, ScreenTriangle, Shading, Style, Wireframe};
-use spline_tess::{Camera, FrameStats, Projection, Tessellator, Vec3, View};
+use spline_tess::tessellator::{
+    CurveSlot, PatchSlot, Settings, StorageSize, TessellatorStorage, TriangleSlot,
+};
+use spline_tess::{
+    Camera, FrameStats, MeshTriangle, MeshVertex, PatchSet, Projection, Tessellator, Vec3, View,
+};
 
 use super::spi_display::SpiDisplay;
 
@@ -23,6 +29,77 @@ pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// are streamed band by band. `--cfg fw_no_list` builds the demo without a list, to measure
 /// the streaming path on every frame.
 pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 1536 };
+
+/// Patch slots: the teapot's 32 patches.
+pub const PATCHES: usize = 32;
+/// Curve slots: the teapot's 68 boundary curves.
+pub const CURVES: usize = 68;
+/// Curve-order slots: one per baked curve sample.
+pub const ORDER: usize = 364;
+/// The pool's vertex slots: frames 0 and 1 hold every baked step they ask for (about 890
+/// vertices and 1240 triangles); the near frames cut their prefixes to fit and refine more
+/// (`FrameStats::prefix_scale`).
+pub const POOL_VERTICES: usize = 1024;
+/// The pool's triangle slots.
+pub const POOL_TRIANGLES: usize = 1536;
+/// Output scratch: the largest patch's vertex slots plus three per triangle slot.
+pub const SCRATCH: usize = 542;
+
+/// fw_teapot's tessellator storage.
+pub struct Storage {
+    patches: [PatchSlot; PATCHES],
+    curves: [CurveSlot; CURVES],
+    order: [u16; ORDER],
+    vertices: [MeshVertex; POOL_VERTICES],
+    triangles: [MeshTriangle; POOL_TRIANGLES],
+    states: [TriangleSlot; POOL_TRIANGLES],
+    scratch: [u32; SCRATCH],
+}
+
+impl Storage {
+    /// Empty storage.
+    pub fn new() -> Self {
+        Storage {
+            patches: [PatchSlot::default(); PATCHES],
+            curves: [CurveSlot::default(); CURVES],
+            order: [0; ORDER],
+            vertices: [MeshVertex::default(); POOL_VERTICES],
+            triangles: [MeshTriangle::default(); POOL_TRIANGLES],
+            states: [TriangleSlot::default(); POOL_TRIANGLES],
+            scratch: [0; SCRATCH],
+        }
+    }
+
+    /// A tessellator over this storage with `settings`, if it holds at least
+    /// [`StorageSize::minimum`].
+    pub fn tessellator<'m>(
+        &mut self,
+        patches: PatchSet<'m>,
+        baked: BakedModel<'m>,
+        settings: Settings,
+    ) -> Option<Tessellator<'m, '_>> {
+        let storage = TessellatorStorage {
+            patches: &mut self.patches,
+            curves: &mut self.curves,
+            curve_order: &mut self.order,
+            vertices: &mut self.vertices,
+            triangles: &mut self.triangles,
+            triangle_states: &mut self.states,
+            scratch: &mut self.scratch,
+        };
+        Tessellator::new(patches, baked, settings, storage).ok()
+    }
+}
+
+/// True when this storage covers `least` (a [`StorageSize::minimum`]).
+pub fn covers(least: &StorageSize) -> bool {
+    least.patches <= PATCHES
+        && least.curves <= CURVES
+        && least.curve_order <= ORDER
+        && least.vertices <= POOL_VERTICES
+        && least.triangles <= POOL_TRIANGLES
+        && least.scratch <= SCRATCH
+}
 
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.
 pub const FRAMES: [([f32; 3], f32, Shading, bool); 4] = [

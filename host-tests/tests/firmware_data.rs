@@ -194,8 +194,8 @@ fn fw_tessellate_baked_source() -> String {
     s
 }
 
-/// Runs `f` on a tessellator over the firmware's bake of the teapot, in the firmware's
-/// storage (fw_tessellate and fw_teapot share both).
+/// Runs `f` on a tessellator over the firmware's bake of the teapot, in fw_tessellate's
+/// storage (fw_teapot has its own, a smaller pool).
 fn with_firmware_tessellator<R>(f: impl FnOnce(&mut spline_tess::Tessellator<'_, '_>) -> R) -> R {
     let k = KernelBpt::parse(&teapot_text());
     let bytes = fw_tessellate_bytes();
@@ -269,7 +269,18 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::prelude::RgbColor;
     use spline_tess::render::ScreenTriangle;
-    with_firmware_tessellator(|tess| {
+    let k = KernelBpt::parse(&teapot_text());
+    let bytes = fw_tessellate_bytes();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    assert!(fw_teapot::covers(
+        &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
+    ));
+    let mut storage = Box::new(fw_teapot::Storage::new());
+    let mut tess = storage
+        .tessellator(k.set(), baked, fw_tessellate::SETTINGS)
+        .expect("capacities cover the bake");
+    let tess = &mut tess;
+    {
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
         let mut list = vec![ScreenTriangle::default(); fw_teapot::LIST];
@@ -298,7 +309,7 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
                 [stats.triangles as u32, listed.pixels, sum]
             })
             .collect()
-    })
+    }
 }
 
 fn fw_teapot_expected_source() -> String {

@@ -236,6 +236,22 @@ pub struct FrameStats {
 /// let mut vertices = vec![Vertex::default(); fine.vertices];
 /// let mut triangles = vec![[0u16; 3]; fine.triangles];
 /// tess.write_mesh(&mut vertices, &mut triangles).unwrap();
+///
+/// // The pool (vertices, triangles, triangle states) may be any size from the least one,
+/// // four vertex and two triangle slots per patch. A frame that needs more cuts its baked
+/// // steps to fit, and refinement takes over within the same bound.
+/// let least = StorageSize::minimum(&baked, &settings);
+/// let mut mv = [MeshVertex::default(); 4];
+/// let mut mt = [MeshTriangle::default(); 2];
+/// let mut ts = [TriangleSlot::default(); 2];
+/// assert!(mv.len() >= least.vertices && mt.len() >= least.triangles);
+/// let storage = TessellatorStorage { patches: &mut ps, curves: &mut cv, curve_order: &mut order,
+///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, scratch: &mut scratch };
+/// let mut small = Tessellator::new(patches, baked, settings, storage).unwrap();
+/// let cut = small.update(&View::Object { tolerance: 0.002 }).unwrap();
+/// assert!(cut.prefix_scale > 1.0 && cut.max_predicted_error <= 0.002);
+/// // What this view needs for every baked step it asks for:
+/// assert_eq!(cut.pool_needed.vertices, fine.mesh_vertices);
 /// ```
 #[derive(Debug)]
 pub struct Tessellator<'m, 's> {
