@@ -266,7 +266,7 @@ fn main() -> std::process::ExitCode {
         || 0,
         || {},
     );
-    // The storage a pool of every baked step would take, and the least one, against the demo's.
+    // The storage with a pool for every baked step, and the least storage.
     if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
         use core::mem::size_of;
         use spline_tess::tessellator::{CurveSlot, PatchSlot, StorageSize, TriangleSlot};
@@ -284,7 +284,7 @@ fn main() -> std::process::ExitCode {
             StorageSize::minimum(&baked, &frames::SETTINGS),
         );
         println!(
-            "fw_teapot (host): storage for every baked step {} bytes ({all:?}), least {} bytes",
+            "fw_teapot (host): storage_all {} storage_least {} bytes (all: {all:?})",
             bytes(&all),
             bytes(&least)
         );
