@@ -60,7 +60,7 @@ use embedded_graphics::prelude::RgbColor;
 use spi_display::SpiDisplay;
 use spline_tess::bake::BakedModel;
 use spline_tess::render::ScreenTriangle;
-use spline_tess::PatchSet;
+use spline_tess::{PatchSet, Tessellator};
 
 /// One frame's measurements (the instruction counts are printed by the firmware only).
 #[derive(Clone, Copy, Default)]
@@ -147,7 +147,8 @@ fn run(
         return false;
     };
     let mut storage = teapot::Storage::new();
-    let Some(mut tess) = storage.tessellator(patches, baked, frames::SETTINGS) else {
+    let Ok(mut tess) = Tessellator::new(patches, baked, frames::SETTINGS, storage.as_storage())
+    else {
         return false;
     };
     let mut buffers = Buffers {

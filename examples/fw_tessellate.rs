@@ -46,7 +46,7 @@ fn run(
         return false;
     };
     let mut storage = frames::Storage::new();
-    let Some(mut tess) = storage.tessellator(patches, baked) else {
+    let Some(mut tess) = frames::tessellator(&mut storage, patches, baked) else {
         return false;
     };
     let mut vertices = [Vertex::default(); frames::OUT_VERTICES];

@@ -6,14 +6,9 @@
 // domain-mesh slots sized for the far frames. `no_std`, no allocation. Hand-written.
 
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
-use spline_tess::bake::BakedModel;
 use spline_tess::render::{RenderStats, Renderer, ScreenTriangle, Shading, Style, Wireframe};
-use spline_tess::tessellator::{
-    CurveSlot, PatchSlot, Settings, StorageSize, TessellatorStorage, TriangleSlot,
-};
-use spline_tess::{
-    Camera, FrameStats, MeshTriangle, MeshVertex, PatchSet, Projection, Tessellator, Vec3, View,
-};
+use spline_tess::tessellator::FixedStorage;
+use spline_tess::{Camera, FrameStats, Projection, Tessellator, Vec3, View};
 
 use super::spi_display::SpiDisplay;
 
@@ -46,60 +41,7 @@ pub const POOL_TRIANGLES: usize = 1536;
 pub const SCRATCH: usize = 542;
 
 /// fw_teapot's tessellator storage.
-pub struct Storage {
-    patches: [PatchSlot; PATCHES],
-    curves: [CurveSlot; CURVES],
-    order: [u16; ORDER],
-    vertices: [MeshVertex; POOL_VERTICES],
-    triangles: [MeshTriangle; POOL_TRIANGLES],
-    states: [TriangleSlot; POOL_TRIANGLES],
-    scratch: [u32; SCRATCH],
-}
-
-impl Storage {
-    /// Empty storage.
-    pub fn new() -> Self {
-        Storage {
-            patches: [PatchSlot::default(); PATCHES],
-            curves: [CurveSlot::default(); CURVES],
-            order: [0; ORDER],
-            vertices: [MeshVertex::default(); POOL_VERTICES],
-            triangles: [MeshTriangle::default(); POOL_TRIANGLES],
-            states: [TriangleSlot::default(); POOL_TRIANGLES],
-            scratch: [0; SCRATCH],
-        }
-    }
-
-    /// A tessellator over this storage with `settings`, if it holds at least
-    /// [`StorageSize::minimum`].
-    pub fn tessellator<'m>(
-        &mut self,
-        patches: PatchSet<'m>,
-        baked: BakedModel<'m>,
-        settings: Settings,
-    ) -> Option<Tessellator<'m, '_>> {
-        let storage = TessellatorStorage {
-            patches: &mut self.patches,
-            curves: &mut self.curves,
-            curve_order: &mut self.order,
-            vertices: &mut self.vertices,
-            triangles: &mut self.triangles,
-            triangle_states: &mut self.states,
-            scratch: &mut self.scratch,
-        };
-        Tessellator::new(patches, baked, settings, storage).ok()
-    }
-}
-
-/// True when this storage covers `least` (a [`StorageSize::minimum`]).
-pub fn covers(least: &StorageSize) -> bool {
-    least.patches <= PATCHES
-        && least.curves <= CURVES
-        && least.curve_order <= ORDER
-        && least.vertices <= POOL_VERTICES
-        && least.triangles <= POOL_TRIANGLES
-        && least.scratch <= SCRATCH
-}
+pub type Storage = FixedStorage<PATCHES, CURVES, ORDER, POOL_VERTICES, POOL_TRIANGLES, SCRATCH>;
 
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.
 pub const FRAMES: [([f32; 3], f32, Shading, bool); 4] = [

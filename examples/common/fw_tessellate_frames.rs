@@ -3,11 +3,8 @@
 // and one frame's tessellation and checksum. `no_std`, no allocation. Hand-written.
 
 use spline_tess::bake::BakedModel;
-use spline_tess::tessellator::{
-    BackPatches, CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage,
-    TriangleSlot,
-};
-use spline_tess::{Camera, MeshTriangle, MeshVertex, PatchSet, Projection, Vec3, Vertex, View};
+use spline_tess::tessellator::{BackPatches, FixedStorage, Settings, StorageSize, Tessellator};
+use spline_tess::{Camera, PatchSet, Projection, Vec3, Vertex, View};
 
 /// Bake settings of the firmware's teapot: 2e-3 of the diagonal, small caps.
 pub const BAKE: spline_tess::bake::BakeSettings = spline_tess::bake::BakeSettings {
@@ -71,16 +68,6 @@ pub fn view(k: usize) -> Option<View> {
     })
 }
 
-/// True when `size` fits the firmware's capacities.
-pub fn fits(size: &StorageSize) -> bool {
-    size.patches <= PATCHES
-        && size.curves <= CURVES
-        && size.curve_order <= ORDER
-        && size.vertices <= VERTICES
-        && size.triangles <= TRIANGLES
-        && size.scratch <= SCRATCH
-}
-
 /// FNV-1a over 32-bit words.
 pub struct Fnv(pub u32);
 
@@ -124,57 +111,19 @@ pub struct Frame {
 }
 
 /// The firmware's storage, in caller memory (on the device: the stack).
-pub struct Storage {
-    /// Patch slots.
-    pub patches: [PatchSlot; PATCHES],
-    /// Curve slots.
-    pub curves: [CurveSlot; CURVES],
-    /// Curve order.
-    pub order: [u16; ORDER],
-    /// Domain vertices.
-    pub vertices: [MeshVertex; VERTICES],
-    /// Domain triangles.
-    pub triangles: [MeshTriangle; TRIANGLES],
-    /// Cached deviations.
-    pub states: [TriangleSlot; TRIANGLES],
-    /// Output scratch.
-    pub scratch: [u32; SCRATCH],
-}
+pub type Storage = FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, SCRATCH>;
 
-impl Storage {
-    /// Empty storage.
-    pub fn new() -> Self {
-        Storage {
-            patches: [PatchSlot::default(); PATCHES],
-            curves: [CurveSlot::default(); CURVES],
-            order: [0; ORDER],
-            vertices: [MeshVertex::default(); VERTICES],
-            triangles: [MeshTriangle::default(); TRIANGLES],
-            states: [TriangleSlot::default(); TRIANGLES],
-            scratch: [0; SCRATCH],
-        }
+/// A tessellator over `storage`, if it holds every baked step of `baked` (so the frames'
+/// triangles are the error-control figures').
+pub fn tessellator<'m, 's>(
+    storage: &'s mut Storage,
+    patches: PatchSet<'m>,
+    baked: BakedModel<'m>,
+) -> Option<Tessellator<'m, 's>> {
+    if !Storage::covers(&StorageSize::of(&baked, &SETTINGS)) {
+        return None;
     }
-
-    /// A tessellator over this storage.
-    pub fn tessellator<'m>(
-        &mut self,
-        patches: PatchSet<'m>,
-        baked: BakedModel<'m>,
-    ) -> Option<Tessellator<'m, '_>> {
-        if !fits(&StorageSize::of(&baked, &SETTINGS)) {
-            return None;
-        }
-        let storage = TessellatorStorage {
-            patches: &mut self.patches,
-            curves: &mut self.curves,
-            curve_order: &mut self.order,
-            vertices: &mut self.vertices,
-            triangles: &mut self.triangles,
-            triangle_states: &mut self.states,
-            scratch: &mut self.scratch,
-        };
-        Tessellator::new(patches, baked, SETTINGS, storage).ok()
-    }
+    Tessellator::new(patches, baked, SETTINGS, storage.as_storage()).ok()
 }
 
 /// Updates `tess` to frame `k` and writes its mesh; `None` on any error.

@@ -201,8 +201,7 @@ fn with_firmware_tessellator<R>(f: impl FnOnce(&mut spline_tess::Tessellator<'_,
     let bytes = fw_tessellate_bytes();
     let baked = BakedModel::from_bytes(&bytes).unwrap();
     let mut storage = Box::new(fw_tessellate::Storage::new());
-    let mut tess = storage
-        .tessellator(k.set(), baked)
+    let mut tess = fw_tessellate::tessellator(&mut storage, k.set(), baked)
         .expect("capacities cover the bake");
     f(&mut tess)
 }
@@ -272,13 +271,17 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
     let k = KernelBpt::parse(&teapot_text());
     let bytes = fw_tessellate_bytes();
     let baked = BakedModel::from_bytes(&bytes).unwrap();
-    assert!(fw_teapot::covers(
+    assert!(fw_teapot::Storage::covers(
         &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
     ));
     let mut storage = Box::new(fw_teapot::Storage::new());
-    let mut tess = storage
-        .tessellator(k.set(), baked, fw_tessellate::SETTINGS)
-        .expect("capacities cover the bake");
+    let mut tess = spline_tess::Tessellator::new(
+        k.set(),
+        baked,
+        fw_tessellate::SETTINGS,
+        storage.as_storage(),
+    )
+    .expect("capacities cover the bake");
     let tess = &mut tess;
     {
         let mut depth = vec![0u16; fw_teapot::BAND];

@@ -34,6 +34,7 @@
 mod back;
 mod budget;
 mod emit;
+mod fixed;
 mod pattern;
 mod pool;
 mod refine;
@@ -41,6 +42,7 @@ mod select;
 mod storage;
 
 pub use budget::{BudgetError, BudgetFit};
+pub use fixed::FixedStorage;
 pub use pool::PoolSize;
 pub use storage::{
     CurveSlot, PatchSlot, StorageSize, TessellatorError, TessellatorStorage, TriangleSlot,

@@ -1,0 +1,112 @@
+//! Storage with capacities fixed at compile time, for firmware: one value to put in a
+//! `static`, or on the stack, sized by const generics.
+
+use super::storage::{CurveSlot, PatchSlot, TessellatorStorage, TriangleSlot};
+use super::StorageSize;
+use crate::domain::{MeshTriangle, MeshVertex};
+
+/// [`TessellatorStorage`] in arrays: `PATCHES` patch slots, `CURVES` curve slots, `ORDER`
+/// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, and
+/// `SCRATCH` output scratch. [`FixedStorage::covers`] checks it against what a bake needs
+/// ([`StorageSize::minimum`]); a pool larger than that lets frames keep more baked steps.
+///
+/// ```
+/// use spline_tess::tessellator::{FixedStorage, StorageSize};
+///
+/// // Four patches with up to 16 curve samples each side, and a pool for about 300 triangles.
+/// type Storage = FixedStorage<4, 16, 256, 192, 320, 1024>;
+/// let mut storage = Storage::new();
+/// let slices = storage.as_storage();
+/// assert_eq!((slices.vertices.len(), slices.triangles.len()), (192, 320));
+/// let least = StorageSize { patches: 4, curves: 12, curve_order: 200, vertices: 16,
+///                           triangles: 8, scratch: 900 };
+/// assert!(Storage::covers(&least));
+/// ```
+#[derive(Debug)]
+pub struct FixedStorage<
+    const PATCHES: usize,
+    const CURVES: usize,
+    const ORDER: usize,
+    const VERTICES: usize,
+    const TRIANGLES: usize,
+    const SCRATCH: usize,
+> {
+    patches: [PatchSlot; PATCHES],
+    curves: [CurveSlot; CURVES],
+    order: [u16; ORDER],
+    vertices: [MeshVertex; VERTICES],
+    triangles: [MeshTriangle; TRIANGLES],
+    states: [TriangleSlot; TRIANGLES],
+    scratch: [u32; SCRATCH],
+}
+
+impl<
+        const PATCHES: usize,
+        const CURVES: usize,
+        const ORDER: usize,
+        const VERTICES: usize,
+        const TRIANGLES: usize,
+        const SCRATCH: usize,
+    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, SCRATCH>
+{
+    /// Empty storage.
+    pub fn new() -> Self {
+        FixedStorage {
+            patches: [PatchSlot::default(); PATCHES],
+            curves: [CurveSlot::default(); CURVES],
+            order: [0; ORDER],
+            vertices: [MeshVertex::default(); VERTICES],
+            triangles: [MeshTriangle::default(); TRIANGLES],
+            states: [TriangleSlot::default(); TRIANGLES],
+            scratch: [0; SCRATCH],
+        }
+    }
+
+    /// The capacities, as a [`StorageSize`].
+    pub const SIZE: StorageSize = StorageSize {
+        patches: PATCHES,
+        curves: CURVES,
+        curve_order: ORDER,
+        vertices: VERTICES,
+        triangles: TRIANGLES,
+        scratch: SCRATCH,
+    };
+
+    /// True when every capacity is at least `size`'s.
+    pub fn covers(size: &StorageSize) -> bool {
+        let s = Self::SIZE;
+        size.patches <= s.patches
+            && size.curves <= s.curves
+            && size.curve_order <= s.curve_order
+            && size.vertices <= s.vertices
+            && size.triangles <= s.triangles
+            && size.scratch <= s.scratch
+    }
+
+    /// The slices a [`Tessellator`](super::Tessellator) takes.
+    pub fn as_storage(&mut self) -> TessellatorStorage<'_> {
+        TessellatorStorage {
+            patches: &mut self.patches,
+            curves: &mut self.curves,
+            curve_order: &mut self.order,
+            vertices: &mut self.vertices,
+            triangles: &mut self.triangles,
+            triangle_states: &mut self.states,
+            scratch: &mut self.scratch,
+        }
+    }
+}
+
+impl<
+        const PATCHES: usize,
+        const CURVES: usize,
+        const ORDER: usize,
+        const VERTICES: usize,
+        const TRIANGLES: usize,
+        const SCRATCH: usize,
+    > Default for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, SCRATCH>
+{
+    fn default() -> Self {
+        Self::new()
+    }
+}
