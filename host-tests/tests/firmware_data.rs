@@ -194,16 +194,22 @@ fn fw_tessellate_baked_source() -> String {
     s
 }
 
+/// Runs `f` on the teapot's patches and the firmware's bake of them.
+fn with_firmware_bake<R>(f: impl FnOnce(spline_tess::PatchSet<'_>, BakedModel<'_>) -> R) -> R {
+    let k = KernelBpt::parse(&teapot_text());
+    let bytes = fw_tessellate_bytes();
+    f(k.set(), BakedModel::from_bytes(&bytes).unwrap())
+}
+
 /// Runs `f` on a tessellator over the firmware's bake of the teapot, in fw_tessellate's
 /// storage (fw_teapot has its own, a smaller pool).
 fn with_firmware_tessellator<R>(f: impl FnOnce(&mut spline_tess::Tessellator<'_, '_>) -> R) -> R {
-    let k = KernelBpt::parse(&teapot_text());
-    let bytes = fw_tessellate_bytes();
-    let baked = BakedModel::from_bytes(&bytes).unwrap();
-    let mut storage = Box::new(fw_tessellate::Storage::new());
-    let mut tess = fw_tessellate::tessellator(&mut storage, k.set(), baked)
-        .expect("capacities cover the bake");
-    f(&mut tess)
+    with_firmware_bake(|patches, baked| {
+        let mut storage = Box::new(fw_tessellate::Storage::new());
+        let mut tess = fw_tessellate::tessellator(&mut storage, patches, baked)
+            .expect("capacities cover the bake");
+        f(&mut tess)
+    })
 }
 
 /// Every frame of fw_tessellate computed on the host with the same code: triangles, vertices,
@@ -268,22 +274,19 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::prelude::RgbColor;
     use spline_tess::render::ScreenTriangle;
-    let k = KernelBpt::parse(&teapot_text());
-    let bytes = fw_tessellate_bytes();
-    let baked = BakedModel::from_bytes(&bytes).unwrap();
-    assert!(fw_teapot::Storage::covers(
-        &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
-    ));
-    let mut storage = Box::new(fw_teapot::Storage::new());
-    let mut tess = spline_tess::Tessellator::new(
-        k.set(),
-        baked,
-        fw_tessellate::SETTINGS,
-        storage.as_storage(),
-    )
-    .expect("capacities cover the bake");
-    let tess = &mut tess;
-    {
+    with_firmware_bake(|patches, baked| {
+        assert!(fw_teapot::Storage::covers(
+            &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
+        ));
+        let mut storage = Box::new(fw_teapot::Storage::new());
+        let mut tess = spline_tess::Tessellator::new(
+            patches,
+            baked,
+            fw_tessellate::SETTINGS,
+            storage.as_storage(),
+        )
+        .expect("capacities cover the bake");
+        let tess = &mut tess;
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
         let mut list = vec![ScreenTriangle::default(); fw_teapot::LIST];
@@ -312,7 +315,7 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
                 [stats.triangles as u32, listed.pixels, sum]
             })
             .collect()
-    }
+    })
 }
 
 fn fw_teapot_expected_source() -> String {

@@ -68,6 +68,14 @@ impl PoolSize {
             triangles: self.triangles + other.triangles,
         }
     }
+
+    /// What is left of `self` after `other` (none where `other` is more).
+    fn less(self, other: PoolSize) -> PoolSize {
+        PoolSize {
+            vertices: self.vertices.saturating_sub(other.vertices),
+            triangles: self.triangles.saturating_sub(other.triangles),
+        }
+    }
 }
 
 /// How a frame's prefixes fit the pool.
@@ -124,13 +132,7 @@ impl Tessellator<'_, '_> {
         let needed = self.set_targets(1.0);
         // The room is what the pool holds beside the culled patches' meshes let go, whatever
         // they hold now: the prefixes then depend on the view alone, not on the frames before.
-        let room = {
-            let held = self.culled_slots(true);
-            PoolSize {
-                vertices: pool.vertices.saturating_sub(held.vertices),
-                triangles: pool.triangles.saturating_sub(held.triangles),
-            }
-        };
+        let room = pool.less(self.culled_slots(true));
         let mut fit = PoolFit {
             needed,
             scale: 1.0,
@@ -171,16 +173,10 @@ impl Tessellator<'_, '_> {
             if !slot.culled || (slot.steps == 0 && slot.sides == [0; 4]) {
                 continue;
             }
-            let metric = slot.mesh.metric();
-            let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
-            let (to, tc) = (
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
             let Ok(mesh) = DomainMesh::with_metric(
-                &mut self.storage.vertices[vo..vo + vc],
-                &mut self.storage.triangles[to..to + tc],
-                metric,
+                &mut self.storage.vertices[slot.vertex_range()],
+                &mut self.storage.triangles[slot.triangle_range()],
+                slot.mesh.metric(),
             ) else {
                 continue;
             };
@@ -209,15 +205,10 @@ impl Tessellator<'_, '_> {
         let mut demand = PoolSize::default();
         for p in 0..count {
             let slot = self.storage.patches[p];
-            let (to, tc) = (
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
-            let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
-            let states = &mut self.storage.triangle_states[to..to + tc];
+            let states = &mut self.storage.triangle_states[slot.triangle_range()];
             let mut mesh = DomainMesh::resume(
-                &mut self.storage.vertices[vo..vo + vc],
-                &mut self.storage.triangles[to..to + tc],
+                &mut self.storage.vertices[slot.vertex_range()],
+                &mut self.storage.triangles[slot.triangle_range()],
                 slot.mesh,
             );
             mesh.compact(|from, to| states[to as usize] = states[from as usize]);
@@ -232,10 +223,7 @@ impl Tessellator<'_, '_> {
         if !demand.fits_in(&pool) {
             return;
         }
-        let spare = PoolSize {
-            vertices: pool.vertices.saturating_sub(demand.vertices),
-            triangles: pool.triangles.saturating_sub(demand.triangles),
-        };
+        let spare = pool.less(demand);
         for p in 0..count {
             let (v, t) = self.wanted_slots(p);
             let slot = &mut self.storage.patches[p];
@@ -317,14 +305,9 @@ impl Tessellator<'_, '_> {
         }
         for p in 0..count {
             let slot = storage.patches[p];
-            let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
-            let (to, tc) = (
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
             let mesh = DomainMesh::resume_compacted(
-                &mut storage.vertices[vo..vo + vc],
-                &mut storage.triangles[to..to + tc],
+                &mut storage.vertices[slot.vertex_range()],
+                &mut storage.triangles[slot.triangle_range()],
                 slot.mesh,
             );
             storage.patches[p].mesh = mesh.header();

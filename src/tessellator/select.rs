@@ -234,14 +234,9 @@ impl<'m, 's> Tessellator<'m, 's> {
         storage: &'b mut TessellatorStorage<'s>,
         slot: &PatchSlot,
     ) -> DomainMesh<'b> {
-        let (vo, vc) = (slot.vertex_offset as usize, slot.vertex_capacity as usize);
-        let (to, tc) = (
-            slot.triangle_offset as usize,
-            slot.triangle_capacity as usize,
-        );
         DomainMesh::resume(
-            &mut storage.vertices[vo..vo + vc],
-            &mut storage.triangles[to..to + tc],
+            &mut storage.vertices[slot.vertex_range()],
+            &mut storage.triangles[slot.triangle_range()],
             slot.mesh,
         )
     }

@@ -69,6 +69,18 @@ pub struct PatchSlot {
 }
 
 impl PatchSlot {
+    /// Its stretch of the pool's vertex slots.
+    pub(super) fn vertex_range(&self) -> core::ops::Range<usize> {
+        let start = self.vertex_offset as usize;
+        start..start + self.vertex_capacity as usize
+    }
+
+    /// Its stretch of the pool's triangle slots (and triangle states).
+    pub(super) fn triangle_range(&self) -> core::ops::Range<usize> {
+        let start = self.triangle_offset as usize;
+        start..start + self.triangle_capacity as usize
+    }
+
     /// True when the baked prefix does not reach the threshold: every triangle needs its own
     /// bound.
     pub(super) fn exhausted(&self) -> bool {
