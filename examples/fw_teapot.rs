@@ -270,7 +270,9 @@ fn main() -> std::process::ExitCode {
     // The storage with a pool for every baked step, and the least storage.
     if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
         use core::mem::size_of;
-        use spline_tess::tessellator::{CurveSlot, PatchSlot, StorageSize, TriangleSlot};
+        use spline_tess::tessellator::{
+            BoundSlot, CurveSlot, PatchSlot, StorageSize, TriangleSlot,
+        };
         use spline_tess::{MeshTriangle, MeshVertex};
         let bytes = |n: &StorageSize| {
             n.patches * size_of::<PatchSlot>()
@@ -278,6 +280,7 @@ fn main() -> std::process::ExitCode {
                 + n.curve_order * 2
                 + n.vertices * size_of::<MeshVertex>()
                 + n.triangles * (size_of::<MeshTriangle>() + size_of::<TriangleSlot>())
+                + n.bounds * size_of::<BoundSlot>()
                 + n.scratch * 4
         };
         let (all, least) = (

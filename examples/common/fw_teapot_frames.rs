@@ -37,11 +37,14 @@ pub const ORDER: usize = 364;
 pub const POOL_VERTICES: usize = 1024;
 /// The pool's triangle slots.
 pub const POOL_TRIANGLES: usize = 1536;
+/// Bound-cache entries: the bounds the frames compute, kept for the next frames.
+pub const BOUNDS: usize = 256;
 /// Output scratch: the largest patch's vertex slots plus three per triangle slot.
 pub const SCRATCH: usize = 542;
 
 /// fw_teapot's tessellator storage.
-pub type Storage = FixedStorage<PATCHES, CURVES, ORDER, POOL_VERTICES, POOL_TRIANGLES, SCRATCH>;
+pub type Storage =
+    FixedStorage<PATCHES, CURVES, ORDER, POOL_VERTICES, POOL_TRIANGLES, BOUNDS, SCRATCH>;
 
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.
 pub const FRAMES: [([f32; 3], f32, Shading, bool); 4] = [

@@ -30,6 +30,8 @@ pub const ORDER: usize = 128 * 16;
 pub const VERTICES: usize = 32 * (4 + 4 * 16 + 48);
 /// Domain triangle slots.
 pub const TRIANGLES: usize = 2 * VERTICES;
+/// Bound-cache entries.
+pub const BOUNDS: usize = 1024;
 /// Output scratch.
 pub const SCRATCH: usize = 4 * (4 + 4 * 16 + 48) * 3;
 /// Output vertices.
@@ -111,16 +113,20 @@ pub struct Frame {
 }
 
 /// The firmware's storage, in caller memory (on the device: the stack).
-pub type Storage = FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, SCRATCH>;
+pub type Storage = FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, SCRATCH>;
 
-/// A tessellator over `storage`, if it holds every baked step of `baked` (so the frames'
-/// triangles are the error-control figures').
+/// A tessellator over `storage`, if its pool holds every baked step of `baked` (so the
+/// frames' triangles are the error-control figures'; the bound cache may be any size).
 pub fn tessellator<'m, 's>(
     storage: &'s mut Storage,
     patches: PatchSet<'m>,
     baked: BakedModel<'m>,
 ) -> Option<Tessellator<'m, 's>> {
-    if !Storage::covers(&StorageSize::of(&baked, &SETTINGS)) {
+    let every_step = StorageSize {
+        bounds: 0,
+        ..StorageSize::of(&baked, &SETTINGS)
+    };
+    if !Storage::covers(&every_step) {
         return None;
     }
     Tessellator::new(patches, baked, SETTINGS, storage.as_storage()).ok()

@@ -3,7 +3,8 @@
 
 use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::{
-    CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage, TriangleSlot,
+    BoundSlot, CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage,
+    TriangleSlot,
 };
 use spline_tess::{MeshTriangle, MeshVertex, PatchSet};
 
@@ -15,6 +16,7 @@ pub struct RuntimeStorage {
     vertices: Vec<MeshVertex>,
     triangles: Vec<MeshTriangle>,
     states: Vec<TriangleSlot>,
+    bounds: Vec<BoundSlot>,
     scratch: Vec<u32>,
 }
 
@@ -33,6 +35,7 @@ impl RuntimeStorage {
             vertices: vec![MeshVertex::default(); s.vertices],
             triangles: vec![MeshTriangle::default(); s.triangles],
             states: vec![TriangleSlot::default(); s.triangles],
+            bounds: vec![BoundSlot::default(); s.bounds],
             scratch: vec![0; s.scratch],
         }
     }
@@ -51,6 +54,7 @@ impl RuntimeStorage {
             vertices: &mut self.vertices,
             triangles: &mut self.triangles,
             triangle_states: &mut self.states,
+            bounds: &mut self.bounds,
             scratch: &mut self.scratch,
         };
         Tessellator::new(patches, baked, settings, storage).expect("storage sized by StorageSize")

@@ -257,7 +257,8 @@ fn assert_back_facing(label: &str, patch: usize, r: &RefPatch, eye: [f64; 3], si
 enum Pool {
     /// Every baked step.
     Full,
-    /// This fraction of [`Pool::Full`]'s slots (at least the least pool).
+    /// This fraction of [`Pool::Full`]'s slots (at least the least pool), and of its bound
+    /// cache (none for 0).
     Part(f64),
 }
 
@@ -288,10 +289,13 @@ fn run_model(path: &std::path::Path, pool: Pool) {
                 StorageSize::of(&baked, &settings),
                 StorageSize::minimum(&baked, &settings),
             );
-            full.with_pool(PoolSize {
-                vertices: ((full.vertices as f64 * f) as usize).max(least.vertices),
-                triangles: ((full.triangles as f64 * f) as usize).max(least.triangles),
-            })
+            StorageSize {
+                bounds: (full.bounds as f64 * f) as usize,
+                ..full.with_pool(PoolSize {
+                    vertices: ((full.vertices as f64 * f) as usize).max(least.vertices),
+                    triangles: ((full.triangles as f64 * f) as usize).max(least.triangles),
+                })
+            }
         }
     };
     let mut storage = RuntimeStorage::with_size(&size);

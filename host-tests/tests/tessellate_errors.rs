@@ -110,6 +110,7 @@ fn storage_bake_and_tolerance_errors() {
         vertices: &mut vertices,
         triangles: &mut triangles,
         triangle_states: &mut states,
+        bounds: &mut [],
         scratch: &mut scratch,
     };
     let err = Tessellator::new(file.patches(), baked, settings, storage).unwrap_err();
@@ -125,6 +126,7 @@ fn storage_bake_and_tolerance_errors() {
         vertices: &mut vertices,
         triangles: &mut triangles,
         triangle_states: &mut states,
+        bounds: &mut [],
         scratch: &mut scratch,
     };
     let err = Tessellator::new(other.patches(), baked, settings, storage).unwrap_err();

@@ -94,6 +94,8 @@ fn point_hash(q: &Point) -> u32 {
 
 /// One visible patch's view for the traversal.
 pub(super) struct PatchView<'t, 'm, 's> {
+    /// The patch.
+    p: usize,
     pub(super) vo: usize,
     pub(super) to: usize,
     pub(super) tc: usize,
@@ -264,12 +266,14 @@ impl PatchView<'_, '_, '_> {
         // Where pieces off the view are left out: the corner points in the rotated order and
         // the margin (a piece's surface and flat triangle lie within it of the flat triangle
         // of its corners' barycentric combinations of `points`).
-        let hide = self.hide.map(|view| {
+        let hide = self.hide.and_then(|view| {
             let state = &self.tess.storage.triangle_states[self.to + t];
-            let points = [0, 1, 2].map(|k| state.points[(rot + k) % 3]);
+            let patch = self.tess.patches.patch(self.p)?;
+            let cached = self.tess.cached_corner_points(self.p, &patch, pts);
+            let points = [0, 1, 2].map(|k| cached[(rot + k) % 3]);
             // (With the rounding of the combinations.)
             let big = points.iter().flatten().fold(0.0f32, |m, &x| m.max(x.abs()));
-            (view, points, state.margin + 8.0 * f32::EPSILON * big)
+            Some((view, points, state.margin + 8.0 * f32::EPSILON * big))
         });
         let weights = |l: Local| -> [f32; 3] {
             match l {
@@ -409,6 +413,7 @@ impl<'m, 's> Tessellator<'m, 's> {
         }
         let bp = self.baked.patch(p)?;
         Some(PatchView {
+            p,
             vo: slot.vertex_offset as usize,
             to: slot.triangle_offset as usize,
             tc: slot.triangle_capacity as usize,

@@ -2,24 +2,26 @@
 //! `static`, or on the stack, sized by const generics.
 
 use super::storage::{CurveSlot, PatchSlot, TessellatorStorage, TriangleSlot};
+use super::BoundSlot;
 use super::StorageSize;
 use crate::domain::{MeshTriangle, MeshVertex};
 
 /// [`TessellatorStorage`] in arrays: `PATCHES` patch slots, `CURVES` curve slots, `ORDER`
-/// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, and
-/// `SCRATCH` output scratch. [`FixedStorage::covers`] checks it against what a bake needs
+/// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, a bound
+/// cache of `BOUNDS` entries, and `SCRATCH` output scratch. [`FixedStorage::covers`] checks it against what a bake needs
 /// ([`StorageSize::minimum`]); a pool larger than that lets frames keep more baked steps.
 ///
 /// ```
 /// use spline_tess::tessellator::{FixedStorage, StorageSize};
 ///
-/// // Four patches with up to 16 curve samples each side, and a pool for about 300 triangles.
-/// type Storage = FixedStorage<4, 16, 256, 192, 320, 1024>;
+/// // Four patches with up to 16 curve samples each side, a pool for about 300 triangles and
+/// // a bound cache of 64 entries.
+/// type Storage = FixedStorage<4, 16, 256, 192, 320, 64, 1024>;
 /// let mut storage = Storage::new();
 /// let slices = storage.as_storage();
 /// assert_eq!((slices.vertices.len(), slices.triangles.len()), (192, 320));
 /// let least = StorageSize { patches: 4, curves: 12, curve_order: 200, vertices: 16,
-///                           triangles: 8, scratch: 900 };
+///                           triangles: 8, bounds: 0, scratch: 900 };
 /// assert!(Storage::covers(&least));
 /// ```
 #[derive(Debug)]
@@ -29,6 +31,7 @@ pub struct FixedStorage<
     const ORDER: usize,
     const VERTICES: usize,
     const TRIANGLES: usize,
+    const BOUNDS: usize,
     const SCRATCH: usize,
 > {
     patches: [PatchSlot; PATCHES],
@@ -37,6 +40,7 @@ pub struct FixedStorage<
     vertices: [MeshVertex; VERTICES],
     triangles: [MeshTriangle; TRIANGLES],
     states: [TriangleSlot; TRIANGLES],
+    bounds: [BoundSlot; BOUNDS],
     scratch: [u32; SCRATCH],
 }
 
@@ -46,8 +50,9 @@ impl<
         const ORDER: usize,
         const VERTICES: usize,
         const TRIANGLES: usize,
+        const BOUNDS: usize,
         const SCRATCH: usize,
-    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, SCRATCH>
+    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, SCRATCH>
 {
     /// Empty storage.
     pub fn new() -> Self {
@@ -58,6 +63,7 @@ impl<
             vertices: [MeshVertex::default(); VERTICES],
             triangles: [MeshTriangle::default(); TRIANGLES],
             states: [TriangleSlot::default(); TRIANGLES],
+            bounds: [BoundSlot::default(); BOUNDS],
             scratch: [0; SCRATCH],
         }
     }
@@ -69,6 +75,7 @@ impl<
         curve_order: ORDER,
         vertices: VERTICES,
         triangles: TRIANGLES,
+        bounds: BOUNDS,
         scratch: SCRATCH,
     };
 
@@ -80,6 +87,7 @@ impl<
             && size.curve_order <= s.curve_order
             && size.vertices <= s.vertices
             && size.triangles <= s.triangles
+            && size.bounds <= s.bounds
             && size.scratch <= s.scratch
     }
 
@@ -92,6 +100,7 @@ impl<
             vertices: &mut self.vertices,
             triangles: &mut self.triangles,
             triangle_states: &mut self.states,
+            bounds: &mut self.bounds,
             scratch: &mut self.scratch,
         }
     }
@@ -103,8 +112,9 @@ impl<
         const ORDER: usize,
         const VERTICES: usize,
         const TRIANGLES: usize,
+        const BOUNDS: usize,
         const SCRATCH: usize,
-    > Default for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, SCRATCH>
+    > Default for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, SCRATCH>
 {
     fn default() -> Self {
         Self::new()

@@ -32,6 +32,7 @@
 //! is one vertex, and triangles that would have two corners on it are dropped.
 
 mod back;
+mod bound_cache;
 mod budget;
 mod emit;
 mod fixed;
@@ -41,6 +42,7 @@ mod refine;
 mod select;
 mod storage;
 
+pub use bound_cache::BoundSlot;
 pub use budget::{BudgetError, BudgetFit};
 pub use fixed::FixedStorage;
 pub use pool::PoolSize;
@@ -185,7 +187,7 @@ pub struct FrameStats {
 /// use spline_tess::bake::{bake_model, BakeScratch, BakeSettings, BakedModel, Tolerance};
 /// use spline_tess::bake::{CurveSample, CurveSegment, InteriorSample, TriangleDeviation};
 /// use spline_tess::tessellator::{Settings, StorageSize, Tessellator, TessellatorStorage};
-/// use spline_tess::tessellator::{CurveSlot, PatchSlot, TriangleSlot};
+/// use spline_tess::tessellator::{BoundSlot, CurveSlot, PatchSlot, TriangleSlot};
 /// use spline_tess::{BoundaryCurve, EdgeLink, MeshTriangle, MeshVertex, Model};
 /// use spline_tess::{PatchHeader, PatchSet, Vertex, View};
 ///
@@ -224,9 +226,11 @@ pub struct FrameStats {
 /// let mut mv = vec![MeshVertex::default(); size.vertices];
 /// let mut mt = vec![MeshTriangle::default(); size.triangles];
 /// let mut ts = vec![TriangleSlot::default(); size.triangles];
+/// let mut bounds = vec![BoundSlot::default(); size.bounds];
 /// let mut scratch = vec![0u32; size.scratch];
 /// let storage = TessellatorStorage { patches: &mut ps, curves: &mut cv, curve_order: &mut order,
-///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, scratch: &mut scratch };
+///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, bounds: &mut bounds,
+///     scratch: &mut scratch };
 /// let mut tess = Tessellator::new(patches, baked, settings, storage).unwrap();
 ///
 /// // A coarse frame, then a finer one: samples are inserted, not rebuilt.
@@ -241,14 +245,16 @@ pub struct FrameStats {
 ///
 /// // The pool (vertices, triangles, triangle states) may be any size from the least one,
 /// // four vertex and two triangle slots per patch. A frame that needs more cuts its baked
-/// // steps to fit, and refinement takes over within the same bound.
+/// // steps to fit, and refinement takes over within the same bound. The bound cache may be
+/// // empty: bounds are then computed again whenever a frame needs them.
 /// let least = StorageSize::minimum(&baked, &settings);
 /// let mut mv = [MeshVertex::default(); 4];
 /// let mut mt = [MeshTriangle::default(); 2];
 /// let mut ts = [TriangleSlot::default(); 2];
 /// assert!(mv.len() >= least.vertices && mt.len() >= least.triangles);
 /// let storage = TessellatorStorage { patches: &mut ps, curves: &mut cv, curve_order: &mut order,
-///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, scratch: &mut scratch };
+///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, bounds: &mut [],
+///     scratch: &mut scratch };
 /// let mut small = Tessellator::new(patches, baked, settings, storage).unwrap();
 /// let cut = small.update(&View::Object { tolerance: 0.002 }).unwrap();
 /// assert!(cut.prefix_scale > 1.0 && cut.max_predicted_error <= 0.002);
@@ -267,6 +273,8 @@ pub struct Tessellator<'m, 's> {
     counts: MeshCounts,
     /// The model's bounding sphere when back-facing patches may be culled (see `back`).
     closed: Option<BoundingSphere>,
+    /// The bound-cache entry used when the caller's cache is empty.
+    spare_bound: BoundSlot,
 }
 
 /// The side both points lie on, if any.
@@ -330,6 +338,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             refine: true,
             counts: MeshCounts::default(),
             closed: None,
+            spare_bound: BoundSlot::default(),
         };
         tess.lay_out()?;
         if settings.back_patches == BackPatches::CullWhenClosed {

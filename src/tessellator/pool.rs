@@ -29,7 +29,8 @@
 //! # Layout
 //!
 //! Each patch owns a contiguous stretch of vertex slots and one of triangle slots (with their
-//! [`TriangleSlot`](super::TriangleSlot)s). When a visible patch's target needs more than its
+//! [`TriangleSlot`](super::TriangleSlot)s, which hold the current frame's state alone: a frame
+//! writes them after the layout, so they are not moved). When a visible patch's target needs more than its
 //! stretch, the pool is laid out again: every mesh is compacted (its live slots moved to the
 //! front, see [`DomainMesh`]), each patch gets its demand plus a share of what is left over
 //! in proportion to its demand (at most what it could ever hold), and the stretches are moved
@@ -201,17 +202,18 @@ impl Tessellator<'_, '_> {
         if !outgrown {
             return;
         }
-        // Every mesh compacted; its demand.
+        // Every mesh compacted; its demand. (The triangles' states are not moved with them: a
+        // frame writes them afresh after the layout, and the bound cache is keyed by corners,
+        // not slots.)
         let mut demand = PoolSize::default();
         for p in 0..count {
             let slot = self.storage.patches[p];
-            let states = &mut self.storage.triangle_states[slot.triangle_range()];
             let mut mesh = DomainMesh::resume(
                 &mut self.storage.vertices[slot.vertex_range()],
                 &mut self.storage.triangles[slot.triangle_range()],
                 slot.mesh,
             );
-            mesh.compact(|from, to| states[to as usize] = states[from as usize]);
+            mesh.compact(|_, _| {});
             self.storage.patches[p].mesh = mesh.header();
             let (v, t) = self.wanted_slots(p);
             demand.vertices += v;
@@ -280,7 +282,6 @@ impl Tessellator<'_, '_> {
             if to < slot.triangle_offset as usize {
                 let (from, n) = (slot.triangle_offset as usize, slot.mesh.triangle_count());
                 move_slots(storage.triangles, from, to, n);
-                move_slots(storage.triangle_states, from, to, n);
                 storage.patches[p].triangle_offset = to as u32;
             }
             vo += slot.vertex_capacity as usize;
@@ -299,7 +300,6 @@ impl Tessellator<'_, '_> {
             if end_t > slot.triangle_offset as usize {
                 let (from, n) = (slot.triangle_offset as usize, slot.mesh.triangle_count());
                 move_slots(storage.triangles, from, end_t, n);
-                move_slots(storage.triangle_states, from, end_t, n);
                 storage.patches[p].triangle_offset = end_t as u32;
             }
         }

@@ -60,8 +60,8 @@
 //! in the view's units: at most the tolerance unless refinement hit
 //! [`Settings::max_factor`](super::Settings::max_factor).
 
+use super::bound_cache::{KNOW_COARSE, KNOW_WHOLE};
 use super::select::recorded;
-use super::storage::{KNOW_COARSE, KNOW_WHOLE};
 use super::{common_side, FrameStats, Tessellator};
 use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
 use crate::domain::GridPoint;
@@ -195,22 +195,21 @@ fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]
 }
 
 impl Tessellator<'_, '_> {
-    /// The own bound of live triangle slot `slot_index` with corners `corners`, computed when
-    /// the cache does not hold it.
+    /// The own bound of triangle `corners` of patch `patch` (index `p`), computed when the
+    /// cache does not hold it.
     fn bound_of(
         &mut self,
+        p: usize,
         patch: &BezierPatch<'_>,
-        slot_index: usize,
         corners: [GridPoint; 3],
         stats: &mut FrameStats,
     ) -> TriangleBound {
-        let state = &mut self.storage.triangle_states[slot_index];
-        state.about(corners);
-        if let Some(b) = state.cached(corners) {
+        let entry = self.bound_entry(p, corners);
+        if let Some(b) = entry.cached() {
             return b;
         }
         let b = triangle_bound(patch, corners);
-        state.keep_own(&b);
+        entry.keep_own(&b);
         stats.estimated += 1;
         b
     }
@@ -226,8 +225,8 @@ impl Tessellator<'_, '_> {
     #[allow(clippy::too_many_arguments)]
     fn judge(
         &mut self,
+        p: usize,
         patch: &BezierPatch<'_>,
-        slot_index: usize,
         corners: [GridPoint; 3],
         whole: &PatchBounds,
         at_hand: f32,
@@ -237,8 +236,8 @@ impl Tessellator<'_, '_> {
         stats: &mut FrameStats,
     ) -> (u8, f32, f32, Option<(TriangleBound, Option<PatchBounds>)>) {
         let uv = corners.map(GridPoint::to_unit);
-        let state = &mut self.storage.triangle_states[slot_index];
-        let points = state.corner_points(patch, corners);
+        let state = self.bound_entry(p, corners);
+        let points = state.corner_points(patch);
         let own_threshold = |bound: f32| own_threshold(view, tol, points, bound);
         // 1. A bound at hand.
         let c = own_threshold(at_hand);
@@ -270,7 +269,7 @@ impl Tessellator<'_, '_> {
             return (1, state.whole, c, None);
         }
         // 4. Its own bound: the factor.
-        let (b, local) = match state.cached(corners) {
+        let (b, local) = match state.cached() {
             Some(b) => (b, None),
             None => {
                 let l = lattice.get_or_insert_with(|| Lattice::coarse_with(patch, corners, points));
@@ -355,8 +354,9 @@ impl Tessellator<'_, '_> {
                 let hide = refine && !slot.inside;
                 state.margin = slot.recorded;
                 if hide && !needs {
-                    let points = state.corner_points(&patch, corners);
-                    state.hidden = view.triangle_scale(points, slot.recorded).1;
+                    let points = self.bound_entry(p, corners).corner_points(&patch);
+                    self.storage.triangle_states[to + t].hidden =
+                        view.triangle_scale(points, slot.recorded).1;
                 }
                 let f = if needs {
                     // A bound at hand: the whole patch's curvature term, and the recorded
@@ -367,17 +367,8 @@ impl Tessellator<'_, '_> {
                     if let (false, Some(r)) = (near_extra, own) {
                         at_hand = at_hand.min(r);
                     }
-                    let (f, pieces, c, own_bound) = self.judge(
-                        &patch,
-                        to + t,
-                        corners,
-                        &whole,
-                        at_hand,
-                        view,
-                        tol,
-                        max,
-                        stats,
-                    );
+                    let (f, pieces, c, own_bound) =
+                        self.judge(p, &patch, corners, &whole, at_hand, view, tol, max, stats);
                     let state = &mut self.storage.triangle_states[to + t];
                     state.threshold = c;
                     state.pieces = pieces;
@@ -531,7 +522,7 @@ impl Tessellator<'_, '_> {
                     worst_ratio = worst_ratio.max(state.pieces / state.threshold);
                     continue;
                 }
-                let mut bound = state.cached(corners);
+                let mut bound = self.bound_entry(p, corners).cached();
                 let edges = self
                     .patch_view(p)
                     .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
@@ -542,14 +533,13 @@ impl Tessellator<'_, '_> {
                     // the threshold it was judged with, or, for a baked prefix triangle, the
                     // one the recorded bound gives at its corners.
                     if f > 1 {
-                        let b = self.bound_of(&patch, to + t, corners, stats);
+                        let b = self.bound_of(p, &patch, corners, stats);
                         self.storage.triangle_states[to + t].threshold = threshold(view, tol, &b);
                         bound = Some(b);
                     } else if !self.storage.triangle_states[to + t].judged {
-                        let state = &mut self.storage.triangle_states[to + t];
-                        let points = state.corner_points(&patch, corners);
+                        let points = self.bound_entry(p, corners).corner_points(&patch);
                         let own = own_threshold(view, tol, points, slot.recorded);
-                        state.threshold = slot.c.max(own);
+                        self.storage.triangle_states[to + t].threshold = slot.c.max(own);
                     }
                 }
                 let c = self.storage.triangle_states[to + t].threshold;
@@ -690,7 +680,7 @@ impl Tessellator<'_, '_> {
                 .live_point()
                 .unwrap_or_default()
         });
-        let b = self.bound_of(&patch, to + t, corners, stats);
+        let b = self.bound_of(p, &patch, corners, stats);
         let state = &mut self.storage.triangle_states[to + t];
         state.threshold = threshold(view, tol, &b);
         state.factor = f;

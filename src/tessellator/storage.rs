@@ -4,13 +4,13 @@
 use core::fmt;
 
 use crate::bake::{BakedModel, BakedPatch};
-use crate::deviation::{corner_points, PatchBounds, TriangleBound};
-use crate::domain::{DomainMesh, GridPoint, MeshHeader, MeshTriangle, MeshVertex};
+use crate::deviation::PatchBounds;
+use crate::domain::{DomainMesh, MeshHeader, MeshTriangle, MeshVertex};
 use crate::facing::NormalCone;
 use crate::model::EdgeLink;
-use crate::patch::{BezierPatch, Side};
+use crate::patch::Side;
 
-use super::{PoolSize, Settings};
+use super::{BoundSlot, PoolSize, Settings};
 
 /// One patch's run-time state (storage slot; contents are private).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -106,36 +106,14 @@ pub struct CurveSlot {
     pub(super) side: Side,
 }
 
-/// One domain triangle's cached bounds (storage slot; contents are private).
+/// One domain triangle's state in the current frame: its refinement factor and the bounds
+/// that judged it (storage slot; contents are private). Every frame writes it afresh for
+/// every live triangle, so it keeps nothing from one frame to the next (what does is in
+/// [`BoundSlot`]s).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriangleSlot {
-    /// The triangle the cache is about.
-    pub(super) corners: [GridPoint; 3],
-    /// What is known about `corners`: [`KNOW_POINTS`], [`KNOW_COARSE`], [`KNOW_WHOLE`],
-    /// [`KNOW_OWN`].
-    pub(super) known: u8,
-    /// The surface at the corners.
-    pub(super) points: [[f32; 3]; 3],
-    /// Its bound from the lattice of step 1/3 and the whole patch's remainder.
-    pub(super) coarse: f32,
-    /// Its bound from the full lattice and the whole patch's remainder.
-    pub(super) whole: f32,
-    /// Its own bound, and its pieces' (the remainder from its box): `refined`, then
-    /// `curvature` and `slack` of its [`TriangleBound`] (whose corner points are `points`).
-    pub(super) own: [f32; 6],
     /// Its refinement factor in the current frame.
     pub(super) factor: u8,
-    /// Bound of every piece it is cut into in the current frame, in object units.
-    pub(super) pieces: f32,
-    /// Its threshold in the current frame (object units): its own where it was judged on its
-    /// own, otherwise its patch's.
-    pub(super) threshold: f32,
-    /// The factor and edge factors of the non-uniform pattern `pieces` bounds this frame
-    /// (zeros when none).
-    pub(super) pattern: [u8; 4],
-    /// Factors its edges (edge `i` opposite corner `i`) are asked to take this frame beyond
-    /// the triangle's own: a bisection where a uniform cut would overshoot (0 when none).
-    pub(super) split: [u8; 3],
     /// The factor a round of agreement raises it to, applied when the round ends (0: none).
     pub(super) pending: u8,
     /// Whether it was judged on its own bounds this frame (else it is a baked prefix
@@ -144,63 +122,21 @@ pub struct TriangleSlot {
     /// Whether it lies wholly outside the view this frame, with its surface piece: it is not
     /// written (refined frames only).
     pub(super) hidden: bool,
+    /// The factor and edge factors of the non-uniform pattern `pieces` bounds this frame
+    /// (zeros when none).
+    pub(super) pattern: [u8; 4],
+    /// Factors its edges (edge `i` opposite corner `i`) are asked to take this frame beyond
+    /// the triangle's own: a bisection where a uniform cut would overshoot (0 when none).
+    pub(super) split: [u8; 3],
+    /// Bound of every piece it is cut into in the current frame, in object units.
+    pub(super) pieces: f32,
+    /// Its threshold in the current frame (object units): its own where it was judged on its
+    /// own, otherwise its patch's.
+    pub(super) threshold: f32,
     /// A bound of its deviation this frame (the one that judged it, or the prefix's recorded
     /// bound): its surface piece, and every flat piece it is cut into, lie within it of the
-    /// flat triangle of `points`.
+    /// flat triangle of its corners' surface points.
     pub(super) margin: f32,
-}
-
-/// [`TriangleSlot::points`] holds the corners' surface points.
-pub(super) const KNOW_POINTS: u8 = 1;
-/// [`TriangleSlot::coarse`] holds its bound.
-pub(super) const KNOW_COARSE: u8 = 2;
-/// [`TriangleSlot::whole`] holds its bound.
-pub(super) const KNOW_WHOLE: u8 = 4;
-/// [`TriangleSlot::own`] holds its own bound.
-pub(super) const KNOW_OWN: u8 = 8;
-
-impl TriangleSlot {
-    /// The triangle's own bound, if the cache holds it for `corners`.
-    pub(super) fn cached(&self, corners: [GridPoint; 3]) -> Option<TriangleBound> {
-        let o = self.own;
-        (self.known & KNOW_OWN != 0 && self.corners == corners).then_some(TriangleBound {
-            refined: [o[0], o[1], o[2], o[3]],
-            curvature: o[4],
-            slack: o[5],
-            at: GridPoint::default(),
-            points: self.points,
-        })
-    }
-
-    /// The surface at `corners` (computed once and kept; the cache is made about `corners`).
-    pub(super) fn corner_points(
-        &mut self,
-        patch: &BezierPatch<'_>,
-        corners: [GridPoint; 3],
-    ) -> [[f32; 3]; 3] {
-        self.about(corners);
-        if self.known & KNOW_POINTS == 0 {
-            self.points = corner_points(patch, corners);
-            self.known |= KNOW_POINTS;
-        }
-        self.points
-    }
-
-    /// Keeps `b` as the triangle's own bound.
-    pub(super) fn keep_own(&mut self, b: &TriangleBound) {
-        let r = b.refined;
-        self.own = [r[0], r[1], r[2], r[3], b.curvature, b.slack];
-        self.points = b.points;
-        self.known |= KNOW_OWN | KNOW_POINTS;
-    }
-
-    /// Makes the cache about `corners` (forgetting what it knew about other corners).
-    pub(super) fn about(&mut self, corners: [GridPoint; 3]) {
-        if self.corners != corners {
-            self.corners = corners;
-            self.known = 0;
-        }
-    }
 }
 
 /// Storage sizes a [`Tessellator`](super::Tessellator) needs for a baked model.
@@ -217,6 +153,9 @@ pub struct StorageSize {
     pub vertices: usize,
     /// [`MeshTriangle`] and [`TriangleSlot`] slots: the pool shared by all patches.
     pub triangles: usize,
+    /// [`BoundSlot`]s: the bound cache (any number works, none included; more entries spare
+    /// frames recomputing bounds they computed before).
+    pub bounds: usize,
     /// `u32` scratch for output: the largest patch's vertex slots plus three per triangle
     /// slot.
     pub scratch: usize,
@@ -224,7 +163,8 @@ pub struct StorageSize {
 
 impl StorageSize {
     /// What `baked` needs with `settings` for every frame to hold every step it asks for:
-    /// a pool of every patch's slots. (A smaller pool works: see [`StorageSize::minimum`].)
+    /// a pool of every patch's slots, and a bound cache of one entry per triangle slot. (A
+    /// smaller pool and cache work: see [`StorageSize::minimum`].)
     pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
         let mut size = StorageSize::minimum(baked, settings);
         size.vertices = 0;
@@ -236,11 +176,12 @@ impl StorageSize {
                 size.triangles += t;
             }
         }
+        size.bounds = size.triangles;
         size
     }
 
     /// The least storage a [`Tessellator`](super::Tessellator) works with: a pool of four
-    /// vertex and two triangle slots per patch. Frames then cut their prefixes of baked steps
+    /// vertex and two triangle slots per patch, and no bound cache. Frames then cut their prefixes of baked steps
     /// to what the pool holds, and refinement takes over, within the same error bound (see
     /// [`FrameStats::prefix_scale`](super::FrameStats::prefix_scale)).
     pub fn minimum(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
@@ -250,6 +191,7 @@ impl StorageSize {
             curve_order: baked.curve_sample_count(),
             vertices: 4 * baked.patch_count(),
             triangles: 2 * baked.patch_count(),
+            bounds: 0,
             scratch: 0,
         };
         for k in 0..baked.patch_count() {
@@ -296,7 +238,7 @@ pub(super) fn patch_capacity(
 /// The caller's storage for a [`Tessellator`](super::Tessellator), at least
 /// [`StorageSize::minimum`] (longer slices are fine). `vertices`, `triangles` and
 /// `triangle_states` are the pool all patches share; [`StorageSize::of`] sizes it for every
-/// baked step.
+/// baked step. `bounds` is a cache of any length.
 #[derive(Debug)]
 pub struct TessellatorStorage<'s> {
     /// Per patch.
@@ -309,9 +251,11 @@ pub struct TessellatorStorage<'s> {
     pub vertices: &'s mut [MeshVertex],
     /// The pool's domain-mesh triangles.
     pub triangles: &'s mut [MeshTriangle],
-    /// Cached bounds, one per domain triangle slot (the pool's triangles are the shorter of
-    /// this and `triangles`).
+    /// The frame's state of each domain triangle slot (the pool's triangles are the shorter
+    /// of this and `triangles`).
     pub triangle_states: &'s mut [TriangleSlot],
+    /// The bound cache: any length, none included.
+    pub bounds: &'s mut [BoundSlot],
     /// Output scratch.
     pub scratch: &'s mut [u32],
 }

@@ -1,0 +1,153 @@
+//! The bound cache: what the run time learns about a domain triangle that does not depend on
+//! the view (its corners' surface points and its deviation bounds), kept across frames in a
+//! caller slice of any length.
+//!
+//! A frame judges a triangle by the cheapest bound that settles it (see `refine`), and the
+//! bounds it computes on the way are worth keeping: the next frame judges mostly the same
+//! triangles. The cache is direct-mapped, so it costs nothing to look up and needs no
+//! upkeep when the pool is laid out again (it is keyed by patch and corners, not by slot).
+//! Every value in an entry is a function of its patch and corners alone, so what the cache
+//! holds changes a frame's cost, never its outcome: an empty cache is allowed, and
+//! recomputes every bound a frame needs.
+
+use crate::deviation::{corner_points, TriangleBound};
+use crate::domain::GridPoint;
+use crate::patch::BezierPatch;
+
+use super::Tessellator;
+
+/// One entry of the bound cache: what is known about one domain triangle of one patch that
+/// does not depend on the view (its corners' surface points and its bounds), kept across
+/// frames (storage slot; contents are private).
+///
+/// The cache is direct-mapped: a triangle has one entry, chosen by a hash of its patch and
+/// corners, and takes it over from whatever triangle held it. Every value in it is a function
+/// of the patch and the corners alone, so a frame's outcome does not depend on what the cache
+/// holds, only its cost does (an empty cache recomputes every bound it needs).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BoundSlot {
+    /// The patch the entry is about.
+    pub(super) patch: u32,
+    /// The triangle the entry is about.
+    pub(super) corners: [GridPoint; 3],
+    /// What is known about it: [`KNOW_POINTS`], [`KNOW_COARSE`], [`KNOW_WHOLE`],
+    /// [`KNOW_OWN`] (0: nothing, an empty entry).
+    pub(super) known: u8,
+    /// The surface at the corners.
+    pub(super) points: [[f32; 3]; 3],
+    /// Its bound from the lattice of step 1/3 and the whole patch's remainder.
+    pub(super) coarse: f32,
+    /// Its bound from the full lattice and the whole patch's remainder.
+    pub(super) whole: f32,
+    /// Its own bound, and its pieces' (the remainder from its box): `refined`, then
+    /// `curvature` and `slack` of its [`TriangleBound`] (whose corner points are `points`).
+    pub(super) own: [f32; 6],
+}
+
+/// [`BoundSlot::points`] holds the corners' surface points.
+pub(super) const KNOW_POINTS: u8 = 1;
+/// [`BoundSlot::coarse`] holds its bound.
+pub(super) const KNOW_COARSE: u8 = 2;
+/// [`BoundSlot::whole`] holds its bound.
+pub(super) const KNOW_WHOLE: u8 = 4;
+/// [`BoundSlot::own`] holds its own bound.
+pub(super) const KNOW_OWN: u8 = 8;
+
+impl BoundSlot {
+    /// The entry for triangle `corners` of patch `patch` in a cache of `cache_len` entries
+    /// (none in an empty cache).
+    pub(super) fn index(cache_len: usize, patch: usize, corners: [GridPoint; 3]) -> Option<usize> {
+        if cache_len == 0 {
+            return None;
+        }
+        // FNV-1a over the patch and the corners' coordinates.
+        let mut h: u32 = 0x811c_9dc5;
+        let mut mix = |x: u32| {
+            h ^= x;
+            h = h.wrapping_mul(0x0100_0193);
+        };
+        mix(patch as u32);
+        for c in corners {
+            mix(u32::from(c.u) | (u32::from(c.v) << 16));
+        }
+        Some(((h ^ (h >> 15)) as usize) % cache_len)
+    }
+
+    /// Whether the entry is about triangle `corners` of patch `patch`.
+    pub(super) fn is_about(&self, patch: usize, corners: [GridPoint; 3]) -> bool {
+        self.known != 0 && self.patch == patch as u32 && self.corners == corners
+    }
+
+    /// Makes the entry about triangle `corners` of patch `patch` (forgetting what it knew
+    /// about another).
+    pub(super) fn about(&mut self, patch: usize, corners: [GridPoint; 3]) {
+        if !self.is_about(patch, corners) {
+            *self = BoundSlot {
+                patch: patch as u32,
+                corners,
+                ..BoundSlot::default()
+            };
+        }
+    }
+
+    /// The triangle's own bound, if the entry holds it.
+    pub(super) fn cached(&self) -> Option<TriangleBound> {
+        let o = self.own;
+        (self.known & KNOW_OWN != 0).then_some(TriangleBound {
+            refined: [o[0], o[1], o[2], o[3]],
+            curvature: o[4],
+            slack: o[5],
+            at: GridPoint::default(),
+            points: self.points,
+        })
+    }
+
+    /// The surface at the corners (computed once and kept).
+    pub(super) fn corner_points(&mut self, patch: &BezierPatch<'_>) -> [[f32; 3]; 3] {
+        if self.known & KNOW_POINTS == 0 {
+            self.points = corner_points(patch, self.corners);
+            self.known |= KNOW_POINTS;
+        }
+        self.points
+    }
+
+    /// Keeps `b` as the triangle's own bound.
+    pub(super) fn keep_own(&mut self, b: &TriangleBound) {
+        let r = b.refined;
+        self.own = [r[0], r[1], r[2], r[3], b.curvature, b.slack];
+        self.points = b.points;
+        self.known |= KNOW_OWN | KNOW_POINTS;
+    }
+}
+
+impl Tessellator<'_, '_> {
+    /// The cache entry for triangle `corners` of patch `p`, made about it (the tessellator's
+    /// spare entry when the caller's cache is empty).
+    pub(super) fn bound_entry(&mut self, p: usize, corners: [GridPoint; 3]) -> &mut BoundSlot {
+        let entry = match BoundSlot::index(self.storage.bounds.len(), p, corners) {
+            Some(i) => &mut self.storage.bounds[i],
+            None => &mut self.spare_bound,
+        };
+        entry.about(p, corners);
+        entry
+    }
+
+    /// The surface at the corners of triangle `corners` of patch `patch` (index `p`), from
+    /// the cache where it holds them.
+    pub(super) fn cached_corner_points(
+        &self,
+        p: usize,
+        patch: &BezierPatch<'_>,
+        corners: [GridPoint; 3],
+    ) -> [[f32; 3]; 3] {
+        let entry = match BoundSlot::index(self.storage.bounds.len(), p, corners) {
+            Some(i) => &self.storage.bounds[i],
+            None => &self.spare_bound,
+        };
+        if entry.is_about(p, corners) && entry.known & KNOW_POINTS != 0 {
+            entry.points
+        } else {
+            corner_points(patch, corners)
+        }
+    }
+}
