@@ -271,7 +271,7 @@ fn main() -> std::process::ExitCode {
     if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
         use core::mem::size_of;
         use spline_tess::tessellator::{
-            BoundSlot, CurveSlot, PatchSlot, StorageSize, TriangleSlot,
+            BoundSlot, CurveSlot, PatchSlot, PointSlot, StorageSize, TriangleSlot,
         };
         use spline_tess::{MeshTriangle, MeshVertex};
         let bytes = |n: &StorageSize| {
@@ -281,6 +281,7 @@ fn main() -> std::process::ExitCode {
                 + n.vertices * size_of::<MeshVertex>()
                 + n.triangles * (size_of::<MeshTriangle>() + size_of::<TriangleSlot>())
                 + n.bounds * size_of::<BoundSlot>()
+                + n.vertex_points * size_of::<PointSlot>()
                 + n.scratch * 4
         };
         let (all, least) = (

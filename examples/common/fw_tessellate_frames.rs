@@ -32,6 +32,8 @@ pub const VERTICES: usize = 32 * (4 + 4 * 16 + 48);
 pub const TRIANGLES: usize = 2 * VERTICES;
 /// Bound-cache entries.
 pub const BOUNDS: usize = 1024;
+/// Vertex-cache entries.
+pub const POINTS: usize = VERTICES;
 /// Output scratch.
 pub const SCRATCH: usize = 4 * (4 + 4 * 16 + 48) * 3;
 /// Output vertices.
@@ -113,7 +115,8 @@ pub struct Frame {
 }
 
 /// The firmware's storage, in caller memory (on the device: the stack).
-pub type Storage = FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, SCRATCH>;
+pub type Storage =
+    FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, POINTS, SCRATCH>;
 
 /// A tessellator over `storage`, if its pool holds every baked step of `baked` (so the
 /// frames' triangles are the error-control figures'; the bound cache may be any size).
@@ -124,6 +127,7 @@ pub fn tessellator<'m, 's>(
 ) -> Option<Tessellator<'m, 's>> {
     let every_step = StorageSize {
         bounds: 0,
+        vertex_points: 0,
         ..StorageSize::of(&baked, &SETTINGS)
     };
     if !Storage::covers(&every_step) {

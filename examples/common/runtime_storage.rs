@@ -3,8 +3,8 @@
 
 use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::{
-    BoundSlot, CurveSlot, PatchSlot, Settings, StorageSize, Tessellator, TessellatorStorage,
-    TriangleSlot,
+    BoundSlot, CurveSlot, PatchSlot, PointSlot, Settings, StorageSize, Tessellator,
+    TessellatorStorage, TriangleSlot,
 };
 use spline_tess::{MeshTriangle, MeshVertex, PatchSet};
 
@@ -17,6 +17,7 @@ pub struct RuntimeStorage {
     triangles: Vec<MeshTriangle>,
     states: Vec<TriangleSlot>,
     bounds: Vec<BoundSlot>,
+    points: Vec<PointSlot>,
     scratch: Vec<u32>,
 }
 
@@ -36,6 +37,7 @@ impl RuntimeStorage {
             triangles: vec![MeshTriangle::default(); s.triangles],
             states: vec![TriangleSlot::default(); s.triangles],
             bounds: vec![BoundSlot::default(); s.bounds],
+            points: vec![PointSlot::default(); s.vertex_points],
             scratch: vec![0; s.scratch],
         }
     }
@@ -55,6 +57,7 @@ impl RuntimeStorage {
             triangles: &mut self.triangles,
             triangle_states: &mut self.states,
             bounds: &mut self.bounds,
+            vertex_points: &mut self.points,
             scratch: &mut self.scratch,
         };
         Tessellator::new(patches, baked, settings, storage).expect("storage sized by StorageSize")

@@ -258,7 +258,7 @@ enum Pool {
     /// Every baked step.
     Full,
     /// This fraction of [`Pool::Full`]'s slots (at least the least pool), and of its bound
-    /// cache (none for 0).
+    /// and vertex caches (none for 0).
     Part(f64),
 }
 
@@ -291,6 +291,7 @@ fn run_model(path: &std::path::Path, pool: Pool) {
             );
             StorageSize {
                 bounds: (full.bounds as f64 * f) as usize,
+                vertex_points: (full.vertex_points as f64 * f) as usize,
                 ..full.with_pool(PoolSize {
                     vertices: ((full.vertices as f64 * f) as usize).max(least.vertices),
                     triangles: ((full.triangles as f64 * f) as usize).max(least.triangles),

@@ -111,6 +111,7 @@ fn storage_bake_and_tolerance_errors() {
         triangles: &mut triangles,
         triangle_states: &mut states,
         bounds: &mut [],
+        vertex_points: &mut [],
         scratch: &mut scratch,
     };
     let err = Tessellator::new(file.patches(), baked, settings, storage).unwrap_err();
@@ -127,6 +128,7 @@ fn storage_bake_and_tolerance_errors() {
         triangles: &mut triangles,
         triangle_states: &mut states,
         bounds: &mut [],
+        vertex_points: &mut [],
         scratch: &mut scratch,
     };
     let err = Tessellator::new(other.patches(), baked, settings, storage).unwrap_err();
@@ -207,4 +209,92 @@ proptest! {
             Err(e) => prop_assert!(e.to_string().contains("budget too small")),
         }
     }
+}
+
+/// The caches change a frame's cost, never its output: a tessellator with full bound and
+/// vertex caches, one with caches of a few entries (so entries are taken over all the time)
+/// and one with none write the same meshes and stream the same triangles, bit for bit, along
+/// a path of views that inserts, deletes, refines and lays the pool out again.
+#[test]
+fn caches_change_cost_not_output() {
+    let (file, bytes) = teaspoon();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let settings = Settings::default();
+    let full = StorageSize::of(&baked, &settings);
+    let sizes = [
+        full,
+        StorageSize {
+            bounds: 7,
+            vertex_points: 13,
+            ..full
+        },
+        StorageSize {
+            bounds: 0,
+            vertex_points: 0,
+            ..full
+        },
+    ];
+    let mut storages: Vec<RuntimeStorage> = sizes.iter().map(RuntimeStorage::with_size).collect();
+    let mut tessellators: Vec<Tessellator<'_, '_>> = storages
+        .iter_mut()
+        .map(|s| s.tessellator(file.patches(), baked, settings))
+        .collect();
+    let eyes = [
+        Vec3::new(6.0, -5.0, 4.0),
+        Vec3::new(1.5, -1.0, 1.0),
+        Vec3::new(1.6, -0.9, 1.0),
+        Vec3::new(0.4, 0.3, 0.5),
+        Vec3::new(8.0, 3.0, -2.0),
+        Vec3::new(1.5, -1.0, 1.0),
+    ];
+    let mut estimated = vec![0usize; sizes.len()];
+    for (k, eye) in eyes.into_iter().enumerate() {
+        let view = View::Screen {
+            camera: camera(eye).unwrap(),
+            tolerance_px: 0.5,
+        };
+        let mut outputs = Vec::new();
+        for (i, tess) in tessellators.iter_mut().enumerate() {
+            let stats = tess.update(&view).unwrap();
+            estimated[i] += stats.estimated;
+            let mesh = indexed(tess);
+            let mut streamed = Vec::new();
+            tess.stream_with_info(|info, c| {
+                streamed.push((info.patch, c.map(|v| bits(std::slice::from_ref(v))[0])))
+            });
+            outputs.push((stats.triangles, mesh, streamed));
+        }
+        for o in &outputs[1..] {
+            assert_eq!(o.0, outputs[0].0, "view {k}: triangle counts");
+            assert!(
+                bits(&o.1.vertices) == bits(&outputs[0].1.vertices),
+                "view {k}"
+            );
+            assert_eq!(o.1.triangles, outputs[0].1.triangles, "view {k}");
+            assert_eq!(o.2, outputs[0].2, "view {k}: streamed triangles");
+        }
+    }
+    // The full cache spared work the others did again.
+    assert!(estimated[0] < estimated[2], "{estimated:?}");
+}
+
+/// The bits of every vertex's fields.
+fn bits(vertices: &[Vertex]) -> Vec<[u32; 9]> {
+    vertices
+        .iter()
+        .map(|v| {
+            let f = [
+                v.position[0],
+                v.position[1],
+                v.position[2],
+                v.normal[0],
+                v.normal[1],
+                v.normal[2],
+                v.uv[0],
+                v.uv[1],
+                v.patch as f32,
+            ];
+            f.map(f32::to_bits)
+        })
+        .collect()
 }

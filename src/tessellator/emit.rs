@@ -592,6 +592,15 @@ impl<'m, 's> Tessellator<'m, 's> {
                 *slot = match point {
                     Point::Node(n) => n,
                     Point::Curve { curve, j, .. } => self.curve_index(curve, j),
+                    Point::Vertex { p: g, .. } => {
+                        if let Some(vs) = vs_out.as_mut() {
+                            vs[next as usize] = self
+                                .cached_vertex(p, view.vo + id, g)
+                                .unwrap_or_else(|| self.vertex_data(point, p));
+                        }
+                        next += 1;
+                        next - 1
+                    }
                     _ => {
                         if let Some(vs) = vs_out.as_mut() {
                             vs[next as usize] = self.vertex_data(point, p);
@@ -779,7 +788,13 @@ impl<'m, 's> Tessellator<'m, 's> {
         // Neighbouring triangles share corners: a small direct-mapped cache of evaluated
         // points saves most evaluations (the data depends on the point alone).
         let mut cache = [(None::<Point>, Vertex::default()); STREAM_CACHE];
+        let vo = view.vo;
         let mut vertex = |q: Point| -> Vertex {
+            if let Point::Vertex { id, p: g } = q {
+                if let Some(v) = self.cached_vertex(p, vo + id as usize, g) {
+                    return v;
+                }
+            }
             let slot = &mut cache[point_hash(&q) as usize % STREAM_CACHE];
             if slot.0 != Some(q) {
                 *slot = (Some(q), self.vertex_data(q, p));

@@ -2,26 +2,28 @@
 //! `static`, or on the stack, sized by const generics.
 
 use super::storage::{CurveSlot, PatchSlot, TessellatorStorage, TriangleSlot};
-use super::BoundSlot;
 use super::StorageSize;
+use super::{BoundSlot, PointSlot};
 use crate::domain::{MeshTriangle, MeshVertex};
 
 /// [`TessellatorStorage`] in arrays: `PATCHES` patch slots, `CURVES` curve slots, `ORDER`
 /// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, a bound
-/// cache of `BOUNDS` entries, and `SCRATCH` output scratch. [`FixedStorage::covers`] checks it against what a bake needs
+/// cache of `BOUNDS` entries, a vertex cache of `POINTS` entries, and `SCRATCH` output
+/// scratch. [`FixedStorage::covers`] checks it against what a bake needs
 /// ([`StorageSize::minimum`]); a pool larger than that lets frames keep more baked steps.
 ///
 /// ```
 /// use spline_tess::tessellator::{FixedStorage, StorageSize};
 ///
-/// // Four patches with up to 16 curve samples each side, a pool for about 300 triangles and
-/// // a bound cache of 64 entries.
-/// type Storage = FixedStorage<4, 16, 256, 192, 320, 64, 1024>;
+/// // Four patches with up to 16 curve samples each side, a pool for about 300 triangles, a
+/// // bound cache of 64 entries and a vertex cache for every vertex slot.
+/// type Storage = FixedStorage<4, 16, 256, 192, 320, 64, 192, 1024>;
 /// let mut storage = Storage::new();
 /// let slices = storage.as_storage();
 /// assert_eq!((slices.vertices.len(), slices.triangles.len()), (192, 320));
 /// let least = StorageSize { patches: 4, curves: 12, curve_order: 200, vertices: 16,
-///                           triangles: 8, bounds: 0, scratch: 900 };
+///                           triangles: 8, bounds: 0, vertex_points: 0,
+///                           scratch: 900 };
 /// assert!(Storage::covers(&least));
 /// ```
 #[derive(Debug)]
@@ -32,6 +34,7 @@ pub struct FixedStorage<
     const VERTICES: usize,
     const TRIANGLES: usize,
     const BOUNDS: usize,
+    const POINTS: usize,
     const SCRATCH: usize,
 > {
     patches: [PatchSlot; PATCHES],
@@ -41,6 +44,7 @@ pub struct FixedStorage<
     triangles: [MeshTriangle; TRIANGLES],
     states: [TriangleSlot; TRIANGLES],
     bounds: [BoundSlot; BOUNDS],
+    points: [PointSlot; POINTS],
     scratch: [u32; SCRATCH],
 }
 
@@ -51,8 +55,9 @@ impl<
         const VERTICES: usize,
         const TRIANGLES: usize,
         const BOUNDS: usize,
+        const POINTS: usize,
         const SCRATCH: usize,
-    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, SCRATCH>
+    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, POINTS, SCRATCH>
 {
     /// Empty storage.
     pub fn new() -> Self {
@@ -64,6 +69,7 @@ impl<
             triangles: [MeshTriangle::default(); TRIANGLES],
             states: [TriangleSlot::default(); TRIANGLES],
             bounds: [BoundSlot::default(); BOUNDS],
+            points: [PointSlot::default(); POINTS],
             scratch: [0; SCRATCH],
         }
     }
@@ -76,6 +82,7 @@ impl<
         vertices: VERTICES,
         triangles: TRIANGLES,
         bounds: BOUNDS,
+        vertex_points: POINTS,
         scratch: SCRATCH,
     };
 
@@ -88,6 +95,7 @@ impl<
             && size.vertices <= s.vertices
             && size.triangles <= s.triangles
             && size.bounds <= s.bounds
+            && size.vertex_points <= s.vertex_points
             && size.scratch <= s.scratch
     }
 
@@ -101,6 +109,7 @@ impl<
             triangles: &mut self.triangles,
             triangle_states: &mut self.states,
             bounds: &mut self.bounds,
+            vertex_points: &mut self.points,
             scratch: &mut self.scratch,
         }
     }
@@ -113,8 +122,10 @@ impl<
         const VERTICES: usize,
         const TRIANGLES: usize,
         const BOUNDS: usize,
+        const POINTS: usize,
         const SCRATCH: usize,
-    > Default for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, SCRATCH>
+    > Default
+    for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, POINTS, SCRATCH>
 {
     fn default() -> Self {
         Self::new()

@@ -41,6 +41,7 @@ mod pool;
 mod refine;
 mod select;
 mod storage;
+mod vertex_cache;
 
 pub use bound_cache::BoundSlot;
 pub use budget::{BudgetError, BudgetFit};
@@ -49,6 +50,7 @@ pub use pool::PoolSize;
 pub use storage::{
     CurveSlot, PatchSlot, StorageSize, TessellatorError, TessellatorStorage, TriangleSlot,
 };
+pub use vertex_cache::PointSlot;
 
 use core::fmt;
 
@@ -187,7 +189,7 @@ pub struct FrameStats {
 /// use spline_tess::bake::{bake_model, BakeScratch, BakeSettings, BakedModel, Tolerance};
 /// use spline_tess::bake::{CurveSample, CurveSegment, InteriorSample, TriangleDeviation};
 /// use spline_tess::tessellator::{Settings, StorageSize, Tessellator, TessellatorStorage};
-/// use spline_tess::tessellator::{BoundSlot, CurveSlot, PatchSlot, TriangleSlot};
+/// use spline_tess::tessellator::{BoundSlot, CurveSlot, PatchSlot, PointSlot, TriangleSlot};
 /// use spline_tess::{BoundaryCurve, EdgeLink, MeshTriangle, MeshVertex, Model};
 /// use spline_tess::{PatchHeader, PatchSet, Vertex, View};
 ///
@@ -227,10 +229,11 @@ pub struct FrameStats {
 /// let mut mt = vec![MeshTriangle::default(); size.triangles];
 /// let mut ts = vec![TriangleSlot::default(); size.triangles];
 /// let mut bounds = vec![BoundSlot::default(); size.bounds];
+/// let mut points = vec![PointSlot::default(); size.vertex_points];
 /// let mut scratch = vec![0u32; size.scratch];
 /// let storage = TessellatorStorage { patches: &mut ps, curves: &mut cv, curve_order: &mut order,
 ///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, bounds: &mut bounds,
-///     scratch: &mut scratch };
+///     vertex_points: &mut points, scratch: &mut scratch };
 /// let mut tess = Tessellator::new(patches, baked, settings, storage).unwrap();
 ///
 /// // A coarse frame, then a finer one: samples are inserted, not rebuilt.
@@ -245,8 +248,8 @@ pub struct FrameStats {
 ///
 /// // The pool (vertices, triangles, triangle states) may be any size from the least one,
 /// // four vertex and two triangle slots per patch. A frame that needs more cuts its baked
-/// // steps to fit, and refinement takes over within the same bound. The bound cache may be
-/// // empty: bounds are then computed again whenever a frame needs them.
+/// // steps to fit, and refinement takes over within the same bound. The caches may be
+/// // empty: bounds and points are then computed again whenever a frame needs them.
 /// let least = StorageSize::minimum(&baked, &settings);
 /// let mut mv = [MeshVertex::default(); 4];
 /// let mut mt = [MeshTriangle::default(); 2];
@@ -254,7 +257,7 @@ pub struct FrameStats {
 /// assert!(mv.len() >= least.vertices && mt.len() >= least.triangles);
 /// let storage = TessellatorStorage { patches: &mut ps, curves: &mut cv, curve_order: &mut order,
 ///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, bounds: &mut [],
-///     scratch: &mut scratch };
+///     vertex_points: &mut [], scratch: &mut scratch };
 /// let mut small = Tessellator::new(patches, baked, settings, storage).unwrap();
 /// let cut = small.update(&View::Object { tolerance: 0.002 }).unwrap();
 /// assert!(cut.prefix_scale > 1.0 && cut.max_predicted_error <= 0.002);
@@ -553,6 +556,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             self.choose_factors(view, tol, false, &mut stats);
         }
         self.counts = self.count();
+        self.fill_vertex_points();
         stats.triangles = self.counts.triangles as usize;
         stats.vertices = self.counts.vertices as usize;
         let mut worst = 0.0f32;

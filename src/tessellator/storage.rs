@@ -10,7 +10,7 @@ use crate::facing::NormalCone;
 use crate::model::EdgeLink;
 use crate::patch::Side;
 
-use super::{BoundSlot, PoolSize, Settings};
+use super::{BoundSlot, PointSlot, PoolSize, Settings};
 
 /// One patch's run-time state (storage slot; contents are private).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -156,6 +156,9 @@ pub struct StorageSize {
     /// [`BoundSlot`]s: the bound cache (any number works, none included; more entries spare
     /// frames recomputing bounds they computed before).
     pub bounds: usize,
+    /// [`PointSlot`]s: the vertex cache, one per pool vertex slot from the first (any number
+    /// works, none included; the slots past it are evaluated at every output).
+    pub vertex_points: usize,
     /// `u32` scratch for output: the largest patch's vertex slots plus three per triangle
     /// slot.
     pub scratch: usize,
@@ -163,7 +166,8 @@ pub struct StorageSize {
 
 impl StorageSize {
     /// What `baked` needs with `settings` for every frame to hold every step it asks for:
-    /// a pool of every patch's slots, and a bound cache of one entry per triangle slot. (A
+    /// a pool of every patch's slots, a bound cache of one entry per triangle slot and a vertex
+    /// cache of one per vertex slot. (A
     /// smaller pool and cache work: see [`StorageSize::minimum`].)
     pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
         let mut size = StorageSize::minimum(baked, settings);
@@ -177,11 +181,12 @@ impl StorageSize {
             }
         }
         size.bounds = size.triangles;
+        size.vertex_points = size.vertices;
         size
     }
 
     /// The least storage a [`Tessellator`](super::Tessellator) works with: a pool of four
-    /// vertex and two triangle slots per patch, and no bound cache. Frames then cut their prefixes of baked steps
+    /// vertex and two triangle slots per patch, and no caches. Frames then cut their prefixes of baked steps
     /// to what the pool holds, and refinement takes over, within the same error bound (see
     /// [`FrameStats::prefix_scale`](super::FrameStats::prefix_scale)).
     pub fn minimum(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
@@ -192,6 +197,7 @@ impl StorageSize {
             vertices: 4 * baked.patch_count(),
             triangles: 2 * baked.patch_count(),
             bounds: 0,
+            vertex_points: 0,
             scratch: 0,
         };
         for k in 0..baked.patch_count() {
@@ -238,7 +244,7 @@ pub(super) fn patch_capacity(
 /// The caller's storage for a [`Tessellator`](super::Tessellator), at least
 /// [`StorageSize::minimum`] (longer slices are fine). `vertices`, `triangles` and
 /// `triangle_states` are the pool all patches share; [`StorageSize::of`] sizes it for every
-/// baked step. `bounds` is a cache of any length.
+/// baked step. `bounds` and `vertex_points` are caches of any length.
 #[derive(Debug)]
 pub struct TessellatorStorage<'s> {
     /// Per patch.
@@ -256,6 +262,8 @@ pub struct TessellatorStorage<'s> {
     pub triangle_states: &'s mut [TriangleSlot],
     /// The bound cache: any length, none included.
     pub bounds: &'s mut [BoundSlot],
+    /// The vertex cache, for the pool's first vertex slots: any length, none included.
+    pub vertex_points: &'s mut [PointSlot],
     /// Output scratch.
     pub scratch: &'s mut [u32],
 }
