@@ -459,7 +459,10 @@ impl<'m, 's> Tessellator<'m, 's> {
                     None => (patch, t, 0.0),
                 }
             }
-            Point::Vertex { p, .. } => (patch, p.u as f32 / MAX as f32, p.v as f32 / MAX as f32),
+            Point::Vertex { p, .. } => {
+                let (u, v) = super::vertex_cache::unit(p);
+                (patch, u, v)
+            }
             Point::Edge { u, v, den, .. } | Point::Face { u, v, den, .. } => {
                 (patch, u as f32 / den as f32, v as f32 / den as f32)
             }

@@ -95,8 +95,9 @@ impl Tessellator<'_, '_> {
     }
 }
 
-/// The parameters of a grid point, as the output computes them.
-fn unit(g: GridPoint) -> (f32, f32) {
+/// The parameters of a grid point, as the output computes them for an interior vertex (the
+/// cache and the output evaluate at exactly these, so their points agree bit for bit).
+pub(super) fn unit(g: GridPoint) -> (f32, f32) {
     let max = GridPoint::MAX as f32;
     (g.u as f32 / max, g.v as f32 / max)
 }
