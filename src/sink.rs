@@ -73,6 +73,29 @@ pub trait TriangleSink {
         let _ = patch;
         true
     }
+
+    /// One triangle of patch `patch` whose corners are named by keys, with `corner(i)` giving
+    /// corner `i`'s vertex (evaluated when asked).
+    ///
+    /// As long as the source does not change (for a [`Tessellator`](crate::Tessellator): from
+    /// one [`update`](crate::Tessellator::update) to the next, over any number of passes),
+    /// corners with equal keys are the same vertex with the same bits, so a sink that does
+    /// work per vertex (a renderer projecting corners) can keep that work by key and ask only
+    /// for the corners it does not have. Corners with different keys may still be the same
+    /// vertex. Sources that know no keys call [`triangle`](Self::triangle) instead.
+    ///
+    /// The default asks for the three corners and passes them to
+    /// [`triangle`](Self::triangle).
+    fn keyed_triangle(
+        &mut self,
+        patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) {
+        let _ = keys;
+        let [a, b, c] = [0, 1, 2].map(corner);
+        self.triangle(patch, [&a, &b, &c]);
+    }
 }
 
 /// A sink behind a reference is a sink, so that `&mut dyn TriangleSink` can be handed where
@@ -84,6 +107,15 @@ impl<S: TriangleSink + ?Sized> TriangleSink for &mut S {
 
     fn wants_patch(&self, patch: u32) -> bool {
         (**self).wants_patch(patch)
+    }
+
+    fn keyed_triangle(
+        &mut self,
+        patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) {
+        (**self).keyed_triangle(patch, keys, corner);
     }
 }
 

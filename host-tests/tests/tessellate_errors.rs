@@ -279,6 +279,78 @@ fn caches_change_cost_not_output() {
 }
 
 /// The bits of every vertex's fields.
+/// A sink that records each streamed triangle's corner keys and vertices.
+#[derive(Default)]
+struct KeyedRecord {
+    triangles: Vec<(u32, [u64; 3], [[u32; 9]; 3])>,
+}
+
+impl spline_tess::TriangleSink for KeyedRecord {
+    fn triangle(&mut self, _: u32, _: [&Vertex; 3]) {
+        panic!("a tessellator names its corners");
+    }
+
+    fn keyed_triangle(
+        &mut self,
+        patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) {
+        let corners = [0, 1, 2].map(|i| bits(&[corner(i)])[0]);
+        self.triangles.push((patch, keys, corners));
+    }
+}
+
+#[test]
+fn stream_keys_name_vertices() {
+    // Equal keys are the same vertex with the same bits, over refined frames (edge and face
+    // points, curve points at refined factors) and frames that keep the mesh; the keyed
+    // stream hands the triangles `stream_with_info` hands.
+    let (file, bytes) = teaspoon();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let settings = Settings::default();
+    let mut storage = RuntimeStorage::with_size(&StorageSize::of(&baked, &settings));
+    let mut tess = storage.tessellator(file.patches(), baked, settings);
+    let mut refined = 0;
+    let mut shared = 0;
+    for eye in [
+        Vec3::new(6.0, -5.0, 4.0),
+        Vec3::new(1.5, -1.0, 1.0),
+        Vec3::new(0.4, 0.3, 0.5),
+        Vec3::new(8.0, 3.0, -2.0),
+    ] {
+        for tolerance_px in [2.0, 0.25] {
+            let stats = tess
+                .update(&View::Screen {
+                    camera: camera(eye).unwrap(),
+                    tolerance_px,
+                })
+                .unwrap();
+            refined += stats.refined_patches;
+            let mut record = KeyedRecord::default();
+            tess.stream(&mut record);
+            let mut plain = Vec::new();
+            tess.stream_with_info(|info, c| {
+                plain.push((info.patch, c.map(|v| bits(std::slice::from_ref(v))[0])))
+            });
+            let keyed: Vec<_> = record.triangles.iter().map(|&(p, _, c)| (p, c)).collect();
+            assert_eq!(keyed, plain, "{eye} at {tolerance_px} px");
+            let mut named = std::collections::HashMap::new();
+            for (_, keys, corners) in &record.triangles {
+                for (key, corner) in keys.iter().zip(corners) {
+                    let first = named.entry(*key).or_insert(*corner);
+                    assert_eq!(first, corner, "key {key:#x}, {eye} at {tolerance_px} px");
+                }
+            }
+            shared += 3 * record.triangles.len() - named.len();
+        }
+    }
+    assert!(
+        refined > 0 && shared > 0,
+        "{refined} refined, {shared} shared"
+    );
+}
+
 fn bits(vertices: &[Vertex]) -> Vec<[u32; 9]> {
     vertices
         .iter()

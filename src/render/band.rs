@@ -9,8 +9,9 @@ use embedded_graphics::pixelcolor::{PixelColor, Rgb565, Rgb888, RgbColor};
 use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
+use super::clip::ClipVertex;
 use super::list::{ScreenTriangle, SubpixelRows};
-use super::project::Setup;
+use super::project::{CornerCache, Setup};
 use super::raster::{Span, Triangle};
 use super::{RenderStats, Style};
 use crate::sink::{TriangleSink, Vertex};
@@ -215,6 +216,8 @@ pub(super) struct Band<'a, 'b, O: BandOutput> {
     pub out: &'b mut O,
     pub error: Option<O::Error>,
     pub stats: &'b mut RenderStats,
+    /// Corners in view space by key.
+    pub corners: &'b mut CornerCache,
 }
 
 impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
@@ -222,6 +225,27 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
         if self.error.is_some() {
             return;
         }
+        let corners = corners.map(|c| self.setup.corner(c));
+        self.draw(corners);
+    }
+
+    fn keyed_triangle(
+        &mut self,
+        _patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) {
+        if self.error.is_some() {
+            return;
+        }
+        let corners = self.corners.corners(self.setup, keys, corner);
+        self.draw(corners);
+    }
+}
+
+impl<O: BandOutput> Band<'_, '_, O> {
+    /// Projects and draws one triangle, its corners in view space.
+    fn draw(&mut self, corners: [ClipVertex; 3]) {
         self.stats.triangles += 1;
         let setup = self.setup;
         setup.project(corners, |v, wire| {
@@ -230,9 +254,7 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
             }
         });
     }
-}
 
-impl<O: BandOutput> Band<'_, '_, O> {
     /// Draws the triangles of `list` that reach the band, in order.
     pub fn draw_list(&mut self, list: &[ScreenTriangle]) {
         let rows = SubpixelRows::new(&self.rows());

@@ -65,6 +65,12 @@ impl Frustum {
         n.dot(v) + d
     }
 
+    /// Whether `v` is on the inner side of every plane (a triangle whose corners all are needs
+    /// no clipping: [`clip`](Self::clip) would return it unchanged).
+    pub fn contains(&self, v: Vec3) -> bool {
+        (0..self.planes.len()).all(|k| self.distance(k, v) >= 0.0)
+    }
+
     /// Clips triangle `t`; `wire[i]` marks the edge from corner `i` to `i + 1`. An empty
     /// polygon (`len < 3`) when nothing is left.
     pub fn clip(&self, t: [ClipVertex; 3], wire: [bool; 3]) -> Polygon {

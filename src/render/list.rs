@@ -1,7 +1,10 @@
 //! The frame's triangle list: every screen triangle of a frame, projected once and packed in
 //! 22 bytes, so that the bands rasterise from it instead of asking the source again.
 
-use super::project::{depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8, Setup};
+use super::clip::ClipVertex;
+use super::project::{
+    depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8, CornerCache, Setup,
+};
 use super::raster::{snap_checked, ScreenVertex, Triangle, HALF, SUBPIXELS};
 use crate::sink::{TriangleSink, Vertex};
 
@@ -97,7 +100,7 @@ impl SubpixelRows {
 /// list, then streams the patches from `resume` on. That needs the source to hand patches in
 /// increasing order (a [`Tessellator`](crate::Tessellator) does); when it does not, the list is
 /// given up (`overflow`) and every band streams the whole frame.
-pub(super) struct ListSink<'a, 'b> {
+pub(super) struct ListSink<'a, 'b, 'c> {
     pub setup: &'a Setup<'a>,
     pub list: &'b mut [ScreenTriangle],
     pub len: usize,
@@ -111,10 +114,16 @@ pub(super) struct ListSink<'a, 'b> {
     pub resume: Option<u32>,
     /// Set when the list is given up.
     pub overflow: bool,
+    /// Corners in view space by key.
+    corners: &'c mut CornerCache,
 }
 
-impl<'a, 'b> ListSink<'a, 'b> {
-    pub fn new(setup: &'a Setup<'a>, list: &'b mut [ScreenTriangle]) -> Self {
+impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
+    pub fn new(
+        setup: &'a Setup<'a>,
+        list: &'b mut [ScreenTriangle],
+        corners: &'c mut CornerCache,
+    ) -> Self {
         ListSink {
             setup,
             list,
@@ -124,12 +133,14 @@ impl<'a, 'b> ListSink<'a, 'b> {
             increasing: true,
             resume: None,
             overflow: false,
+            corners,
         }
     }
 }
 
-impl TriangleSink for ListSink<'_, '_> {
-    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
+impl ListSink<'_, '_, '_> {
+    /// Lists one triangle, its corners in view space.
+    fn take(&mut self, patch: u32, corners: [ClipVertex; 3]) {
         self.handed += 1;
         if self.overflow || self.resume.is_some() {
             return;
@@ -162,6 +173,27 @@ impl TriangleSink for ListSink<'_, '_> {
             }
         }
     }
+}
+
+impl TriangleSink for ListSink<'_, '_, '_> {
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
+        let corners = corners.map(|c| self.setup.corner(c));
+        self.take(patch, corners);
+    }
+
+    fn keyed_triangle(
+        &mut self,
+        patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) {
+        if !self.wants_patch(patch) {
+            self.handed += 1;
+            return;
+        }
+        let corners = self.corners.corners(self.setup, keys, corner);
+        self.take(patch, corners);
+    }
 
     fn wants_patch(&self, _patch: u32) -> bool {
         !self.overflow && self.resume.is_none()
@@ -179,6 +211,17 @@ impl<S: TriangleSink> TriangleSink for Remaining<'_, S> {
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
         if patch >= self.first {
             self.sink.triangle(patch, corners);
+        }
+    }
+
+    fn keyed_triangle(
+        &mut self,
+        patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) {
+        if patch >= self.first {
+            self.sink.keyed_triangle(patch, keys, corner);
         }
     }
 

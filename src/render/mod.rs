@@ -23,6 +23,12 @@
 //! give the same pixels: positions snap to 1/16 pixel, depth keys and shades are rounded to
 //! what a list entry holds, before either path rasterises.
 //!
+//! A tessellator names each corner it streams
+//! ([`keyed_triangle`](crate::TriangleSink::keyed_triangle)); the renderer keeps the last 64
+//! corners it took to view space (with their shade) by name, on the stack, so a vertex shared
+//! by neighbouring triangles is evaluated and transformed once for most of them. Triangles whose
+//! corners are all inside the clip planes skip the clipper.
+//!
 //! Each triangle is clipped in view space (the near plane, and a guard band at twice the
 //! viewport), snapped to 1/16 pixel and scan-converted with exact integer edge functions and
 //! the top-left fill rule, so triangles that share an edge never draw a pixel twice and never
@@ -85,7 +91,7 @@ use crate::view::Camera;
 use band::{Band, BandOutput, BandPixels, Buffered, Rgb565Be, Runs, Typed};
 use list::ListSink;
 pub use list::ScreenTriangle;
-use project::Setup;
+use project::{CornerCache, Setup};
 pub use source::{IndexedMesh, TriangleSource};
 
 /// How a triangle's colour varies.
@@ -500,6 +506,8 @@ impl<'d> Renderer<'d> {
     {
         let mut stats = RenderStats::default();
         let setup = Setup::new(camera, source.bound(), style);
+        // One cache of corners in view space, for the list's pass and then each band's.
+        let mut corners = CornerCache::new();
         let [x0, x1] = area.columns;
         let [y0, y1] = area.rows;
         let width = (x1 - x0) as usize;
@@ -507,7 +515,7 @@ impl<'d> Renderer<'d> {
         // frame's first `n` triangles, all of them unless patches from `resume` on are left.
         let mut listed = None;
         if !self.list.is_empty() && setup.depth.is_some() {
-            let mut sink = ListSink::new(&setup, self.list);
+            let mut sink = ListSink::new(&setup, self.list, &mut corners);
             source.stream_rows(camera, y0 as u32..y1 as u32, &mut sink);
             stats.passes += 1;
             stats.triangles += sink.handed;
@@ -534,6 +542,7 @@ impl<'d> Renderer<'d> {
                 out: &mut *out,
                 error: None,
                 stats: &mut stats,
+                corners: &mut corners,
             };
             let rows = top as u32..bottom as u32;
             match listed {

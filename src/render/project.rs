@@ -75,41 +75,55 @@ impl<'a> Setup<'a> {
         quantize_depth(offset + scale * q)
     }
 
-    /// Hands `out` the screen triangles of the object-space triangle `corners` after
-    /// clipping (none, one, or a fan), with the edges to draw as wireframe (`wire[i]` for the
-    /// edge opposite corner `i`).
+    /// A vertex in view space, with its shade for Gouraud shading: the part of projecting a
+    /// triangle that depends on one corner alone, which a renderer may keep
+    /// for the triangles that share the vertex.
+    pub fn corner(&self, v: &Vertex) -> ClipVertex {
+        let camera = self.camera;
+        let view = camera.to_view(Vec3::from_array(v.position));
+        let shade = match self.style.shading {
+            Shading::Gouraud => {
+                let n = camera.rotate_to_view(Vec3::from_array(v.normal));
+                self.shade(n, view)
+            }
+            Shading::Flat => 0.0,
+        };
+        ClipVertex { view, shade }
+    }
+
+    /// Hands `out` the screen triangles of a triangle, its corners as
+    /// [`corner`](Self::corner) gives them, after clipping (none, one, or a fan), with the
+    /// edges to draw as wireframe (`wire[i]` for the edge opposite corner `i`).
     pub fn project(
         &self,
-        corners: [&Vertex; 3],
+        mut t: [ClipVertex; 3],
         mut out: impl FnMut([ScreenVertex; 3], [bool; 3]),
     ) {
         let camera = self.camera;
-        let view = corners.map(|c| camera.to_view(Vec3::from_array(c.position)));
-        let shade = match self.style.shading {
-            Shading::Gouraud => [0, 1, 2].map(|i| {
-                let n = camera.rotate_to_view(Vec3::from_array(corners[i].normal));
-                self.shade(n, view[i])
-            }),
-            Shading::Flat => {
-                let n = (view[1] - view[0]).cross(view[2] - view[0]);
-                [self.shade(n, (view[0] + view[1] + view[2]) / 3.0); 3]
+        if self.style.shading == Shading::Flat {
+            let [a, b, c] = t.map(|c| c.view);
+            let shade = self.shade((b - a).cross(c - a), (a + b + c) / 3.0);
+            for c in &mut t {
+                c.shade = shade;
             }
-        };
+        }
         let wire = self.style.wireframe.is_some();
-        let t = [0, 1, 2].map(|i| ClipVertex {
-            view: view[i],
-            shade: shade[i],
-        });
+        let screen_of = |c: &ClipVertex| ScreenVertex {
+            xy: camera.view_to_pixel(c.view),
+            depth: self.depth_key(c.view.z),
+            shade: quantize_shade(c.shade),
+        };
+        if t.iter().all(|c| self.frustum.contains(c.view)) {
+            // Most triangles: nothing to clip.
+            out(t.each_ref().map(screen_of), [wire; 3]);
+            return;
+        }
         let poly = self.frustum.clip(t, [wire; 3]);
         // Project only the polygon's corners (usually 3 of the 8 slots).
         let n = poly.len;
         let mut screen = [ScreenVertex::default(); clip::MAX_CORNERS];
         for (s, c) in screen.iter_mut().zip(&poly.corners[..n]) {
-            *s = ScreenVertex {
-                xy: camera.view_to_pixel(c.view),
-                depth: self.depth_key(c.view.z),
-                shade: quantize_shade(c.shade),
-            };
+            *s = screen_of(c);
         }
         for k in 1..n.saturating_sub(1) {
             let edges = [
@@ -119,6 +133,51 @@ impl<'a> Setup<'a> {
             ];
             out([screen[0], screen[k], screen[k + 1]], edges);
         }
+    }
+}
+
+/// Entries of a [`CornerCache`]: enough for the corners a tessellator's patch shares between
+/// its triangles as it streams them.
+const CORNER_CACHE: usize = 64;
+
+/// Keyed corners already taken to view space ([`Setup::corner`]), direct-mapped: a sink that
+/// gets [`keyed_triangle`](crate::TriangleSink::keyed_triangle)s asks a corner's vertex (an
+/// evaluation, for a tessellator) and transforms it only when the cache does not have it.
+pub(super) struct CornerCache {
+    entries: [(u64, ClipVertex); CORNER_CACHE],
+}
+
+impl CornerCache {
+    /// No key is `u64::MAX` (a tessellator's tags stop at 4, see `PatchView::key`); a stray
+    /// one would only be computed again.
+    const EMPTY: u64 = u64::MAX;
+
+    #[inline(always)]
+    pub fn new() -> Self {
+        CornerCache {
+            entries: [(Self::EMPTY, ClipVertex::default()); CORNER_CACHE],
+        }
+    }
+
+    /// The corners named `keys`, from the cache or through `corner` and `setup`.
+    pub fn corners(
+        &mut self,
+        setup: &Setup<'_>,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) -> [ClipVertex; 3] {
+        core::array::from_fn(|i| {
+            let key = keys[i];
+            // Fold the key's 64 bits, then a multiplicative hash's top bits.
+            let folded = (key ^ (key >> 29) ^ (key >> 47)) as u32;
+            let hash = folded.wrapping_mul(0x9e37_79b1) as u64;
+            let slot = ((hash * CORNER_CACHE as u64) >> 32) as usize;
+            let entry = &mut self.entries[slot];
+            if entry.0 != key || key == Self::EMPTY {
+                *entry = (key, setup.corner(&corner(i)));
+            }
+            entry.1
+        })
     }
 }
 

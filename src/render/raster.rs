@@ -65,8 +65,13 @@ pub(crate) struct Triangle {
     rows: [i32; 2],
 }
 
+/// `v` to the nearest 1/16 pixel (halves up), for `|v| <=` [`COORDINATE_LIMIT`].
 fn snap(v: f32) -> i64 {
-    libm::floorf(v * SUBPIXELS as f32 + 0.5) as i64
+    // `floor` without the library call: `x` is within `±2^28`, so truncation is exact in
+    // `i32` and one comparison corrects it for negative non-integers.
+    let x = v * SUBPIXELS as f32 + 0.5;
+    let t = x as i32;
+    (t - ((t as f32) > x) as i32) as i64
 }
 
 /// `v` snapped to 1/16 pixel, when it is a finite pixel position within [`COORDINATE_LIMIT`]
@@ -313,6 +318,34 @@ mod tests {
                 assert_eq!(ceil_div(a, b), -((-a).div_euclid(b)), "{a} / {b}");
             }
         }
+    }
+
+    #[test]
+    fn snapping_is_floor_of_sixteen_times_plus_a_half() {
+        let limit = COORDINATE_LIMIT;
+        let mut values = [
+            0.0, -0.0, 0.03125, -0.03125, 0.0312, -0.0313, 1.0, -1.0, 2.46875, -2.46875, 239.97,
+            -479.99, 1e-30, -1e-30, limit, -limit, 1234567.8, -1234567.8,
+        ];
+        // Then the same values with the other sign and a little smaller.
+        for _ in 0..2 {
+            for &v in &values {
+                let expect = libm::floorf(v * SUBPIXELS as f32 + 0.5) as i64;
+                assert_eq!(snap(v), expect, "{v}");
+                assert_eq!(snap_checked(v), Some(expect), "{v}");
+            }
+            for v in &mut values {
+                *v = -*v * 0.999_7;
+            }
+        }
+        // And a sweep in steps that are not dyadic.
+        let mut v = -40.0f32;
+        while v < 40.0 {
+            assert_eq!(snap(v), libm::floorf(v * 16.0 + 0.5) as i64, "{v}");
+            v += 0.007_812_5 * 0.37;
+        }
+        assert_eq!(snap_checked(f32::NAN), None);
+        assert_eq!(snap_checked(2.0 * limit), None);
     }
 
     #[test]

@@ -183,6 +183,31 @@ impl PatchView<'_, '_, '_> {
         }
     }
 
+    /// A key that names output point `q` of domain triangle `t` within the frame
+    /// ([`TriangleSink::keyed_triangle`]): three tag bits, then what the point's data is a
+    /// function of, so equal keys give equal bits. A corner node by its number; a curve point
+    /// by its curve and parameter `num / (f * 65535)` (`num < 2^22`, `f <= 64`); an interior
+    /// domain vertex by its pool slot; an edge point by its triangle's pool slot, edge and
+    /// place (`r < 64`); a face point by its triangle's pool slot and index (`k < 2^11`).
+    fn key(&self, t: usize, q: Point) -> u64 {
+        const TAG: u32 = 61;
+        match q {
+            Point::Node(n) => n as u64,
+            Point::Curve {
+                curve, num, den, ..
+            } => {
+                let f = (den / MAX) as u64;
+                (1 << TAG) | (f << 54) | ((num as u64) << 32) | curve as u64
+            }
+            Point::Vertex { id, .. } => (2 << TAG) | (self.vo + id as usize) as u64,
+            Point::Edge { slot, edge, r, .. } => {
+                let slot = (self.to + slot as usize) as u64;
+                (3 << TAG) | (slot << 8) | ((edge as u64) << 6) | r as u64
+            }
+            Point::Face { k, .. } => (4 << TAG) | (((self.to + t) as u64) << 11) | k as u64,
+        }
+    }
+
     /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
     pub(super) fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
         let own = self.factor(t);
@@ -778,13 +803,29 @@ impl<'m, 's> Tessellator<'m, 's> {
     }
 
     /// Hands patch `p`'s triangles of the frame to `sink` (nothing when it is culled or out
-    /// of range), in the order [`stream`](Self::stream) gives them. A renderer that draws in
-    /// bands uses it, with [`patch_bound`](Self::patch_bound), to skip patches off a band.
+    /// of range), in the order [`stream`](Self::stream) gives them, with their corners' keys
+    /// ([`TriangleSink::keyed_triangle`]). A renderer that draws in bands uses it, with
+    /// [`patch_bound`](Self::patch_bound), to skip patches off a band.
     pub fn stream_patch(&self, p: usize, sink: &mut impl TriangleSink) {
-        self.stream_patch_with_info(p, |info, corners| sink.triangle(info.patch, corners));
+        self.stream_patch_keyed(p, |info, keys, corner| {
+            sink.keyed_triangle(info.patch, keys, corner)
+        });
     }
 
     fn stream_patch_with_info(&self, p: usize, mut f: impl FnMut(&TriangleInfo, [&Vertex; 3])) {
+        self.stream_patch_keyed(p, |info, _, corner| {
+            let [a, b, c] = [0, 1, 2].map(corner);
+            f(info, [&a, &b, &c]);
+        });
+    }
+
+    /// The traversal behind the streams: each triangle's information, its corners' keys, and
+    /// a function that evaluates a corner.
+    fn stream_patch_keyed(
+        &self,
+        p: usize,
+        mut f: impl FnMut(&TriangleInfo, [u64; 3], &mut dyn FnMut(usize) -> Vertex),
+    ) {
         let Some(view) = self.output_view(p) else {
             return;
         };
@@ -813,13 +854,13 @@ impl<'m, 's> Tessellator<'m, 's> {
                 t,
                 |_| {},
                 |tri, local| {
-                    let [a, b, c] = tri.map(&mut vertex);
                     let info = TriangleInfo {
                         patch: p as u32,
                         uv: local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]),
                         bound,
                     };
-                    f(&info, [&a, &b, &c]);
+                    let keys = tri.map(|q| view.key(t, q));
+                    f(&info, keys, &mut |i| vertex(tri[i % 3]));
                 },
             );
         }
