@@ -4,7 +4,10 @@
 //! ties on an edge broken by the top-left rule: as if the centre were nudged right by `ε` and
 //! down by `ε²`. That perturbation is the same for every triangle, so triangles that share
 //! edges (and vertices) cover each pixel of their union exactly once. Every inside test is exact
-//! integer arithmetic; only the attributes (depth, shade, distance to the edges) are `f32`.
+//! integer arithmetic; only the attributes (depth, shade, distance to the edges) are `f32`,
+//! set up once per triangle as planes through its first corner, so that a row's attributes
+//! cost a few multiply-adds of small integer offsets (no 64-bit conversion, a library call on
+//! 32-bit cores).
 
 use core::ops::Range;
 
@@ -50,6 +53,27 @@ pub(crate) struct Span {
     pub edge: [Ramp; 3],
 }
 
+/// A linear function of the position: its value at a triangle's first corner and its change
+/// per subpixel step right and down.
+#[derive(Clone, Copy, Debug, Default)]
+struct Plane {
+    at: f32,
+    dx: f32,
+    dy: f32,
+}
+
+impl Plane {
+    /// Its value `rx`, `ry` subpixels right of and below the first corner, and its change per
+    /// pixel along the row.
+    #[inline]
+    fn ramp(&self, rx: f32, ry: f32) -> Ramp {
+        Ramp {
+            start: self.at + self.dx * rx + self.dy * ry,
+            step: SUBPIXELS as f32 * self.dx,
+        }
+    }
+}
+
 /// A triangle ready for scan conversion.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Triangle {
@@ -57,15 +81,32 @@ pub(crate) struct Triangle {
     y: [i64; 3],
     /// `E_i(p) >= bias[i]` for the edge opposite corner `i`.
     bias: [i64; 3],
-    inv_area: f32,
-    depth: [f32; 3],
-    shade: [f32; 3],
+    depth: Plane,
+    shade: Plane,
     /// `1 / (SUBPIXELS * |edge|)` for wireframe edges, 0 for the others.
     inv_length: [f32; 3],
     rows: [i32; 2],
 }
 
-/// `v` to the nearest 1/16 pixel (halves up), for `|v| <=` [`COORDINATE_LIMIT`].
+/// `v` as `f32`: exactly rounded when it fits `i32` (one instruction on a 32-bit core, where
+/// a 64-bit conversion is a library call), within two roundings otherwise.
+#[inline]
+fn wide_to_f32(v: i64) -> f32 {
+    let low = v as i32;
+    if low as i64 == v {
+        low as f32
+    } else {
+        (v >> 32) as i32 as f32 * 4_294_967_296.0 + (v as u32) as f32
+    }
+}
+
+/// A difference of two subpixel coordinates (each within [`COORDINATE_LIMIT`] pixels, or a
+/// pixel centre of a viewport no larger than that) as `f32`: it fits `i32`.
+#[inline]
+fn offset_to_f32(d: i64) -> f32 {
+    d as i32 as f32
+}
+
 fn snap(v: f32) -> i64 {
     // `floor` without the library call: `x` is within `±2^28`, so truncation is exact in
     // `i32` and one comparison corrects it for negative non-integers.
@@ -135,16 +176,31 @@ impl Triangle {
         }
         let mut bias = [0i64; 3];
         let mut inv_length = [0f32; 3];
+        let mut edges = [[0f32; 2]; 3];
         for i in 0..3 {
             let (a, b) = ((i + 1) % 3, (i + 2) % 3);
             let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
+            edges[i] = [offset_to_f32(dx), offset_to_f32(dy)];
             // Top-left: an edge going up (y down) or a horizontal edge going right.
             bias[i] = if dy < 0 || (dy == 0 && dx > 0) { 0 } else { 1 };
             if wire[i] {
-                let len = crate::math::sqrt((dx * dx + dy * dy) as f32);
+                let len = crate::math::sqrt(wide_to_f32(dx * dx + dy * dy));
                 inv_length[i] = 1.0 / (SUBPIXELS as f32 * len);
             }
         }
+        // An attribute is `v_0 + Σ_{i=1,2} (v_i - v_0) E_i(p) / area` (the barycentric
+        // weights sum to 1), and `E_i` changes by `-dy_i` per step right and `dx_i` per step
+        // down; through the differences, an attribute equal at the corners stays exactly
+        // constant.
+        let inv_area = 1.0 / wide_to_f32(area);
+        let plane = |v: [f32; 3]| {
+            let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
+            Plane {
+                at: v[0],
+                dx: -(d1 * edges[1][1] + d2 * edges[2][1]) * inv_area,
+                dy: (d1 * edges[1][0] + d2 * edges[2][0]) * inv_area,
+            }
+        };
         let top = *y.iter().min()?;
         let bottom = *y.iter().max()?;
         let first = ceil_div(top - HALF, SUBPIXELS);
@@ -154,9 +210,8 @@ impl Triangle {
             x,
             y,
             bias,
-            inv_area: 1.0 / area as f32,
-            depth,
-            shade,
+            depth: plane(depth),
+            shade: plane(shade),
             inv_length,
             rows: [clamp(first), clamp(last)],
         })
@@ -179,10 +234,8 @@ impl Triangle {
     pub fn span(&self, row: i32, columns: Range<i32>) -> Option<Span> {
         let yc = row as i64 * SUBPIXELS + HALF;
         let (mut lo, mut hi) = (columns.start as i64, columns.end as i64 - 1);
-        let mut lines = [(0i64, 0i64); 3];
-        for (i, line) in lines.iter_mut().enumerate() {
+        for i in 0..3 {
             let (a, b) = self.edge(i, yc);
-            *line = (a, b);
             // a * (S * px + H) + b >= bias  <=>  S * a * px >= bias - b - H * a
             let k = SUBPIXELS * a;
             let m = self.bias[i] - b - HALF * a;
@@ -198,30 +251,30 @@ impl Triangle {
             return None;
         }
         let xc = lo * SUBPIXELS + HALF;
-        let e = lines.map(|(a, b)| a * xc + b);
-        let w = e.map(|e| e as f32 * self.inv_area);
-        let dw = lines.map(|(a, _)| (SUBPIXELS * a) as f32 * self.inv_area);
-        let lerp = |v: [f32; 3]| Ramp {
-            start: w[0] * v[0] + w[1] * v[1] + w[2] * v[2],
-            step: dw[0] * v[0] + dw[1] * v[1] + dw[2] * v[2],
-        };
-        let mut edge = [Ramp {
-            start: f32::MAX,
-            step: 0.0,
-        }; 3];
-        for i in 0..3 {
-            if self.inv_length[i] > 0.0 {
-                edge[i] = Ramp {
-                    start: e[i] as f32 * self.inv_length[i],
-                    step: (SUBPIXELS * lines[i].0) as f32 * self.inv_length[i],
+        let (rx, ry) = (offset_to_f32(xc - self.x[0]), offset_to_f32(yc - self.y[0]));
+        // E_i = dx (Y - y_p) - dy (X - x_p), in `f32` (only a distance to draw).
+        let edge = core::array::from_fn(|i| {
+            if self.inv_length[i] == 0.0 {
+                return Ramp {
+                    start: f32::MAX,
+                    step: 0.0,
                 };
             }
-        }
+            let (p, q) = ((i + 1) % 3, (i + 2) % 3);
+            let (dx, dy) = (self.x[q] - self.x[p], self.y[q] - self.y[p]);
+            let ex = offset_to_f32(xc - self.x[p]);
+            let ey = offset_to_f32(yc - self.y[p]);
+            let e = offset_to_f32(dx) * ey - offset_to_f32(dy) * ex;
+            Ramp {
+                start: e * self.inv_length[i],
+                step: -(SUBPIXELS as f32) * offset_to_f32(dy) * self.inv_length[i],
+            }
+        });
         Some(Span {
             x0: lo as i32,
             x1: hi as i32 + 1,
-            depth: lerp(self.depth),
-            shade: lerp(self.shade),
+            depth: self.depth.ramp(rx, ry),
+            shade: self.shade.ramp(rx, ry),
             edge,
         })
     }
