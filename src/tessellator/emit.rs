@@ -259,8 +259,13 @@ impl PatchView<'_, '_, '_> {
         let pr = [0, 1, 2].map(|k| pts[(rot + k) % 3]);
         // Ring side s runs vr[s] -> vr[s+1]: the original edge opposite vr[s+2].
         let edge_of = |s: usize| (rot + s + 2) % 3;
-        let nf = self.factor(t);
-        let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
+        // Nothing refined in or around the patch: every factor is 1 (as `emit`'s fast path).
+        let (nf, e) = if self.tess.storage.patches[self.p].factor <= 1 {
+            (1, [1; 3])
+        } else {
+            let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
+            (self.factor(t), e)
+        };
         let corner = [0, 1, 2].map(|k| self.vertex(vr[k]));
         if nf == 1 && e == [1; 3] {
             // Unrefined: the triangle itself (what the pattern of factor 1 gives).
