@@ -79,8 +79,12 @@ impl Plane {
 pub(crate) struct Triangle {
     x: [i64; 3],
     y: [i64; 3],
-    /// `E_i(p) >= bias[i]` for the edge opposite corner `i`.
-    bias: [i64; 3],
+    /// The edge opposite corner `i` as a limit on the columns of each row: at the row through
+    /// subpixel height `yc`, column `px` is inside when `k[i] * px >= m0[i] - dx[i] * yc`
+    /// (see [`span`](Self::span)).
+    k: [i64; 3],
+    m0: [i64; 3],
+    dx: [i32; 3],
     depth: Plane,
     shade: Plane,
     /// `1 / (SUBPIXELS * |edge|)` for wireframe edges, 0 for the others.
@@ -174,15 +178,23 @@ impl Triangle {
             wire.swap(1, 2);
             area = -area;
         }
-        let mut bias = [0i64; 3];
+        let (mut k, mut m0, mut dxs) = ([0i64; 3], [0i64; 3], [0i32; 3]);
         let mut inv_length = [0f32; 3];
         let mut edges = [[0f32; 2]; 3];
         for i in 0..3 {
-            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-            let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
+            let (p, q) = ((i + 1) % 3, (i + 2) % 3);
+            let (dx, dy) = (x[q] - x[p], y[q] - y[p]);
             edges[i] = [offset_to_f32(dx), offset_to_f32(dy)];
             // Top-left: an edge going up (y down) or a horizontal edge going right.
-            bias[i] = if dy < 0 || (dy == 0 && dx > 0) { 0 } else { 1 };
+            let bias = if dy < 0 || (dy == 0 && dx > 0) { 0 } else { 1 };
+            // E(X, Y) = dx (Y - y_p) - dy (X - x_p) = a X + dx Y + c, with a = -dy and
+            // c = dy x_p - dx y_p. At X = S px + H: E >= bias  <=>  S a px >= bias - c - H a
+            // - dx Y.
+            let (a, c) = (-dy, dy * x[p] - dx * y[p]);
+            k[i] = SUBPIXELS * a;
+            m0[i] = bias - c - HALF * a;
+            // Corners are within `COORDINATE_LIMIT` pixels: `|dx| < 2^30`.
+            dxs[i] = dx as i32;
             if wire[i] {
                 let len = crate::math::sqrt(wide_to_f32(dx * dx + dy * dy));
                 inv_length[i] = 1.0 / (SUBPIXELS as f32 * len);
@@ -209,7 +221,9 @@ impl Triangle {
         Some(Triangle {
             x,
             y,
-            bias,
+            k,
+            m0,
+            dx: dxs,
             depth: plane(depth),
             shade: plane(shade),
             inv_length,
@@ -222,23 +236,14 @@ impl Triangle {
         self.rows
     }
 
-    /// Edge `i` as `E(X) = a * X + b` along the row through subpixel height `yc`.
-    fn edge(&self, i: usize, yc: i64) -> (i64, i64) {
-        let (p, q) = ((i + 1) % 3, (i + 2) % 3);
-        let (dx, dy) = (self.x[q] - self.x[p], self.y[q] - self.y[p]);
-        // E(X, Y) = dx * (Y - y_p) - dy * (X - x_p)
-        (-dy, dx * (yc - self.y[p]) + dy * self.x[p])
-    }
-
     /// The pixels of row `row` inside the triangle, clipped to columns `columns`.
     pub fn span(&self, row: i32, columns: Range<i32>) -> Option<Span> {
         let yc = row as i64 * SUBPIXELS + HALF;
         let (mut lo, mut hi) = (columns.start as i64, columns.end as i64 - 1);
         for i in 0..3 {
-            let (a, b) = self.edge(i, yc);
-            // a * (S * px + H) + b >= bias  <=>  S * a * px >= bias - b - H * a
-            let k = SUBPIXELS * a;
-            let m = self.bias[i] - b - HALF * a;
+            // |dx| < 2^30 and |yc| < 2^36 (row is an `i32`): exact in `i64`.
+            let m = self.m0[i] - self.dx[i] as i64 * yc;
+            let k = self.k[i];
             if k > 0 {
                 lo = lo.max(ceil_div(m, k));
             } else if k < 0 {
