@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""Where a `fw_teapot` frame's instructions go, on the Cortex-M4F under QEMU.
+
+    cargo build --release --example fw_teapot --target thumbv7em-none-eabihf
+    scripts/fw_profile.py render 0      # frame 0's render, by function and by part
+    scripts/fw_profile.py update 1      # frame 1's update
+
+QEMU logs every translated block once (`-d in_asm`: its guest instructions) and every block it
+executes (`-d exec,nochain`: its address and symbol). Each execution is charged the block's
+instruction count, so the total is the frame's guest instructions, as `-icount` counts them,
+to within the blocks QEMU translates more than once. The window of a frame's update runs from
+its call of `Tessellator::apply` to the renderer's `Setup::new`; its render from there to the
+next `apply` (the last frame's render to the end of the program). Needs `qemu-system-arm`,
+`arm-none-eabi-nm` and Python 3; reads about 100 MB of log per million instructions through a pipe, nothing on disk.
+"""
+
+import collections
+import subprocess
+import sys
+
+ELF = "target/thumbv7em-none-eabihf/release/examples/fw_teapot"
+QEMU = [
+    "qemu-system-arm", "-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic",
+    "-icount", "shift=0", "-semihosting-config", "enable=on,target=native",
+    "-d", "in_asm,exec,nochain", "-D", "/dev/stderr", "-kernel",
+]
+
+# Parts of a frame, by substrings of the (mangled) symbol names; the first match wins.
+PARTS = [
+    ("rasterising (spans, depth test, colours)", ["rasterise"]),
+    ("triangle set-up, per band it meets", ["from_snapped"]),
+    ("band loop: fill, push, display model, list scan", ["fw_teapot5frame"]),
+    ("surface evaluation", ["frame_at", "8evaluate", "pole_at", "sqrtf", "is_collapsed",
+                            "fmaxf", "fminf"]),
+    ("domain mesh traversal and corner keys", ["stream_patch", "edge_factor", "curve_point",
+                                               "BakedModel5patch"]),
+    ("corner cache, view transform, shading", ["CornerCache", "Setup6corner", "Setup5shade",
+                                               "normalize"]),
+    ("clip test, projection, packing into the list", ["ListSink4take", "contains",
+                                                      "keyed_triangle"]),
+    ("Delaunay insertion and removal", ["domain6insert", "domain6remove", "in_circle",
+                                        "predicates"]),
+    ("selection, bounds and refinement", ["Tessellator5apply", "select", "refine",
+                                          "deviation", "bound_cache", "triangle_scale"]),
+    ("memcpy, memclr", ["memcpy", "memclr", "memmove", "memset"]),
+]
+
+
+def function_addresses(name):
+    """Entry addresses of the functions whose symbol contains `name` (Thumb bit cleared)."""
+    symbols = subprocess.run(["arm-none-eabi-nm", ELF], capture_output=True, text=True,
+                             check=True).stdout
+    return {int(line.split()[0], 16) & ~1 for line in symbols.splitlines()
+            if name in line and line.split()[1] in "tTwW"}
+
+
+def main():
+    # Quiet when piped into `head`.
+    import signal
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+    if len(sys.argv) != 3 or sys.argv[1] not in ("update", "render"):
+        sys.exit(__doc__)
+    what, frame = sys.argv[1], int(sys.argv[2])
+    start, stop = ("Tessellator5apply", "Setup3new") if what == "update" else (
+        "Setup3new", "Tessellator5apply")
+    stops = function_addresses(stop)
+    qemu = subprocess.Popen(QEMU + [ELF], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True, errors="replace")
+    sizes = {}
+    block, count = None, 0
+    seen, inside = 0, False
+    entries = function_addresses(start)
+    charged = collections.Counter()
+    for line in qemu.stderr:
+        if line.startswith("Trace"):
+            fields = line.split("[", 1)[1].split("/")
+            pc = int(fields[1], 16)
+            symbol = line.rsplit(" ", 1)[1].strip()
+            # A call enters at the function's address (a return from a callee does not).
+            entered = pc in entries
+            if entered and not inside:
+                if seen == frame:
+                    inside = True
+                seen += 1
+            elif inside and pc in stops:
+                break
+            if inside:
+                charged[symbol] += sizes.get(pc, 1)
+        elif line.startswith("0x"):
+            try:
+                address = int(line.split(":", 1)[0], 16)
+            except ValueError:
+                continue
+            if block is None:
+                block, count = address, 0
+            count += 1
+        elif block is not None:
+            sizes[block] = count
+            block = None
+    qemu.kill()
+    total = sum(charged.values())
+    if total == 0:
+        sys.exit(f"no {what} of frame {frame} found")
+    print(f"fw_teapot frame {frame} {what}: {total} instructions")
+    print("\nby part:")
+    parts = collections.Counter()
+    for symbol, n in charged.items():
+        name = next((p for p, keys in PARTS if any(k in symbol for k in keys)), "other")
+        parts[name] += n
+    for name, n in parts.most_common():
+        print(f"{n:>10} {100 * n / total:5.1f}%  {name}")
+    print("\nby function:")
+    for symbol, n in charged.most_common(25):
+        print(f"{n:>10} {100 * n / total:5.1f}%  {symbol[:120]}")
+
+
+if __name__ == "__main__":
+    main()
