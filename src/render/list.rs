@@ -139,12 +139,20 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
 }
 
 impl ListSink<'_, '_, '_> {
-    /// Lists one triangle, its corners in view space.
-    fn take(&mut self, patch: u32, corners: [ClipVertex; 3]) {
+    /// Counts a triangle handed over; whether the list still takes triangles (its corners
+    /// are worth computing).
+    fn admit(&mut self) -> bool {
         self.handed += 1;
-        if self.overflow || self.resume.is_some() {
-            return;
-        }
+        self.open()
+    }
+
+    /// Whether the list is neither given up nor cut at a patch.
+    fn open(&self) -> bool {
+        !self.overflow && self.resume.is_none()
+    }
+
+    /// Lists one admitted triangle, its corners in view space.
+    fn take(&mut self, patch: u32, corners: [ClipVertex; 3]) {
         match self.current {
             Some((p, _)) if p == patch => {}
             Some((p, _)) if p > patch => {
@@ -177,8 +185,10 @@ impl ListSink<'_, '_, '_> {
 
 impl TriangleSink for ListSink<'_, '_, '_> {
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
-        let corners = corners.map(|c| self.setup.corner(c));
-        self.take(patch, corners);
+        if self.admit() {
+            let corners = corners.map(|c| self.setup.corner(c));
+            self.take(patch, corners);
+        }
     }
 
     fn keyed_triangle(
@@ -187,8 +197,7 @@ impl TriangleSink for ListSink<'_, '_, '_> {
         keys: [u64; 3],
         corner: &mut dyn FnMut(usize) -> Vertex,
     ) {
-        if !self.wants_patch(patch) {
-            self.handed += 1;
+        if !self.admit() {
             return;
         }
         let corners = self.corners.corners(self.setup, keys, corner);
@@ -196,7 +205,7 @@ impl TriangleSink for ListSink<'_, '_, '_> {
     }
 
     fn wants_patch(&self, _patch: u32) -> bool {
-        !self.overflow && self.resume.is_none()
+        self.open()
     }
 }
 
