@@ -4,6 +4,7 @@
     cargo build --release --example fw_teapot --target thumbv7em-none-eabihf
     scripts/fw_profile.py render 0      # frame 0's render, by function and by part
     scripts/fw_profile.py update 1      # frame 1's update
+    scripts/fw_profile.py update 0 insert   # and the blocks of the functions named `*insert*`
 
 QEMU logs every translated block once (`-d in_asm`: its guest instructions) and every block it
 executes (`-d exec,nochain`: its address and symbol). Each execution is charged the block's
@@ -58,9 +59,11 @@ def main():
     # Quiet when piped into `head`.
     import signal
     signal.signal(signal.SIGPIPE, signal.SIG_DFL)
-    if len(sys.argv) != 3 or sys.argv[1] not in ("update", "render"):
+    if len(sys.argv) not in (3, 4) or sys.argv[1] not in ("update", "render"):
         sys.exit(__doc__)
     what, frame = sys.argv[1], int(sys.argv[2])
+    blocks_of = sys.argv[3] if len(sys.argv) == 4 else None
+    by_block = collections.Counter()
     start, stop = ("Tessellator5apply", "Setup3new") if what == "update" else (
         "Setup3new", "Tessellator5apply")
     stops = function_addresses(stop)
@@ -86,6 +89,8 @@ def main():
                 break
             if inside:
                 charged[symbol] += sizes.get(pc, 1)
+                if blocks_of and blocks_of in symbol:
+                    by_block[pc] += sizes.get(pc, 1)
         elif line.startswith("0x"):
             try:
                 address = int(line.split(":", 1)[0], 16)
@@ -112,6 +117,10 @@ def main():
     print("\nby function:")
     for symbol, n in charged.most_common(25):
         print(f"{n:>10} {100 * n / total:5.1f}%  {symbol[:120]}")
+    if blocks_of:
+        print(f"\nblocks of *{blocks_of}* (objdump -d the ELF at these addresses):")
+        for pc, n in by_block.most_common(40):
+            print(f"{n:>10} {100 * n / total:5.1f}%  {pc:#x} ({n // sizes.get(pc, 1)} runs)")
 
 
 if __name__ == "__main__":

@@ -2,8 +2,8 @@
 // (triangles, vertices, samples inserted, checksum), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 4]; 4] = [
-    [1230, 649, 759, 0xabc831fd],
-    [1231, 650, 1, 0x873e42e5],
-    [2597, 1397, 583, 0x6cf97504],
-    [5772, 3033, 146, 0x9d0501b2],
+    [1230, 649, 759, 0x7900831d],
+    [1231, 650, 1, 0x203087ed],
+    [2597, 1397, 583, 0xd41fc960],
+    [5772, 3033, 146, 0x12ceccc9],
 ];

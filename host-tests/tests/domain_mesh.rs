@@ -43,6 +43,10 @@ fn check(mesh: &DomainMesh<'_>) -> BTreeSet<Tri> {
         let [a, b, c] = v.map(point);
         let o = orient(a, b, c);
         assert!(o > 0, "triangle {t} {v:?} is not counter-clockwise");
+        assert!(
+            a < b && a < c,
+            "triangle {t} {v:?} does not start at its smallest point"
+        );
         area2 += o;
         for i in 0..3 {
             let (x, y) = (v[(i + 1) % 3], v[(i + 2) % 3]);

@@ -7,7 +7,7 @@
 //! corners) never move. The work is one pass over the slots plus, per moved vertex, a walk
 //! around it.
 
-use super::{index_of, DomainMesh, MeshHeader, MeshTriangle, MeshVertex, NONE};
+use super::{after, index_of, DomainMesh, MeshHeader, MeshTriangle, MeshVertex, NONE};
 
 impl<'a> DomainMesh<'a> {
     /// Moves the live triangles to slots `0..triangle_count()` and the live vertices to
@@ -116,7 +116,7 @@ impl<'a> DomainMesh<'a> {
             let i = index_of(&tri.v, from);
             tri.v[i] = to;
             // Counter-clockwise: across the edge (v[i+2], from), opposite v[i+1].
-            let ccw = tri.n[(i + 1) % 3];
+            let ccw = tri.n[after(i)];
             if ccw == NONE || ccw == start {
                 break;
             }

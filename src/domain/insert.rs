@@ -1,7 +1,10 @@
 //! Insertion: the triangle (or edge) holding the point is split, then edges are flipped until
 //! they are Delaunay (Lawson).
 
-use super::{in_circle, index_of, orient, DomainMesh, GridPoint, InsertError, MeshTriangle, NONE};
+use super::{
+    after, before, in_circle, index_of, orient, DomainMesh, GridPoint, InsertError, MeshTriangle,
+    NONE,
+};
 
 impl DomainMesh<'_> {
     /// A live triangle containing `p` (inside or on its boundary).
@@ -75,17 +78,18 @@ impl DomainMesh<'_> {
             return Err(InsertError::TrianglesFull { needed });
         }
         let id = self.take_vertex(p);
-        match on_edge {
+        let (start, degree) = match on_edge {
             None => self.split_triangle(t, id),
             Some(i) => self.split_edge(t, i, id),
-        }
-        self.legalize(id);
+        };
+        self.legalize(id, start, degree);
         self.hint = self.vertices[id as usize].link;
         Ok(id)
     }
 
-    /// Splits triangle `t` into three around the new vertex `id` inside it.
-    fn split_triangle(&mut self, t: u16, id: u16) {
+    /// Splits triangle `t` into three around the new vertex `id` inside it; returns the first
+    /// triangle of `id`'s star (as [`DomainMesh::star`] orders it) and the star's size.
+    fn split_triangle(&mut self, t: u16, id: u16) -> (u16, usize) {
         let MeshTriangle {
             v: [a, b, c], n, ..
         } = self.triangles[t as usize];
@@ -99,14 +103,16 @@ impl DomainMesh<'_> {
         for (v, tri) in [(id, t), (a, t1), (b, t), (c, t)] {
             self.vertices[v as usize].link = tri;
         }
+        (t, 3)
     }
 
     /// Splits the edge of `t` opposite its vertex `i`, on which the new vertex `id` lies, and
-    /// the triangle across it (if any).
-    fn split_edge(&mut self, t: u16, i: usize, id: u16) {
+    /// the triangle across it (if any); returns the first triangle of `id`'s star and the
+    /// star's size, as [`DomainMesh::split_triangle`] does.
+    fn split_edge(&mut self, t: u16, i: usize, id: u16) -> (u16, usize) {
         let tri = self.triangles[t as usize];
-        let (c, a, b) = (tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]);
-        let (na, nb, o) = (tri.n[(i + 1) % 3], tri.n[(i + 2) % 3], tri.n[i]);
+        let (c, a, b) = (tri.v[i], tri.v[after(i)], tri.v[before(i)]);
+        let (na, nb, o) = (tri.n[after(i)], tri.n[before(i)], tri.n[i]);
         // t: (c, a, id), t1: (c, id, b).
         let t1 = self.take_triangle();
         if o == NONE {
@@ -116,13 +122,14 @@ impl DomainMesh<'_> {
             for (v, tri) in [(id, t), (a, t), (b, t1), (c, t)] {
                 self.vertices[v as usize].link = tri;
             }
-            return;
+            // On the boundary: the star is (c, id, b) then (c, a, id), counter-clockwise.
+            return (t1, 2);
         }
         let ot = self.triangles[o as usize];
-        let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
+        let j = index_of(&ot.n, t);
         // o is (d, b, a); it becomes o: (d, b, id) and o1: (d, id, a).
         let d = ot.v[j];
-        let (oa, ob) = (ot.n[(j + 2) % 3], ot.n[(j + 1) % 3]);
+        let (oa, ob) = (ot.n[before(j)], ot.n[after(j)]);
         let o1 = self.take_triangle();
         self.set(t, [c, a, id], [o1, t1, nb]);
         self.set(t1, [c, id, b], [o, na, t]);
@@ -133,10 +140,12 @@ impl DomainMesh<'_> {
         for (v, tri) in [(id, t), (a, t), (b, t1), (c, t), (d, o)] {
             self.vertices[v as usize].link = tri;
         }
+        (t, 4)
     }
 
     /// Flips the edges opposite the new vertex `id` until every one is Delaunay, in one pass
-    /// counter-clockwise around its star.
+    /// counter-clockwise around its star, which starts at triangle `start` and has `degree`
+    /// triangles.
     ///
     /// Flipping the edge `(a, b)` of `(id, a, b)` leaves `(id, a, d)` in the same slot, checked
     /// again at once, and `(id, d, b)` as its counter-clockwise neighbour, checked next; the
@@ -144,11 +153,10 @@ impl DomainMesh<'_> {
     /// the two triangles beside it, and a flip elsewhere replaces neither (it removes a
     /// triangle across another star edge). So every triangle of the final star is found clean
     /// exactly once, and the pass ends after `degree` clean tests.
-    fn legalize(&mut self, id: u16) {
-        let mut t = self.star_start(id);
+    fn legalize(&mut self, id: u16, start: u16, mut degree: usize) {
+        let p = self.pt(id);
+        let mut t = start;
         let mut clean = 0usize;
-        // The star's size: each flip adds a triangle to it.
-        let mut degree = self.star(id).count();
         // A bound on the work, only a guard: each flip removes an edge for good.
         let mut budget = 8 * self.triangles.len() + 16;
         while budget > 0 {
@@ -158,16 +166,10 @@ impl DomainMesh<'_> {
             let o = tri.n[i];
             if o != NONE {
                 let ot = self.triangles[o as usize];
-                let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
-                let [p, a, b] = [tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]];
-                if in_circle(
-                    self.metric,
-                    self.pt(p),
-                    self.pt(a),
-                    self.pt(b),
-                    self.pt(ot.v[j]),
-                ) {
-                    self.flip(t, i);
+                let j = index_of(&ot.n, t);
+                let (a, b) = (tri.v[after(i)], tri.v[before(i)]);
+                if in_circle(self.metric, p, self.pt(a), self.pt(b), self.pt(ot.v[j])) {
+                    self.flip_across(t, i, &tri, j, &ot);
                     degree += 1;
                     continue;
                 }
@@ -176,7 +178,7 @@ impl DomainMesh<'_> {
             if clean >= degree {
                 break;
             }
-            let ccw = tri.n[(i + 1) % 3];
+            let ccw = tri.n[after(i)];
             t = if ccw == NONE {
                 self.star_start(id)
             } else {
@@ -189,13 +191,19 @@ impl DomainMesh<'_> {
     /// `(d, b, a)`, become `(p, a, d)` (in slot `t`) and `(p, d, b)`.
     pub(super) fn flip(&mut self, t: u16, i: usize) {
         let tri = self.triangles[t as usize];
+        let ot = self.triangles[tri.n[i] as usize];
+        self.flip_across(t, i, &tri, index_of(&ot.n, t), &ot);
+    }
+
+    /// [`DomainMesh::flip`] given triangle `t`'s contents `tri`, the contents `ot` of the
+    /// triangle across the edge opposite `tri.v[i]`, and the index `j` of `t` among `ot`'s
+    /// neighbours.
+    fn flip_across(&mut self, t: u16, i: usize, tri: &MeshTriangle, j: usize, ot: &MeshTriangle) {
         let o = tri.n[i];
-        let ot = self.triangles[o as usize];
-        let j = ot.n.iter().position(|&x| x == t).unwrap_or(0);
-        let [p, a, b] = [tri.v[i], tri.v[(i + 1) % 3], tri.v[(i + 2) % 3]];
+        let [p, a, b] = [tri.v[i], tri.v[after(i)], tri.v[before(i)]];
         let d = ot.v[j];
-        let (across_ad, across_db) = (ot.n[(j + 1) % 3], ot.n[(j + 2) % 3]);
-        let (across_bp, across_pa) = (tri.n[(i + 1) % 3], tri.n[(i + 2) % 3]);
+        let (across_ad, across_db) = (ot.n[after(j)], ot.n[before(j)]);
+        let (across_bp, across_pa) = (tri.n[after(i)], tri.n[before(i)]);
         self.set(t, [p, a, d], [across_ad, o, across_pa]);
         self.set(o, [p, d, b], [across_db, across_bp, t]);
         self.replace_neighbor(across_ad, o, t);
@@ -210,17 +218,22 @@ impl DomainMesh<'_> {
     /// on its points alone, not on the history of the mesh (the run time's bounds and
     /// refinement patterns follow the corner order).
     pub(super) fn set(&mut self, t: u16, v: [u16; 3], n: [u16; 3]) {
-        let p = v.map(|id| self.pt(id));
-        let k = if p[1] < p[0] && p[1] < p[2] {
-            1
-        } else if p[2] < p[0] && p[2] < p[1] {
-            2
+        // The points in (u, v) order as one number each: `GridPoint`'s order, in one compare.
+        let key = |id: u16| {
+            let p = self.pt(id);
+            (p.u as u32) << 16 | p.v as u32
+        };
+        let (k0, k1, k2) = (key(v[0]), key(v[1]), key(v[2]));
+        let (v, n) = if k1 < k0 && k1 < k2 {
+            ([v[1], v[2], v[0]], [n[1], n[2], n[0]])
+        } else if k2 < k0 && k2 < k1 {
+            ([v[2], v[0], v[1]], [n[2], n[0], n[1]])
         } else {
-            0
+            (v, n)
         };
         let slot = &mut self.triangles[t as usize];
-        slot.v = [v[k], v[(k + 1) % 3], v[(k + 2) % 3]];
-        slot.n = [n[k], n[(k + 1) % 3], n[(k + 2) % 3]];
+        slot.v = v;
+        slot.n = n;
     }
 
     /// In triangle `t` (if any), the neighbour `old` becomes `new`.

@@ -368,7 +368,9 @@ impl<'a> DomainMesh<'a> {
             .map(|(k, v)| (k as u16, v.point))
     }
 
-    /// Live triangles as counter-clockwise vertex triples.
+    /// Live triangles as counter-clockwise vertex triples, each starting at its smallest point
+    /// in `(u, v)` order: a triangle's corner order depends on its points alone, not on the
+    /// history of the mesh.
     pub fn triangles(&self) -> impl Iterator<Item = [u16; 3]> + '_ {
         self.triangles.iter().filter(|t| t.alive).map(|t| t.v)
     }
@@ -427,7 +429,7 @@ impl<'a> DomainMesh<'a> {
             let tri = self.triangles[t as usize];
             let i = index_of(&tri.v, id);
             // Clockwise: across the edge (id, v[i+1]), opposite v[i+2].
-            let cw = tri.n[(i + 2) % 3];
+            let cw = tri.n[before(i)];
             if cw == NONE || cw == first {
                 break;
             }
@@ -512,13 +514,41 @@ impl Iterator for Star<'_, '_> {
         let tri = self.mesh.triangles[t as usize];
         let i = index_of(&tri.v, self.id);
         // Counter-clockwise: across the edge (v[i+2], id), opposite v[i+1].
-        let ccw = tri.n[(i + 1) % 3];
+        let ccw = tri.n[after(i)];
         self.next = if ccw == self.start { NONE } else { ccw };
         self.steps += 1;
         Some(t)
     }
 }
 
+/// The index of `id` in `v` (0 when it is not there).
+#[inline]
 fn index_of(v: &[u16; 3], id: u16) -> usize {
-    v.iter().position(|&x| x == id).unwrap_or(0)
+    if v[1] == id {
+        1
+    } else if v[2] == id {
+        2
+    } else {
+        0
+    }
+}
+
+/// The index after `i` in counter-clockwise order: `after(i)`.
+#[inline]
+fn after(i: usize) -> usize {
+    if i >= 2 {
+        0
+    } else {
+        i + 1
+    }
+}
+
+/// The index before `i` in counter-clockwise order: `before(i)`.
+#[inline]
+fn before(i: usize) -> usize {
+    if i == 0 {
+        2
+    } else {
+        i - 1
+    }
 }

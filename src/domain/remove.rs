@@ -2,7 +2,8 @@
 //! (two on the boundary), which merge into one (Devillers).
 
 use super::{
-    in_circle, index_of, orient, DomainMesh, GridPoint, MeshVertex, RemoveError, RimEdge, NONE,
+    after, before, in_circle, index_of, orient, DomainMesh, GridPoint, MeshVertex, RemoveError,
+    RimEdge, NONE,
 };
 
 impl DomainMesh<'_> {
@@ -48,7 +49,7 @@ impl DomainMesh<'_> {
         self.star(id).all(|t| {
             let tri = self.triangles[t as usize].v;
             let i = index_of(&tri, id);
-            [tri[(i + 1) % 3], tri[(i + 2) % 3]].into_iter().all(|x| {
+            [tri[after(i)], tri[before(i)]].into_iter().all(|x| {
                 x == a || x == b || x == c || !in_circle(self.metric, pa, pb, pc, self.pt(x))
             })
         })
@@ -63,7 +64,7 @@ impl DomainMesh<'_> {
         for t in self.star(id) {
             let tri = self.triangles[t as usize].v;
             let i = index_of(&tri, id);
-            let (x, y) = (tri[(i + 1) % 3], tri[(i + 2) % 3]);
+            let (x, y) = (tri[after(i)], tri[before(i)]);
             if let Some((pt, a, b)) = prev {
                 if self.is_ear(id, a, b, y) {
                     found = Some((pt, a));
@@ -104,8 +105,8 @@ impl DomainMesh<'_> {
         for k in 0..count {
             let tri = self.triangles[star[k] as usize];
             let i = index_of(&tri.v, id);
-            link[k] = tri.v[(i + 1) % 3];
-            link[k + 1] = tri.v[(i + 2) % 3];
+            link[k] = tri.v[after(i)];
+            link[k + 1] = tri.v[before(i)];
             outer[k] = tri.n[i];
         }
         let keep = star[0];
@@ -141,7 +142,7 @@ impl DomainMesh<'_> {
         for k in 0..4 {
             let tri = self.triangles[star[k] as usize];
             let i = index_of(&tri.v, id);
-            q[k] = tri.v[(i + 1) % 3];
+            q[k] = tri.v[after(i)];
             outer[k] = tri.n[i];
         }
         let p = q.map(|x| self.pt(x));
@@ -196,11 +197,11 @@ impl DomainMesh<'_> {
         for &t in new {
             let v = self.triangles[t as usize].v;
             for i in 0..3 {
-                let (a, b) = (v[(i + 1) % 3], v[(i + 2) % 3]);
+                let (a, b) = (v[after(i)], v[before(i)]);
                 let inner = new.iter().copied().find(|&s| {
                     s != t && {
                         let w = self.triangles[s as usize].v;
-                        (0..3).any(|j| w[j] == b && w[(j + 1) % 3] == a)
+                        (0..3).any(|j| w[j] == b && w[after(j)] == a)
                     }
                 });
                 let across = match inner {
@@ -213,7 +214,7 @@ impl DomainMesh<'_> {
                         if outside != NONE {
                             let o = &mut self.triangles[outside as usize];
                             for j in 0..3 {
-                                if o.v[(j + 1) % 3] == b && o.v[(j + 2) % 3] == a {
+                                if o.v[after(j)] == b && o.v[before(j)] == a {
                                     o.n[j] = t;
                                 }
                             }

@@ -252,13 +252,11 @@ impl PatchView<'_, '_, '_> {
         let Some((v, n)) = self.triangle(t) else {
             return;
         };
-        let pts = v.map(|id| self.point_of(id));
-        // Canonical rotation: the smallest point first.
-        let rot = (0..3).min_by_key(|&k| pts[k]).unwrap_or(0);
-        let vr = [0, 1, 2].map(|k| v[(rot + k) % 3]);
-        let pr = [0, 1, 2].map(|k| pts[(rot + k) % 3]);
-        // Ring side s runs vr[s] -> vr[s+1]: the original edge opposite vr[s+2].
-        let edge_of = |s: usize| (rot + s + 2) % 3;
+        // The domain mesh lists every triangle from its smallest point on
+        // (`DomainMesh::triangles`): the canonical order the patterns are cut in.
+        let (vr, pr) = (v, v.map(|id| self.point_of(id)));
+        // Ring side s runs vr[s] -> vr[s+1]: the edge opposite vr[s+2].
+        let edge_of = |s: usize| (s + 2) % 3;
         // Nothing refined in or around the patch: every factor is 1 (as `emit`'s fast path).
         let (nf, e) = if self.tess.storage.patches[self.p].factor <= 1 {
             (1, [1; 3])
@@ -299,8 +297,7 @@ impl PatchView<'_, '_, '_> {
         let hide = self.hide.and_then(|view| {
             let state = &self.tess.storage.triangle_states[self.to + t];
             let patch = self.tess.patches.patch(self.p)?;
-            let cached = self.tess.cached_corner_points(self.p, &patch, pts);
-            let points = [0, 1, 2].map(|k| cached[(rot + k) % 3]);
+            let points = self.tess.cached_corner_points(self.p, &patch, pr);
             // (With the rounding of the combinations.)
             let big = points.iter().flatten().fold(0.0f32, |m, &x| m.max(x.abs()));
             Some((view, points, state.margin + 8.0 * f32::EPSILON * big))
@@ -655,9 +652,8 @@ impl<'m, 's> Tessellator<'m, 's> {
                     if view.hidden(t) {
                         continue;
                     }
-                    let pts = v.map(|id| view.point_of(id));
-                    let rot = (0..3).min_by_key(|&k| pts[k]).unwrap_or(0);
-                    let vr = [0, 1, 2].map(|k| v[(rot + k) % 3]);
+                    // From the smallest point on, as `DomainMesh::triangles` lists them.
+                    let vr = v;
                     let node = |id: u16| -> Option<u32> {
                         match view.vertex(id) {
                             Point::Node(n) => Some(n),
