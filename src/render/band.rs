@@ -104,64 +104,93 @@ where
 
 /// A band's colours in caller memory, row-major.
 pub(super) trait BandPixels {
+    /// One pixel as the memory holds it.
+    type Pixel: Copy;
+    /// A colour as the memory holds it.
+    fn convert(c: Rgb888) -> Self::Pixel;
     /// Pixels it holds.
     fn pixels(&self) -> usize;
     /// Sets pixel `i` (ignored when out of range).
-    fn set(&mut self, i: usize, c: Rgb888);
+    fn set(&mut self, i: usize, p: Self::Pixel);
     /// Sets the first `n` pixels.
-    fn fill(&mut self, n: usize, c: Rgb888);
+    fn fill(&mut self, n: usize, p: Self::Pixel);
 }
 
 /// Colours of the target's type.
 pub(super) struct Typed<'c, C>(pub &'c mut [C]);
 
 impl<C: PixelColor + From<Rgb888>> BandPixels for Typed<'_, C> {
+    type Pixel = C;
+
+    fn convert(c: Rgb888) -> C {
+        c.into()
+    }
+
     fn pixels(&self) -> usize {
         self.0.len()
     }
 
-    fn set(&mut self, i: usize, c: Rgb888) {
-        if let Some(p) = self.0.get_mut(i) {
-            *p = c.into();
+    fn set(&mut self, i: usize, p: C) {
+        if let Some(slot) = self.0.get_mut(i) {
+            *slot = p;
         }
     }
 
-    fn fill(&mut self, n: usize, c: Rgb888) {
-        let c = c.into();
-        self.0.iter_mut().take(n).for_each(|p| *p = c);
+    fn fill(&mut self, n: usize, p: C) {
+        self.0.iter_mut().take(n).for_each(|slot| *slot = p);
     }
 }
 
 /// Rgb565 as two big-endian bytes per pixel, as SPI displays take them.
 pub(super) struct Rgb565Be<'c>(pub &'c mut [u8]);
 
-fn rgb565_be(c: Rgb888) -> [u8; 2] {
-    RawU16::from(Rgb565::from(c)).into_inner().to_be_bytes()
-}
-
 impl BandPixels for Rgb565Be<'_> {
+    type Pixel = [u8; 2];
+
+    fn convert(c: Rgb888) -> [u8; 2] {
+        RawU16::from(Rgb565::from(c)).into_inner().to_be_bytes()
+    }
+
     fn pixels(&self) -> usize {
         self.0.len() / 2
     }
 
-    fn set(&mut self, i: usize, c: Rgb888) {
-        if let Some(p) = self.0.get_mut(2 * i..2 * i + 2) {
-            p.copy_from_slice(&rgb565_be(c));
+    fn set(&mut self, i: usize, p: [u8; 2]) {
+        if let Some(slot) = self.0.get_mut(2 * i..2 * i + 2) {
+            slot.copy_from_slice(&p);
         }
     }
 
-    fn fill(&mut self, n: usize, c: Rgb888) {
-        let b = rgb565_be(c);
-        for p in self.0.chunks_exact_mut(2).take(n) {
-            p.copy_from_slice(&b);
+    fn fill(&mut self, n: usize, p: [u8; 2]) {
+        for slot in self.0.chunks_exact_mut(2).take(n) {
+            slot.copy_from_slice(&p);
         }
     }
 }
 
 /// A colour band buffer, pushed whole when the band is done.
-pub(super) struct Buffered<P, F> {
-    pub pixels: P,
-    pub push: F,
+pub(super) struct Buffered<P: BandPixels, F> {
+    pixels: P,
+    push: F,
+    /// The surface colour at each shade level, converted once per frame (as [`color`] gives
+    /// it, so the pixels are the same as converting each one).
+    palette: [P::Pixel; 256],
+}
+
+impl<P: BandPixels, F> Buffered<P, F> {
+    /// Pixels `pixels`, handed to `push` band by band, drawn in `style`.
+    pub fn new(pixels: P, push: F, style: &Style) -> Self {
+        Buffered {
+            pixels,
+            push,
+            palette: core::array::from_fn(|level| P::convert(shaded(style.color, level as u32))),
+        }
+    }
+
+    /// The pixels.
+    pub fn pixels(&self) -> &P {
+        &self.pixels
+    }
 }
 
 impl<P, F, E> BandOutput for Buffered<P, F>
@@ -173,8 +202,8 @@ where
 
     fn begin(&mut self, area: &Rectangle, style: &Style) {
         let n = (area.size.width * area.size.height) as usize;
-        self.pixels
-            .fill(n, style.background.unwrap_or(Rgb888::BLACK));
+        let background = P::convert(style.background.unwrap_or(Rgb888::BLACK));
+        self.pixels.fill(n, background);
     }
 
     fn run(
@@ -190,7 +219,12 @@ where
         let base = (row - area.top_left.y) as usize * width;
         for x in x0..x1 {
             let i = base + (x - area.top_left.x) as usize;
-            self.pixels.set(i, color(style, span, x));
+            let column = (x - span.x0) as u32;
+            let p = match wire_color(style, span, column) {
+                Some(c) => P::convert(c),
+                None => self.palette[shade_level(span, column) as usize],
+            };
+            self.pixels.set(i, p);
         }
         Ok(())
     }
@@ -327,14 +361,25 @@ fn depth_key(span: &Span, x: i32) -> u16 {
 /// Colour of pixel column `x` of `span`.
 fn color(style: &Style, span: &Span, x: i32) -> Rgb888 {
     let i = (x - span.x0) as u32;
-    if let Some(w) = style.wireframe {
-        let near_edge = span.edge.iter().any(|e| e.at(i) < w.half_width);
-        if near_edge {
-            return w.color;
-        }
-    }
-    let level = (span.shade.at(i).clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
-    let c = style.color;
+    wire_color(style, span, i).unwrap_or_else(|| shaded(style.color, shade_level(span, i)))
+}
+
+/// The wireframe's colour when column `i` of `span` lies on a drawn edge.
+fn wire_color(style: &Style, span: &Span, i: u32) -> Option<Rgb888> {
+    let w = style.wireframe?;
+    span.edge
+        .iter()
+        .any(|e| e.at(i) < w.half_width)
+        .then_some(w.color)
+}
+
+/// The shade of column `i` of `span` as a level from 0 to 255.
+fn shade_level(span: &Span, i: u32) -> u32 {
+    (span.shade.at(i).clamp(0.0, 1.0) * 255.0 + 0.5) as u32
+}
+
+/// Colour `c` at shade level `level` (0 to 255).
+fn shaded(c: Rgb888, level: u32) -> Rgb888 {
     let ch = |v: u8| ((v as u32 * level + 127) / 255) as u8;
     Rgb888::new(ch(c.r()), ch(c.g()), ch(c.b()))
 }

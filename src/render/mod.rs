@@ -374,13 +374,14 @@ impl<'d> Renderer<'d> {
         D::Color: From<Rgb888>,
     {
         let bounds = target.bounding_box();
-        let mut out = Buffered {
-            pixels: Typed(colors),
-            push: |area: &Rectangle, pixels: &Typed<'_, D::Color>| {
+        let mut out = Buffered::new(
+            Typed(colors),
+            |area: &Rectangle, pixels: &Typed<'_, D::Color>| {
                 let n = (area.size.width * area.size.height) as usize;
                 target.fill_contiguous(area, pixels.0.iter().take(n).copied())
             },
-        };
+            style,
+        );
         self.draw_buffered(source, camera, style, &bounds, &mut out)
     }
 
@@ -426,13 +427,14 @@ impl<'d> Renderer<'d> {
     where
         S: TriangleSource,
     {
-        let mut out = Buffered {
-            pixels: Rgb565Be(bytes),
-            push: |area: &Rectangle, pixels: &Rgb565Be<'_>| {
+        let mut out = Buffered::new(
+            Rgb565Be(bytes),
+            |area: &Rectangle, pixels: &Rgb565Be<'_>| {
                 let n = 2 * (area.size.width * area.size.height) as usize;
                 push(area, pixels.0.get(..n).unwrap_or(&[]))
             },
-        };
+            style,
+        );
         let bounds = Rectangle::new(Point::zero(), Size::new(u32::MAX, u32::MAX));
         self.draw_buffered(source, camera, style, &bounds, &mut out)
     }
@@ -450,7 +452,7 @@ impl<'d> Renderer<'d> {
         P: BandPixels,
         F: FnMut(&Rectangle, &P) -> Result<(), E>,
     {
-        let Some(area) = self.area(camera, bounds, out.pixels.pixels())? else {
+        let Some(area) = self.area(camera, bounds, out.pixels().pixels())? else {
             return Ok(RenderStats::default());
         };
         self.render(source, camera, style, &area, out)
