@@ -66,21 +66,26 @@ pub(crate) fn frame(
     let position = xyz(ev.a) / w;
     let partial_u = (xyz(ev.a_u) - position * ev.a_u.w) / w;
     let partial_v = (xyz(ev.a_v) - position * ev.a_v.w) / w;
-    // Max-norms and unit vectors: no squared lengths, so nothing underflows near a pole.
+    // Max-norms, and the partials scaled by them: their components are at most 1 and the
+    // largest is ±1, so their squared lengths lie in [1, 3] and nothing underflows near a pole.
     let mu = partial_u.abs().max_element();
     let mv = partial_v.abs().max_element();
-    let du = normalize(partial_u);
-    let dv = normalize(partial_v);
-    let direct = || match (du, dv) {
-        (Some(du), Some(dv)) => {
-            let n = du.cross(dv);
-            if length(n) > DEGENERATE_RATIO {
-                normalize(n)
-            } else {
-                None
-            }
+    let finite = |m: f32| m > 0.0 && m.is_finite();
+    // The normal when the partials are not parallel: the sine of their angle,
+    // |su x sv| / (|su| |sv|), is above the ratio. (Squared: a square below `f32`'s range
+    // is below the ratio's square, 1e-10, too.) One square root, in the normalisation.
+    let direct = || {
+        if !(finite(mu) && finite(mv)) {
+            return None;
         }
-        _ => None,
+        let (su, sv) = (partial_u / mu, partial_v / mv);
+        let n = su.cross(sv);
+        let ratio2 = DEGENERATE_RATIO * DEGENERATE_RATIO;
+        if n.length_squared() > ratio2 * su.length_squared() * sv.length_squared() {
+            normalize(n)
+        } else {
+            None
+        }
     };
     let mut normal = None;
     if mu > DEGENERATE_RATIO * mv && mv > DEGENERATE_RATIO * mu {
@@ -100,6 +105,7 @@ pub(crate) fn frame(
             let partial_uv =
                 (xyz(a_uv) - position * a_uv.w - partial_v * ev.a_u.w - partial_u * ev.a_v.w) / w;
             let duv = normalize(partial_uv);
+            let (du, dv) = (normalize(partial_u), normalize(partial_v));
             let limit = match (mu < mv, duv) {
                 // S_u vanished along v = 0 or v = 1: the normal tends to sign * (S_uv x S_v).
                 (true, Some(duv)) => dv.map(|dv| {
