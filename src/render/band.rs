@@ -260,7 +260,8 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
             return;
         }
         let corners = corners.map(|c| self.setup.corner(c));
-        self.draw(corners);
+        let inside = corners.iter().all(|c| self.setup.inside(c));
+        self.draw(corners, inside);
     }
 
     fn keyed_triangle(
@@ -272,17 +273,18 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
         if self.error.is_some() {
             return;
         }
-        let corners = self.corners.corners(self.setup, keys, corner);
-        self.draw(corners);
+        let (corners, inside) = self.corners.corners(self.setup, keys, corner);
+        self.draw(corners, inside);
     }
 }
 
 impl<O: BandOutput> Band<'_, '_, O> {
-    /// Projects and draws one triangle, its corners in view space.
-    fn draw(&mut self, corners: [ClipVertex; 3]) {
+    /// Projects and draws one triangle, its corners in view space (`inside`: all inside the
+    /// clip planes).
+    fn draw(&mut self, corners: [ClipVertex; 3], inside: bool) {
         self.stats.triangles += 1;
         let setup = self.setup;
-        setup.project(corners, |v, wire| {
+        setup.project(corners, inside, |v, wire| {
             if let Some(tri) = Triangle::new(v, wire) {
                 self.rasterise(&tri);
             }

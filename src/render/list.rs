@@ -151,8 +151,9 @@ impl ListSink<'_, '_, '_> {
         !self.overflow && self.resume.is_none()
     }
 
-    /// Lists one admitted triangle, its corners in view space.
-    fn take(&mut self, patch: u32, corners: [ClipVertex; 3]) {
+    /// Lists one admitted triangle, its corners in view space (`inside`: all inside the clip
+    /// planes).
+    fn take(&mut self, patch: u32, corners: [ClipVertex; 3], inside: bool) {
         match self.current {
             Some((p, _)) if p == patch => {}
             Some((p, _)) if p > patch => {
@@ -162,7 +163,7 @@ impl ListSink<'_, '_, '_> {
             _ => self.current = Some((patch, self.len)),
         }
         let mut fits = true;
-        self.setup.project(corners, |v, wire| {
+        self.setup.project(corners, inside, |v, wire| {
             match (ScreenTriangle::pack(&v, wire), self.list.get_mut(self.len)) {
                 (Some(t), Some(slot)) if fits => {
                     *slot = t;
@@ -187,7 +188,8 @@ impl TriangleSink for ListSink<'_, '_, '_> {
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
         if self.admit() {
             let corners = corners.map(|c| self.setup.corner(c));
-            self.take(patch, corners);
+            let inside = corners.iter().all(|c| self.setup.inside(c));
+            self.take(patch, corners, inside);
         }
     }
 
@@ -200,8 +202,8 @@ impl TriangleSink for ListSink<'_, '_, '_> {
         if !self.admit() {
             return;
         }
-        let corners = self.corners.corners(self.setup, keys, corner);
-        self.take(patch, corners);
+        let (corners, inside) = self.corners.corners(self.setup, keys, corner);
+        self.take(patch, corners, inside);
     }
 
     fn wants_patch(&self, _patch: u32) -> bool {

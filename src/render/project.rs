@@ -91,12 +91,19 @@ impl<'a> Setup<'a> {
         ClipVertex { view, shade }
     }
 
+    /// Whether `v` lies inside every clip plane ([`Frustum::contains`](clip::Frustum)).
+    pub fn inside(&self, v: &ClipVertex) -> bool {
+        self.frustum.contains(v.view)
+    }
+
     /// Hands `out` the screen triangles of a triangle, its corners as
     /// [`corner`](Self::corner) gives them, after clipping (none, one, or a fan), with the
-    /// edges to draw as wireframe (`wire[i]` for the edge opposite corner `i`).
+    /// edges to draw as wireframe (`wire[i]` for the edge opposite corner `i`). `inside` tells
+    /// whether every corner is [`inside`](Self::inside) (then nothing is clipped).
     pub fn project(
         &self,
         mut t: [ClipVertex; 3],
+        inside: bool,
         mut out: impl FnMut([ScreenVertex; 3], [bool; 3]),
     ) {
         let camera = self.camera;
@@ -113,7 +120,7 @@ impl<'a> Setup<'a> {
             depth: self.depth_key(c.view.z),
             shade: quantize_shade(c.shade),
         };
-        if t.iter().all(|c| self.frustum.contains(c.view)) {
+        if inside {
             // Most triangles: nothing to clip.
             out(t.each_ref().map(screen_of), [wire; 3]);
             return;
@@ -140,11 +147,15 @@ impl<'a> Setup<'a> {
 /// its triangles as it streams them.
 const CORNER_CACHE: usize = 64;
 
-/// Keyed corners already taken to view space ([`Setup::corner`]), direct-mapped: a sink that
-/// gets [`keyed_triangle`](crate::TriangleSink::keyed_triangle)s asks a corner's vertex (an
+/// Keyed corners already taken to view space ([`Setup::corner`]) and tested against the clip
+/// planes ([`Setup::inside`]), direct-mapped: a sink that gets
+/// [`keyed_triangle`](crate::TriangleSink::keyed_triangle)s asks a corner's vertex (an
 /// evaluation, for a tessellator) and transforms it only when the cache does not have it.
 pub(super) struct CornerCache {
     entries: [(u64, ClipVertex); CORNER_CACHE],
+    /// Whether each entry's corner is inside (apart: a flag beside a `u64` would pad each
+    /// entry by 8 bytes).
+    inside: [bool; CORNER_CACHE],
 }
 
 impl CornerCache {
@@ -156,17 +167,20 @@ impl CornerCache {
     pub fn new() -> Self {
         CornerCache {
             entries: [(Self::EMPTY, ClipVertex::default()); CORNER_CACHE],
+            inside: [false; CORNER_CACHE],
         }
     }
 
-    /// The corners named `keys`, from the cache or through `corner` and `setup`.
+    /// The corners named `keys`, from the cache or through `corner` and `setup`, and whether
+    /// all three are inside the clip planes.
     pub fn corners(
         &mut self,
         setup: &Setup<'_>,
         keys: [u64; 3],
         corner: &mut dyn FnMut(usize) -> Vertex,
-    ) -> [ClipVertex; 3] {
-        core::array::from_fn(|i| {
+    ) -> ([ClipVertex; 3], bool) {
+        let mut inside = true;
+        let corners = core::array::from_fn(|i| {
             let key = keys[i];
             // Fold the key's 64 bits, then a multiplicative hash's top bits.
             let folded = (key ^ (key >> 29) ^ (key >> 47)) as u32;
@@ -174,10 +188,14 @@ impl CornerCache {
             let slot = ((hash * CORNER_CACHE as u64) >> 32) as usize;
             let entry = &mut self.entries[slot];
             if entry.0 != key || key == Self::EMPTY {
-                *entry = (key, setup.corner(&corner(i)));
+                let c = setup.corner(&corner(i));
+                *entry = (key, c);
+                self.inside[slot] = setup.inside(&c);
             }
+            inside &= self.inside[slot];
             entry.1
-        })
+        });
+        (corners, inside)
     }
 }
 
