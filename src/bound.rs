@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use crate::math::length;
+use crate::math::{length, max};
 
 /// Axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,7 +73,7 @@ impl BoundingSphere {
         let mut r2: f32 = 0.0;
         for p in points {
             let d = Vec3::from_array(*p) - center;
-            r2 = r2.max(d.dot(d));
+            r2 = max(r2, d.dot(d));
         }
         // One ulp of slack so rounding in the square root never makes it too small.
         let radius = crate::math::sqrt(r2) * (1.0 + 2.0 * f32::EPSILON);

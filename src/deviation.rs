@@ -67,7 +67,7 @@
 use glam::{Vec3, Vec4};
 
 use crate::domain::GridPoint;
-use crate::math::{length, sqrt};
+use crate::math::{length, max, min, sqrt};
 use crate::patch::{BezierPatch, Side};
 use crate::MAX_DEGREE;
 
@@ -136,8 +136,8 @@ fn max_norm(n: usize, f: impl Fn(usize) -> Vec4) -> (f32, f32) {
     let mut w = 0.0f32;
     for k in 0..n {
         let d = f(k);
-        xyz = xyz.max(length(Vec3::new(d.x, d.y, d.z)));
-        w = w.max(d.w.abs());
+        xyz = max(xyz, length(Vec3::new(d.x, d.y, d.z)));
+        w = max(w, d.w.abs());
     }
     (xyz * (1.0 + 8.0 * EPS), w * (1.0 + 8.0 * EPS))
 }
@@ -153,7 +153,7 @@ fn cut(d: &mut [Vec4], t0: f32, t1: f32) {
     }
     // Right part of [0, t1] at t0 / t1.
     if t1 > 0.0 {
-        let s = (t0 / t1).min(1.0);
+        let s = min(t0 / t1, 1.0);
         for r in 1..n {
             for k in 0..n - r {
                 d[k] = crate::math::lerp4(d[k], d[k + 1], s);
@@ -195,9 +195,9 @@ impl PatchBounds {
         for (i, row) in net.iter_mut().enumerate().take(p + 1) {
             for (j, cell) in row.iter_mut().enumerate().take(q + 1) {
                 let (pt, w) = (patch.control_point(i, j), patch.weight(i, j));
-                big = big.max(pt.abs().max_element());
-                w_max = w_max.max(w);
-                w_low = w_low.min(w);
+                big = max(big, pt.abs().max_element());
+                w_max = max(w_max, w);
+                w_low = min(w_low, w);
                 *cell = Vec4::new(pt.x * w, pt.y * w, pt.z * w, w);
             }
         }
@@ -234,16 +234,16 @@ impl PatchBounds {
                 let e = Vec3::new(h.x, h.y, h.z) / h.w;
                 lo = lo.min(e);
                 hi = hi.max(e);
-                w_min = w_min.min(h.w);
+                w_min = min(w_min, h.w);
             }
         }
         // A cut net's weights are convex combinations of the patch's: at least the smallest.
-        let w_min = (w_min - net_error).max(w_low).max(f32::MIN_POSITIVE);
+        let w_min = max(max(w_min - net_error, w_low), f32::MIN_POSITIVE);
         let center = (lo + hi) * 0.5;
         let mut radius = 0.0f32;
         for row in net.iter().take(p + 1) {
             for h in row.iter().take(q + 1) {
-                radius = radius.max(length(Vec3::new(h.x, h.y, h.z) / h.w - center));
+                radius = max(radius, length(Vec3::new(h.x, h.y, h.z) / h.w - center));
             }
         }
         let radius = radius * (1.0 + 8.0 * EPS) + 2.0 * net_error / w_min;
@@ -349,8 +349,8 @@ impl PatchBounds {
     /// halves the remainder's excess (`host-tests/tests/deviation.rs`: bound / true from 1.10
     /// to 1.05 on the teapot, from 20 to 1.3 on the tinynurbs hemisphere).
     pub fn around(patch: &BezierPatch<'_>, uv: [(f32, f32); 3]) -> PatchBounds {
-        let lo = |f: fn((f32, f32)) -> f32| f(uv[0]).min(f(uv[1])).min(f(uv[2]));
-        let hi = |f: fn((f32, f32)) -> f32| f(uv[0]).max(f(uv[1])).max(f(uv[2]));
+        let lo = |f: fn((f32, f32)) -> f32| min(min(f(uv[0]), f(uv[1])), f(uv[2]));
+        let hi = |f: fn((f32, f32)) -> f32| max(max(f(uv[0]), f(uv[1])), f(uv[2]));
         let area = [lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1)];
         PatchBounds::over(patch, area)
     }
@@ -363,12 +363,12 @@ impl PatchBounds {
             return 0.0;
         }
         let (lo_u, hi_u) = (
-            uv[0].0.min(uv[1].0).min(uv[2].0),
-            uv[0].0.max(uv[1].0).max(uv[2].0),
+            min(min(uv[0].0, uv[1].0), uv[2].0),
+            max(max(uv[0].0, uv[1].0), uv[2].0),
         );
         let (lo_v, hi_v) = (
-            uv[0].1.min(uv[1].1).min(uv[2].1),
-            uv[0].1.max(uv[1].1).max(uv[2].1),
+            min(min(uv[0].1, uv[1].1), uv[2].1),
+            max(max(uv[0].1, uv[1].1), uv[2].1),
         );
         let (hu, hv) = (hi_u - lo_u, hi_v - lo_v);
         let mut best = f32::INFINITY;
@@ -383,7 +383,7 @@ impl PatchBounds {
             } else {
                 (a, c)
             };
-            best = best.min(enclosing_radius_sq(uv, alpha, beta));
+            best = min(best, enclosing_radius_sq(uv, alpha, beta));
             if b == 0.0 {
                 break;
             }
@@ -545,7 +545,7 @@ impl Lattice {
                 }
             }
         }
-        self.worst[0] = best.0.max(0.0);
+        self.worst[0] = max(best.0, 0.0);
         self.at = best.1;
     }
 
@@ -585,7 +585,7 @@ impl Lattice {
                                 let linear = (q0 * z as f32 + q1 * x as f32 + q2 * y as f32) * inv;
                                 let e = s[gi][gj] - linear;
                                 // Squared, one root at the end (the same value).
-                                w = w.max(e.dot(e));
+                                w = max(w, e.dot(e));
                             }
                         }
                     }
@@ -676,7 +676,7 @@ fn enclosing_radius_sq(uv: [(f32, f32); 3], alpha: f32, beta: f32) -> f32 {
     };
     let (e01, e12, e20) = (d(0, 1), d(1, 2), d(2, 0));
     let (x, y, z) = (e01.2, e12.2, e20.2);
-    let longest = x.max(y).max(z);
+    let longest = max(max(x, y), z);
     if longest + longest >= x + y + z {
         // Right or obtuse: the longest side is a diameter.
         return longest * 0.25;

@@ -12,6 +12,32 @@ pub(crate) fn sqrt(x: f32) -> f32 {
     libm::sqrtf(x)
 }
 
+/// The larger of `a` and `b`, a NaN ignored (IEEE 754-2008 `maxNum`, as `f32::max` and
+/// `libm`'s `fmaxf`, which also keeps `a` when they are equal).
+///
+/// Inline: Thumb has no instruction for `maxNum`, so `f32::max` (and glam's element-wise
+/// `max`) is a call into `libm` there, about 15 instructions for one comparison. Host and
+/// Cortex-M get the same bits from this one definition, signed zeros included.
+#[inline(always)]
+pub(crate) fn max(a: f32, b: f32) -> f32 {
+    if a.is_nan() || a < b {
+        b
+    } else {
+        a
+    }
+}
+
+/// The smaller of `a` and `b`, a NaN ignored (`minNum`, as `f32::min` and `libm`'s `fminf`);
+/// see [`max`].
+#[inline(always)]
+pub(crate) fn min(a: f32, b: f32) -> f32 {
+    if b.is_nan() || a < b {
+        a
+    } else {
+        b
+    }
+}
+
 /// Linear interpolation that is exact at both ends and when `a == b`.
 ///
 /// `a + (b - a) * t` is exact at `t = 0` and for equal inputs but not at `t = 1`;

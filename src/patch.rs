@@ -12,7 +12,7 @@ use glam::{Vec3, Vec4};
 use crate::basis::{bernstein, bernstein_fixed, tensor_point, tensor_with_derivatives, Bezier};
 use crate::bound::{Aabb, BoundingSphere};
 use crate::frame::{frame, nudge, SurfacePoint};
-use crate::math::{clamp_param, normalize};
+use crate::math::{clamp_param, max, normalize};
 use crate::MAX_DEGREE;
 
 /// One of the four boundary edges of a patch's unit parameter square.
@@ -560,7 +560,7 @@ impl<'a> BezierPatch<'a> {
     /// the largest coordinate.
     fn rounding(&self) -> f32 {
         let big = self.points.iter().fold(0.0f32, |m, p| {
-            m.max(p[0].abs()).max(p[1].abs()).max(p[2].abs())
+            max(max(max(m, p[0].abs()), p[1].abs()), p[2].abs())
         });
         let n = (2 * (self.degree_u() + self.degree_v()) + 8) as f32;
         n * f32::EPSILON * big

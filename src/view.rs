@@ -33,7 +33,7 @@ use core::fmt;
 use glam::Vec3;
 
 use crate::bound::BoundingSphere;
-use crate::math::{normalize, sqrt};
+use crate::math::{max, min, normalize, sqrt};
 
 /// What the view makes of the convex hull of a set of points.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -309,14 +309,14 @@ impl Camera {
     fn capped_size(&self, z: f32, a: f32, b: f32, tol: f32) -> f32 {
         let [sx, sy] = self.slope;
         let size = |a: f32, b: f32| z / (self.focal * sqrt(1.0 + a * a + b * b));
-        let first = size(a.min(sx), b.min(sy));
+        let first = size(min(a, sx), min(b, sy));
         // The deviation's length at that size, and how far past the frustum it can reach.
         let d = 2.0 * tol * first;
         if d.partial_cmp(&(0.5 * z)) != Some(core::cmp::Ordering::Less) {
             return size(a, b);
         }
-        let reach = d * (1.0 + sx.max(sy)) / (z - d);
-        size(a.min(sx + reach), b.min(sy + reach))
+        let reach = d * (1.0 + max(sx, sy)) / (z - d);
+        size(min(a, sx + reach), min(b, sy + reach))
     }
 
     /// The largest object-space length in the convex hull of `points` that projects to at
@@ -352,10 +352,10 @@ impl Camera {
                 *seen |= f;
             }
             inside &= flags.iter().all(|&f| f);
-            z_min = z_min.min(v.z);
+            z_min = min(z_min, v.z);
             if v.z > 0.0 {
-                a = a.max(v.x.abs() / v.z);
-                b = b.max(v.y.abs() / v.z);
+                a = max(a, v.x.abs() / v.z);
+                b = max(b, v.y.abs() / v.z);
             }
         }
         // (NaN coordinates land here too: every comparison is false.)
@@ -394,9 +394,13 @@ impl Camera {
         );
         // Signed distances beyond each plane (near, left, right, bottom, top) of the corners;
         // the region is outside when every corner is farther than `margin` beyond one plane.
+        let (nx, ny) = if perspective {
+            (sqrt(1.0 + sx * sx), sqrt(1.0 + sy * sy))
+        } else {
+            (1.0, 1.0)
+        };
         let beyond = |p: Vec3| -> [f32; 5] {
             if perspective {
-                let (nx, ny) = (sqrt(1.0 + sx * sx), sqrt(1.0 + sy * sy));
                 [
                     self.near - p.z,
                     (-p.x - sx * p.z) / nx,
@@ -419,7 +423,7 @@ impl Camera {
         if !perspective {
             return (1.0 / self.focal, culled);
         }
-        let z_min = v.iter().map(|p| p.z).fold(f32::INFINITY, f32::min) - margin;
+        let z_min = v.iter().map(|p| p.z).fold(f32::INFINITY, min) - margin;
         if z_min.partial_cmp(&self.near) == Some(core::cmp::Ordering::Less) || z_min.is_nan() {
             return (
                 self.capped_size(self.near, f32::INFINITY, f32::INFINITY, tol),
@@ -429,7 +433,7 @@ impl Camera {
         let slope = |f: fn(&Vec3) -> f32| {
             v.iter()
                 .map(|p| (f(p).abs() + margin) / (p.z - margin))
-                .fold(0.0f32, f32::max)
+                .fold(0.0f32, max)
         };
         let (a, b) = (slope(|p| p.x), slope(|p| p.y));
         (self.capped_size(z_min, a, b, tol), culled)
@@ -453,7 +457,7 @@ impl Camera {
                 // Distance of the centre outside each side plane (planes through the eye).
                 let side = |x: f32, s: f32| (x.abs() - s * c.z) / sqrt(1.0 + s * s);
                 let outside = c.z + r < self.near || side(c.x, sx) > r || side(c.y, sy) > r;
-                let z_min = (c.z - r).max(self.near);
+                let z_min = max(c.z - r, self.near);
                 let a = (c.x.abs() + r) / z_min;
                 let b = (c.y.abs() + r) / z_min;
                 (self.capped_size(z_min, a, b, tol), outside)

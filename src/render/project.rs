@@ -12,7 +12,7 @@ use super::clip::{self, ClipVertex, Frustum};
 use super::raster::ScreenVertex;
 use super::{Shading, Style};
 use crate::bound::BoundingSphere;
-use crate::math::normalize;
+use crate::math::{max, normalize};
 use crate::sink::Vertex;
 use crate::view::{Camera, Projection};
 
@@ -34,8 +34,8 @@ impl<'a> Setup<'a> {
         let near = camera.near();
         let depth = bound.and_then(|s| {
             let zc = camera.to_view(s.center).z;
-            let zn = (zc - s.radius).max(near);
-            let zf = (zc + s.radius).max(zn);
+            let zn = max(zc - s.radius, near);
+            let zf = max(zc + s.radius, zn);
             let (qn, qf) = if perspective {
                 (1.0 / zn, 1.0 / zf)
             } else {
@@ -65,7 +65,7 @@ impl<'a> Setup<'a> {
         let towards_eye = if self.perspective { -at } else { -Vec3::Z };
         let n = if n.dot(towards_eye) < 0.0 { -n } else { n };
         let a = self.style.light.ambient;
-        a + (1.0 - a) * n.dot(self.light).max(0.0)
+        a + (1.0 - a) * max(n.dot(self.light), 0.0)
     }
 
     /// Depth key at view depth `z`, rounded (see the module docs).

@@ -6,6 +6,7 @@ use core::ops::Range;
 use glam::Vec3;
 
 use crate::bound::{Aabb, BoundingSphere};
+use crate::math::{max, min};
 use crate::sink::{MeshIndex, TriangleSink, Vertex};
 use crate::tessellator::Tessellator;
 use crate::view::Camera;
@@ -48,7 +49,7 @@ impl TriangleSource for Tessellator<'_, '_> {
                     .iter()
                     .try_fold([f32::MAX, f32::MIN], |[lo, hi], q| {
                         let [_, y] = camera.project(Vec3::from_array(*q))?;
-                        Some([lo.min(y), hi.max(y)])
+                        Some([min(lo, y), max(hi, y)])
                     })
             });
             let reaches = hull

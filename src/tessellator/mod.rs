@@ -59,6 +59,7 @@ use glam::Vec3;
 use crate::bake::BakedModel;
 use crate::bound::BoundingSphere;
 use crate::domain::{DomainMesh, GridPoint, InsertError};
+use crate::math::max;
 use crate::model::PatchSet;
 use crate::patch::Side;
 use crate::view::View;
@@ -564,7 +565,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             if !slot.culled {
                 stats.mesh_vertices += usize::from(slot.mesh.vertex_count());
                 stats.mesh_triangles += slot.mesh.triangle_count();
-                worst = worst.max(slot.error_ratio);
+                worst = max(worst, slot.error_ratio);
                 if slot.factor > 1 {
                     stats.refined_patches += 1;
                 }

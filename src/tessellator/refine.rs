@@ -65,7 +65,7 @@ use super::select::recorded;
 use super::{common_side, FrameStats, Tessellator};
 use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
 use crate::domain::GridPoint;
-use crate::math::{length, sqrt};
+use crate::math::{self, length, sqrt};
 use crate::model::EdgeLink;
 use crate::patch::{BezierPatch, Side};
 use crate::view::View;
@@ -95,7 +95,7 @@ pub(super) fn refined_bound(b: &TriangleBound, n: u8) -> f32 {
         6 => b.refined[3],
         _ => f32::INFINITY,
     };
-    sampled.min(general)
+    math::min(sampled, general)
 }
 
 /// The smallest factor up to `max` whose pieces are within `c` (or `max`).
@@ -138,7 +138,10 @@ fn halving(
         .map(|i| {
             let (j, k) = ((i + 1) % 3, (i + 2) % 3);
             let m = mid(j, k);
-            (i, piece([uv[i], uv[j], m]).max(piece([uv[i], m, uv[k]])))
+            (
+                i,
+                math::max(piece([uv[i], uv[j], m]), piece([uv[i], m, uv[k]])),
+            )
         })
         .min_by(|x, y| x.1.total_cmp(&y.1));
     if let Some((i, h)) = one {
@@ -151,9 +154,13 @@ fn halving(
     let two = |i: usize, j: usize| {
         let k = 3 - i - j;
         let (mi, mj) = (mid(j, k), mid(i, k));
-        piece([mi, uv[k], mj])
-            .max(piece([uv[i], uv[j], mi]).max(piece([uv[i], mi, mj])))
-            .max(piece([uv[i], uv[j], mj]).max(piece([uv[j], mi, mj])))
+        math::max(
+            math::max(
+                piece([mi, uv[k], mj]),
+                math::max(piece([uv[i], uv[j], mi]), piece([uv[i], mi, mj])),
+            ),
+            math::max(piece([uv[i], uv[j], mj]), piece([uv[j], mi, mj])),
+        )
     };
     [(0, 1), (0, 2), (1, 2)]
         .into_iter()
@@ -189,9 +196,9 @@ fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]
         let u = a * uv[0].0 + b * uv[1].0 + c * uv[2].0;
         let v = a * uv[0].1 + b * uv[1].1 + c * uv[2].1;
         let linear = s[0] * a + s[1] * b + s[2] * c;
-        worst = worst.max(length(patch.position_direct(u, v) - linear));
+        worst = math::max(worst, length(patch.position_direct(u, v) - linear));
     }
-    (worst + curvature * (1.0 / 9.0) + local.slack).min(general)
+    math::min(worst + curvature * (1.0 / 9.0) + local.slack, general)
 }
 
 impl Tessellator<'_, '_> {
@@ -365,7 +372,7 @@ impl Tessellator<'_, '_> {
                     let uv = corners.map(GridPoint::to_unit);
                     let mut at_hand = whole.curvature_term(uv) + whole.slack;
                     if let (false, Some(r)) = (near_extra, own) {
-                        at_hand = at_hand.min(r);
+                        at_hand = math::min(at_hand, r);
                     }
                     let (f, pieces, c, own_bound) =
                         self.judge(p, &patch, corners, &whole, at_hand, view, tol, max, stats);
@@ -376,7 +383,7 @@ impl Tessellator<'_, '_> {
                     // it, is off the view.)
                     state.hidden = hide && c == f32::INFINITY;
                     state.margin = own_bound.map_or(pieces, |(b, _)| b.bound());
-                    slot.error_ratio = slot.error_ratio.max(pieces / c);
+                    slot.error_ratio = math::max(slot.error_ratio, pieces / c);
                     // Cut in four, the pieces may sit far below the threshold: a halving is
                     // tried first (checked here, so one that would not do is not tried, and
                     // undone, in the rounds below). A neighbour across a halved edge gets a
@@ -519,7 +526,7 @@ impl Tessellator<'_, '_> {
                 let f = state.factor.max(1);
                 if plain {
                     // Uncut: `pieces` and `threshold` are as `choose_factors` left them.
-                    worst_ratio = worst_ratio.max(state.pieces / state.threshold);
+                    worst_ratio = math::max(worst_ratio, state.pieces / state.threshold);
                     continue;
                 }
                 let mut bound = self.bound_entry(p, corners).cached();
@@ -539,7 +546,7 @@ impl Tessellator<'_, '_> {
                     } else if !self.storage.triangle_states[to + t].judged {
                         let points = self.bound_entry(p, corners).corner_points(&patch);
                         let own = own_threshold(view, tol, points, slot.recorded);
-                        self.storage.triangle_states[to + t].threshold = slot.c.max(own);
+                        self.storage.triangle_states[to + t].threshold = math::max(slot.c, own);
                     }
                 }
                 let c = self.storage.triangle_states[to + t].threshold;
@@ -574,7 +581,7 @@ impl Tessellator<'_, '_> {
                                     let piece = local_uv.map(|[u, v, d]| {
                                         (u as f32 / d as f32, v as f32 / d as f32)
                                     });
-                                    worst = worst.max(piece_bound(&patch, bounds, piece, c));
+                                    worst = math::max(worst, piece_bound(&patch, bounds, piece, c));
                                 },
                             );
                             worst
@@ -584,7 +591,7 @@ impl Tessellator<'_, '_> {
                         if worst > c {
                             let local =
                                 PatchBounds::around(&patch, corners.map(GridPoint::to_unit));
-                            worst = worst.min(worst_with(&local));
+                            worst = math::min(worst, worst_with(&local));
                         }
                         pieces = Some(worst);
                     }
@@ -627,7 +634,7 @@ impl Tessellator<'_, '_> {
                     (None, _) => self.storage.triangle_states[to + t].pieces,
                 };
                 self.storage.triangle_states[to + t].pieces = piece_bound;
-                worst_ratio = worst_ratio.max(piece_bound / c);
+                worst_ratio = math::max(worst_ratio, piece_bound / c);
             }
             self.storage.patches[p].error_ratio = worst_ratio;
         }
