@@ -29,7 +29,7 @@ pub trait TriangleSource {
 /// sphere when a control point is behind the near plane), and evaluates their vertices again.
 impl TriangleSource for Tessellator<'_, '_> {
     fn bound(&self) -> Option<BoundingSphere> {
-        sphere_around(self.patches().aabb()?)
+        sphere_around(self.model_box()?)
     }
 
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {

@@ -57,7 +57,7 @@ use core::fmt;
 use glam::Vec3;
 
 use crate::bake::BakedModel;
-use crate::bound::BoundingSphere;
+use crate::bound::{Aabb, BoundingSphere};
 use crate::domain::{DomainMesh, GridPoint, InsertError};
 use crate::math::max;
 use crate::model::PatchSet;
@@ -279,6 +279,15 @@ pub struct Tessellator<'m, 's> {
     closed: Option<BoundingSphere>,
     /// The bound-cache entry used when the caller's cache is empty.
     spare_bound: BoundSlot,
+    /// The box around every patch (computed once: a renderer asks for it every frame).
+    model_box: Option<Aabb>,
+}
+
+impl Tessellator<'_, '_> {
+    /// The box around every patch of the model.
+    pub(crate) fn model_box(&self) -> Option<Aabb> {
+        self.model_box
+    }
 }
 
 /// The side both points lie on, if any.
@@ -343,6 +352,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             counts: MeshCounts::default(),
             closed: None,
             spare_bound: BoundSlot::default(),
+            model_box: patches.aabb(),
         };
         tess.lay_out()?;
         if settings.back_patches == BackPatches::CullWhenClosed {
