@@ -57,7 +57,9 @@ use core::fmt;
 use glam::Vec3;
 
 use crate::bake::BakedModel;
-use crate::bound::{Aabb, BoundingSphere};
+#[cfg(feature = "embedded-graphics")]
+use crate::bound::Aabb;
+use crate::bound::BoundingSphere;
 use crate::domain::{DomainMesh, GridPoint, InsertError};
 use crate::math::max;
 use crate::model::PatchSet;
@@ -280,9 +282,11 @@ pub struct Tessellator<'m, 's> {
     /// The bound-cache entry used when the caller's cache is empty.
     spare_bound: BoundSlot,
     /// The box around every patch (computed once: a renderer asks for it every frame).
+    #[cfg(feature = "embedded-graphics")]
     model_box: Option<Aabb>,
 }
 
+#[cfg(feature = "embedded-graphics")]
 impl Tessellator<'_, '_> {
     /// The box around every patch of the model.
     pub(crate) fn model_box(&self) -> Option<Aabb> {
@@ -352,6 +356,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             counts: MeshCounts::default(),
             closed: None,
             spare_bound: BoundSlot::default(),
+            #[cfg(feature = "embedded-graphics")]
             model_box: patches.aabb(),
         };
         tess.lay_out()?;
