@@ -11,7 +11,7 @@ use embedded_graphics::primitives::Rectangle;
 
 use super::clip::ClipVertex;
 use super::list::{ScreenTriangle, SubpixelRows};
-use super::project::{CornerCache, Setup};
+use super::project::{shade_level, CornerCache, Setup};
 use super::raster::{Span, Triangle};
 use super::{RenderStats, Style};
 use crate::sink::{TriangleSink, Vertex};
@@ -222,7 +222,7 @@ where
             let column = (x - span.x0) as u32;
             let p = match wire_color(style, span, column) {
                 Some(c) => P::convert(c),
-                None => self.palette[shade_level(span, column) as usize],
+                None => self.palette[span_level(span, column) as usize],
             };
             self.pixels.set(i, p);
         }
@@ -259,8 +259,7 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
         if self.error.is_some() {
             return;
         }
-        let corners = corners.map(|c| self.setup.corner(c));
-        let inside = corners.iter().all(|c| self.setup.inside(c));
+        let (corners, inside) = self.setup.corners(corners);
         self.draw(corners, inside);
     }
 
@@ -363,7 +362,7 @@ fn depth_key(span: &Span, x: i32) -> u16 {
 /// Colour of pixel column `x` of `span`.
 fn color(style: &Style, span: &Span, x: i32) -> Rgb888 {
     let i = (x - span.x0) as u32;
-    wire_color(style, span, i).unwrap_or_else(|| shaded(style.color, shade_level(span, i)))
+    wire_color(style, span, i).unwrap_or_else(|| shaded(style.color, span_level(span, i)))
 }
 
 /// The wireframe's colour when column `i` of `span` lies on a drawn edge.
@@ -376,8 +375,8 @@ fn wire_color(style: &Style, span: &Span, i: u32) -> Option<Rgb888> {
 }
 
 /// The shade of column `i` of `span` as a level from 0 to 255.
-fn shade_level(span: &Span, i: u32) -> u32 {
-    (span.shade.at(i).clamp(0.0, 1.0) * 255.0 + 0.5) as u32
+fn span_level(span: &Span, i: u32) -> u32 {
+    shade_level(span.shade.at(i))
 }
 
 /// Colour `c` at shade level `level` (0 to 255).

@@ -187,8 +187,7 @@ impl ListSink<'_, '_, '_> {
 impl TriangleSink for ListSink<'_, '_, '_> {
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
         if self.admit() {
-            let corners = corners.map(|c| self.setup.corner(c));
-            let inside = corners.iter().all(|c| self.setup.inside(c));
+            let (corners, inside) = self.setup.corners(corners);
             self.take(patch, corners, inside);
         }
     }

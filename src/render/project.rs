@@ -96,6 +96,14 @@ impl<'a> Setup<'a> {
         self.frustum.contains(v.view)
     }
 
+    /// A triangle's [`corner`](Self::corner)s, and whether all three are
+    /// [`inside`](Self::inside): what [`project`](Self::project) takes.
+    pub fn corners(&self, corners: [&Vertex; 3]) -> ([ClipVertex; 3], bool) {
+        let corners = corners.map(|c| self.corner(c));
+        let inside = corners.iter().all(|c| self.inside(c));
+        (corners, inside)
+    }
+
     /// Hands `out` the screen triangles of a triangle, its corners as
     /// [`corner`](Self::corner) gives them, after clipping (none, one, or a fan), with the
     /// edges to draw as wireframe (`wire[i]` for the edge opposite corner `i`). `inside` tells
@@ -222,7 +230,13 @@ pub(super) fn quantize_shade(shade: f32) -> f32 {
 
 /// The level of [`quantize_shade`], `0..=255`.
 pub(super) fn shade_to_u8(shade: f32) -> u8 {
-    (shade.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+    // At most 255: the narrowing is exact.
+    shade_level(shade) as u8
+}
+
+/// [`shade_to_u8`] as a `u32` (a palette index, with no narrowing to pay per pixel).
+pub(super) fn shade_level(shade: f32) -> u32 {
+    (shade.clamp(0.0, 1.0) * 255.0 + 0.5) as u32
 }
 
 /// A level as a shade in `[0, 1]`.

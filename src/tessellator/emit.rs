@@ -254,8 +254,8 @@ impl PatchView<'_, '_, '_> {
         };
         // The domain mesh lists every triangle from its smallest point on
         // (`DomainMesh::triangles`): the canonical order the patterns are cut in.
-        let (vr, pr) = (v, v.map(|id| self.point_of(id)));
-        // Ring side s runs vr[s] -> vr[s+1]: the edge opposite vr[s+2].
+        let pr = v.map(|id| self.point_of(id));
+        // Ring side s runs v[s] -> v[s+1]: the edge opposite v[s+2].
         let edge_of = |s: usize| (s + 2) % 3;
         // Nothing refined in or around the patch: every factor is 1 (as `emit`'s fast path).
         let (nf, e) = if self.tess.storage.patches[self.p].factor <= 1 {
@@ -264,7 +264,7 @@ impl PatchView<'_, '_, '_> {
             let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
             (self.factor(t), e)
         };
-        let corner = [0, 1, 2].map(|k| self.vertex(vr[k]));
+        let corner = v.map(|id| self.vertex(id));
         if nf == 1 && e == [1; 3] {
             // Unrefined: the triangle itself (what the pattern of factor 1 gives).
             let same =
@@ -652,8 +652,6 @@ impl<'m, 's> Tessellator<'m, 's> {
                     if view.hidden(t) {
                         continue;
                     }
-                    // From the smallest point on, as `DomainMesh::triangles` lists them.
-                    let vr = v;
                     let node = |id: u16| -> Option<u32> {
                         match view.vertex(id) {
                             Point::Node(n) => Some(n),
@@ -661,7 +659,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                         }
                     };
                     // On a collapsed edge two corners are one node: the triangle is flat.
-                    let nodes = vr.map(|id| {
+                    let nodes = v.map(|id| {
                         (id < 4 || view.point_of(id).on_boundary())
                             .then(|| node(id))
                             .flatten()
@@ -674,7 +672,8 @@ impl<'m, 's> Tessellator<'m, 's> {
                         continue;
                     }
                     if let Some(ts) = ts_out.as_mut() {
-                        ts[triangles as usize] = vr.map(|id| I::from_index(vidx[id as usize]));
+                        // From the smallest point on, as `DomainMesh::triangles` lists them.
+                        ts[triangles as usize] = v.map(|id| I::from_index(vidx[id as usize]));
                     }
                     triangles += 1;
                 }
