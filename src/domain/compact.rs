@@ -17,14 +17,14 @@ impl<'a> DomainMesh<'a> {
         let nt = self.triangle_count;
         let mut high = self.triangles.len();
         for low in 0..nt {
-            if self.triangles[low].alive {
+            if self.triangles[low].is_live() {
                 continue;
             }
             // As many live slots lie after `nt` as free ones before it.
             let mut from = None;
             while high > nt {
                 high -= 1;
-                if self.triangles[high].alive {
+                if self.triangles[high].is_live() {
                     from = Some(high as u16);
                     break;
                 }
@@ -36,13 +36,13 @@ impl<'a> DomainMesh<'a> {
         let nv = self.vertex_count;
         let mut high = self.vertices.len();
         for low in 0..nv {
-            if self.vertices[low].alive {
+            if self.vertices[low].is_live() {
                 continue;
             }
             let mut from = None;
             while high > nv {
                 high -= 1;
-                if self.vertices[high].alive {
+                if self.vertices[high].is_live() {
                     from = Some(high as u16);
                     break;
                 }
@@ -70,14 +70,12 @@ impl<'a> DomainMesh<'a> {
         let (nv, nt) = (self.vertex_count, self.triangle_count);
         let last = self.vertices.len();
         for (k, slot) in self.vertices.iter_mut().enumerate().skip(nv) {
-            *slot = MeshVertex::default();
-            slot.link = if k + 1 < last { k as u16 + 1 } else { NONE };
+            *slot = MeshVertex::free(if k + 1 < last { k as u16 + 1 } else { NONE });
         }
         self.free_vertex = if nv < last { nv as u16 } else { NONE };
         let last = self.triangles.len();
         for (k, slot) in self.triangles.iter_mut().enumerate().skip(nt) {
-            *slot = MeshTriangle::default();
-            slot.n[0] = if k + 1 < last { k as u16 + 1 } else { NONE };
+            *slot = MeshTriangle::free(if k + 1 < last { k as u16 + 1 } else { NONE });
         }
         self.free_triangle = if nt < last { nt as u16 } else { NONE };
         self.hint = 0;

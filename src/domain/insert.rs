@@ -10,7 +10,7 @@ impl DomainMesh<'_> {
     /// A live triangle containing `p` (inside or on its boundary).
     pub(super) fn locate(&self, p: GridPoint) -> u16 {
         let mut t = self.hint;
-        if !self.triangles.get(t as usize).is_some_and(|x| x.alive) {
+        if !self.triangles.get(t as usize).is_some_and(|x| x.is_live()) {
             t = self.first_live_triangle();
         }
         // A visibility walk terminates in a Delaunay triangulation; the bound only guards
@@ -36,13 +36,13 @@ impl DomainMesh<'_> {
     }
 
     fn first_live_triangle(&self) -> u16 {
-        self.triangles.iter().position(|t| t.alive).unwrap_or(0) as u16
+        self.triangles.iter().position(|t| t.is_live()).unwrap_or(0) as u16
     }
 
     fn scan_for(&self, p: GridPoint) -> u16 {
         (0..self.triangles.len() as u16)
             .find(|&t| {
-                self.triangles[t as usize].alive && {
+                self.triangles[t as usize].is_live() && {
                     let [a, b, c] = self.tri_points(t);
                     orient(b, c, p) >= 0 && orient(c, a, p) >= 0 && orient(a, b, p) >= 0
                 }

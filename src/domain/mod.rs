@@ -37,59 +37,83 @@ const NONE: u16 = u16::MAX;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-/// One vertex slot of a [`DomainMesh`].
+/// One vertex slot of a [`DomainMesh`] (6 bytes).
 pub struct MeshVertex {
+    /// Its point; for a free slot, `u` is the next free slot.
     point: GridPoint,
-    /// An incident triangle; for a free slot, the next free slot.
+    /// An incident triangle; `NONE` marks a free slot (a live vertex always has one).
     link: u16,
-    alive: bool,
 }
 
 impl MeshVertex {
+    /// A free slot, chained to free slot `next` (`NONE`: the last).
+    fn free(next: u16) -> Self {
+        MeshVertex {
+            point: GridPoint { u: next, v: 0 },
+            link: NONE,
+        }
+    }
+
+    /// Whether the slot holds a vertex.
+    fn is_live(&self) -> bool {
+        self.link != NONE
+    }
+
     /// The point of a live slot.
     pub(crate) fn live_point(&self) -> Option<GridPoint> {
-        self.alive.then_some(self.point)
+        self.is_live().then_some(self.point)
+    }
+
+    /// The point of a slot known to be live (a corner of a live triangle); meaningless for a
+    /// free slot.
+    pub(crate) fn corner_point(&self) -> GridPoint {
+        self.point
     }
 }
 
 impl Default for MeshVertex {
     fn default() -> Self {
-        MeshVertex {
-            point: GridPoint::default(),
-            link: NONE,
-            alive: false,
-        }
+        MeshVertex::free(NONE)
     }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-/// One triangle slot of a [`DomainMesh`].
+/// One triangle slot of a [`DomainMesh`] (12 bytes).
 pub struct MeshTriangle {
-    /// Vertices, counter-clockwise.
+    /// Vertices, counter-clockwise; `NONE` in a free slot (a vertex slot number is always
+    /// below `NONE`).
     v: [u16; 3],
     /// `n[i]`: the triangle across the edge opposite `v[i]`; for a free slot `n[0]` is the
     /// next free slot.
     n: [u16; 3],
-    alive: bool,
 }
 
 impl MeshTriangle {
+    /// A free slot, chained to free slot `next` (`NONE`: the last).
+    fn free(next: u16) -> Self {
+        MeshTriangle {
+            v: [NONE; 3],
+            n: [next, NONE, NONE],
+        }
+    }
+
+    /// Whether the slot holds a triangle.
+    fn is_live(&self) -> bool {
+        self.v[0] != NONE
+    }
+
     /// Vertices (counter-clockwise) and neighbours (`n[i]` across the edge opposite `v[i]`,
     /// `None` on the square's boundary) of a live slot.
     pub(crate) fn live_parts(&self) -> Option<([u16; 3], [Option<u16>; 3])> {
-        self.alive
+        self.is_live()
             .then(|| (self.v, self.n.map(|n| (n != NONE).then_some(n))))
     }
 }
 
 impl Default for MeshTriangle {
     fn default() -> Self {
-        MeshTriangle {
-            v: [NONE; 3],
-            n: [NONE; 3],
-            alive: false,
-        }
+        MeshTriangle::free(NONE)
     }
 }
 
@@ -302,12 +326,10 @@ impl<'a> DomainMesh<'a> {
         ];
         let (nv, nt) = (vertices.len(), triangles.len());
         for (k, slot) in vertices.iter_mut().enumerate() {
-            *slot = MeshVertex::default();
-            slot.link = if k + 1 < nv { k as u16 + 1 } else { NONE };
+            *slot = MeshVertex::free(if k + 1 < nv { k as u16 + 1 } else { NONE });
         }
         for (k, slot) in triangles.iter_mut().enumerate() {
-            *slot = MeshTriangle::default();
-            slot.n[0] = if k + 1 < nt { k as u16 + 1 } else { NONE };
+            *slot = MeshTriangle::free(if k + 1 < nt { k as u16 + 1 } else { NONE });
         }
         let mut mesh = DomainMesh {
             vertices,
@@ -356,7 +378,7 @@ impl<'a> DomainMesh<'a> {
     /// The point of vertex `id`, or `None` if it is not live.
     pub fn point(&self, id: u16) -> Option<GridPoint> {
         let v = self.vertices.get(id as usize)?;
-        v.alive.then_some(v.point)
+        v.live_point()
     }
 
     /// Live vertices with their points.
@@ -364,7 +386,7 @@ impl<'a> DomainMesh<'a> {
         self.vertices
             .iter()
             .enumerate()
-            .filter(|(_, v)| v.alive)
+            .filter(|(_, v)| v.is_live())
             .map(|(k, v)| (k as u16, v.point))
     }
 
@@ -372,7 +394,7 @@ impl<'a> DomainMesh<'a> {
     /// in `(u, v)` order: a triangle's corner order depends on its points alone, not on the
     /// history of the mesh.
     pub fn triangles(&self) -> impl Iterator<Item = [u16; 3]> + '_ {
-        self.triangles.iter().filter(|t| t.alive).map(|t| t.v)
+        self.triangles.iter().filter(|t| t.is_live()).map(|t| t.v)
     }
 
     /// Live triangles with, for each, the triangle across the edge opposite each vertex
@@ -383,7 +405,7 @@ impl<'a> DomainMesh<'a> {
         self.triangles
             .iter()
             .enumerate()
-            .filter(|(_, t)| t.alive)
+            .filter(|(_, t)| t.is_live())
             .map(|(k, t)| (k as u16, t.v, t.n.map(|n| (n != NONE).then_some(n))))
     }
 
@@ -401,14 +423,14 @@ impl<'a> DomainMesh<'a> {
     /// The counter-clockwise vertices of the triangle in slot `slot`, or `None` if it is free.
     pub fn triangle(&self, slot: u16) -> Option<[u16; 3]> {
         let t = self.triangles.get(slot as usize)?;
-        t.alive.then_some(t.v)
+        t.is_live().then_some(t.v)
     }
 
     /// The slots of the triangles around vertex `id`, counter-clockwise (empty if `id` is not
     /// live). After an insertion these are exactly the triangles it created.
     pub fn star(&self, id: u16) -> Star<'_, 'a> {
         let start = match self.vertices.get(id as usize) {
-            Some(v) if v.alive => self.star_start(id),
+            Some(v) if v.is_live() => self.star_start(id),
             _ => NONE,
         };
         Star {
@@ -458,12 +480,9 @@ impl<'a> DomainMesh<'a> {
     fn take_vertex(&mut self, p: GridPoint) -> u16 {
         let id = self.free_vertex;
         let slot = &mut self.vertices[id as usize];
-        self.free_vertex = slot.link;
-        *slot = MeshVertex {
-            point: p,
-            link: NONE,
-            alive: true,
-        };
+        self.free_vertex = slot.point.u;
+        // Live from here; the split that follows links it to a triangle of its own.
+        *slot = MeshVertex { point: p, link: 0 };
         self.vertex_count += 1;
         id
     }
@@ -472,21 +491,14 @@ impl<'a> DomainMesh<'a> {
         let id = self.free_triangle;
         let slot = &mut self.triangles[id as usize];
         self.free_triangle = slot.n[0];
-        *slot = MeshTriangle {
-            v: [NONE; 3],
-            n: [NONE; 3],
-            alive: true,
-        };
+        // Free (its vertices `NONE`) until the caller sets them, right after.
+        *slot = MeshTriangle::default();
         self.triangle_count += 1;
         id
     }
 
     fn free_triangle(&mut self, t: u16) {
-        self.triangles[t as usize] = MeshTriangle {
-            v: [NONE; 3],
-            n: [self.free_triangle, NONE, NONE],
-            alive: false,
-        };
+        self.triangles[t as usize] = MeshTriangle::free(self.free_triangle);
         self.free_triangle = t;
         self.triangle_count -= 1;
     }

@@ -2,8 +2,7 @@
 //! (two on the boundary), which merge into one (Devillers).
 
 use super::{
-    after, before, in_circle, index_of, orient, DomainMesh, GridPoint, MeshVertex, RemoveError,
-    RimEdge, NONE,
+    after, before, in_circle, index_of, orient, DomainMesh, MeshVertex, RemoveError, RimEdge, NONE,
 };
 
 impl DomainMesh<'_> {
@@ -17,7 +16,7 @@ impl DomainMesh<'_> {
         if id < 4 {
             return Err(RemoveError::Corner);
         }
-        if !self.vertices.get(id as usize).is_some_and(|v| v.alive) {
+        if !self.vertices.get(id as usize).is_some_and(|v| v.is_live()) {
             return Err(RemoveError::NotAVertex);
         }
         let boundary = self.pt(id).on_boundary();
@@ -181,11 +180,7 @@ impl DomainMesh<'_> {
     }
 
     fn free_vertex_slot(&mut self, id: u16) {
-        self.vertices[id as usize] = MeshVertex {
-            point: GridPoint::default(),
-            link: self.free_vertex,
-            alive: false,
-        };
+        self.vertices[id as usize] = MeshVertex::free(self.free_vertex);
         self.free_vertex = id;
         self.vertex_count -= 1;
     }

@@ -108,9 +108,7 @@ pub(super) struct PatchView<'t, 'm, 's> {
 
 impl PatchView<'_, '_, '_> {
     fn point_of(&self, id: u16) -> GridPoint {
-        self.tess.storage.vertices[self.vo + id as usize]
-            .live_point()
-            .unwrap_or_default()
+        self.tess.storage.vertices[self.vo + id as usize].corner_point()
     }
 
     fn triangle(&self, t: usize) -> Option<([u16; 3], [Option<u16>; 3])> {

@@ -341,11 +341,7 @@ impl Tessellator<'_, '_> {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
                 };
-                let corners = v.map(|id| {
-                    self.storage.vertices[vo + id as usize]
-                        .live_point()
-                        .unwrap_or_default()
-                });
+                let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
                 let near_extra = corners
                     .iter()
                     .any(|&q| side_of(q).is_some_and(|s| extra[s.index()]));
@@ -517,11 +513,7 @@ impl Tessellator<'_, '_> {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
                 };
-                let corners = v.map(|id| {
-                    self.storage.vertices[vo + id as usize]
-                        .live_point()
-                        .unwrap_or_default()
-                });
+                let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
                 let state = &mut self.storage.triangle_states[to + t];
                 let f = state.factor.max(1);
                 if plain {
@@ -682,11 +674,7 @@ impl Tessellator<'_, '_> {
         let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
             return;
         };
-        let corners = v.map(|id| {
-            self.storage.vertices[vo + id as usize]
-                .live_point()
-                .unwrap_or_default()
-        });
+        let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
         let b = self.bound_of(p, &patch, corners, stats);
         let state = &mut self.storage.triangle_states[to + t];
         state.threshold = threshold(view, tol, &b);
