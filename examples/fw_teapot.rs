@@ -301,6 +301,17 @@ fn main() -> std::process::ExitCode {
         core::mem::size_of_val(&data::TEAPOT_POINTS)
             + core::mem::size_of_val(&data::TEAPOT_HEADERS)
     );
+    println!(
+        "fw_teapot (host): sizing pool_vertices {} pool_triangles {} bounds {} list_entries {} \
+         list_entry {} band_rows {} width {}",
+        teapot::POOL_VERTICES,
+        teapot::POOL_TRIANGLES,
+        teapot::BOUNDS,
+        teapot::LIST,
+        core::mem::size_of::<ScreenTriangle>(),
+        teapot::BAND_ROWS,
+        teapot::WIDTH
+    );
     if ok {
         std::process::ExitCode::SUCCESS
     } else {
