@@ -117,7 +117,7 @@ impl PatchView<'_, '_, '_> {
 
     /// Whether triangle `t` is off the view this frame (not written).
     fn hidden(&self, t: usize) -> bool {
-        self.tess.storage.triangle_states[self.to + t].hidden
+        self.tess.storage.triangle_states[self.to + t].hidden()
     }
 
     pub(super) fn factor(&self, t: usize) -> u8 {
@@ -209,12 +209,12 @@ impl PatchView<'_, '_, '_> {
     /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
     pub(super) fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
         let own = self.factor(t);
-        let asked = |t: usize, i: usize| self.tess.storage.triangle_states[self.to + t].split[i];
+        let asked = |t: usize, i: usize| self.tess.storage.triangle_states[self.to + t].asked(i);
         match n[i] {
             Some(nb) => {
                 let nb = nb as usize;
                 // The neighbour's side of the same edge (looked up only when it asks).
-                let asks = self.tess.storage.triangle_states[self.to + nb].split != [0; 3];
+                let asks = self.tess.storage.triangle_states[self.to + nb].halves();
                 let back = asks
                     .then(|| self.triangle(nb))
                     .flatten()

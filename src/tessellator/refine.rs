@@ -349,17 +349,17 @@ impl Tessellator<'_, '_> {
                 state.threshold = slot.c;
                 state.pieces = slot.recorded;
                 state.pattern = [0; 4];
-                state.split = [0; 3];
+                state.set_split([0; 3]);
                 let needs = exhausted || near_extra;
-                state.judged = needs;
-                state.hidden = false;
+                state.set_judged(needs);
+                state.set_hidden(false);
                 // Off the view (with its surface piece): not written in a refined frame.
                 let hide = refine && !slot.inside;
                 state.margin = slot.recorded;
                 if hide && !needs {
                     let points = self.bound_entry(p, corners).corner_points(&patch);
-                    self.storage.triangle_states[to + t].hidden =
-                        view.triangle_scale(points, slot.recorded).1;
+                    let hidden = view.triangle_scale(points, slot.recorded).1;
+                    self.storage.triangle_states[to + t].set_hidden(hidden);
                 }
                 let f = if needs {
                     // A bound at hand: the whole patch's curvature term, and the recorded
@@ -377,7 +377,7 @@ impl Tessellator<'_, '_> {
                     state.pieces = pieces;
                     // (An infinite threshold: the triangle, within the bound that judged
                     // it, is off the view.)
-                    state.hidden = hide && c == f32::INFINITY;
+                    state.set_hidden(hide && c == f32::INFINITY);
                     state.margin = own_bound.map_or(pieces, |(b, _)| b.bound());
                     slot.error_ratio = math::max(slot.error_ratio, pieces / c);
                     // Cut in four, the pieces may sit far below the threshold: a halving is
@@ -393,7 +393,7 @@ impl Tessellator<'_, '_> {
                     };
                     match cheaper {
                         Some(split) => {
-                            self.storage.triangle_states[to + t].split = split;
+                            self.storage.triangle_states[to + t].set_split(split);
                             // (The patch is refined: no fast path for it.)
                             slot.factor = slot.factor.max(2);
                             1
@@ -507,7 +507,7 @@ impl Tessellator<'_, '_> {
             let plain = curve_factor <= 1
                 && (0..tc).all(|t| {
                     let state = &self.storage.triangle_states[to + t];
-                    state.factor <= 1 && state.split.iter().all(|&s| s <= 1)
+                    state.factor <= 1 && !state.halves()
                 });
             for t in 0..tc {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
@@ -535,7 +535,7 @@ impl Tessellator<'_, '_> {
                         let b = self.bound_of(p, &patch, corners, stats);
                         self.storage.triangle_states[to + t].threshold = threshold(view, tol, &b);
                         bound = Some(b);
-                    } else if !self.storage.triangle_states[to + t].judged {
+                    } else if !self.storage.triangle_states[to + t].judged() {
                         let points = self.bound_entry(p, corners).corner_points(&patch);
                         let own = own_threshold(view, tol, points, slot.recorded);
                         self.storage.triangle_states[to + t].threshold = math::max(slot.c, own);
@@ -597,10 +597,7 @@ impl Tessellator<'_, '_> {
                         if allow_raise && worst > c && f < max {
                             // Pieces shrink about as the factor grows.
                             let grow = libm::ceilf(f as f32 * sqrt(worst / c));
-                            let bisected = self.storage.triangle_states[to + t]
-                                .split
-                                .iter()
-                                .any(|&s| s > 1);
+                            let bisected = self.storage.triangle_states[to + t].halves();
                             let next = if f == 1 && bisected {
                                 // A halving that was not enough: the uniform cut its own
                                 // bound chose.

@@ -107,8 +107,8 @@ pub struct CurveSlot {
 }
 
 /// One domain triangle's state in the current frame: its refinement factor and the bounds
-/// that judged it (storage slot; contents are private). Every frame writes it afresh for
-/// every live triangle, so it keeps nothing from one frame to the next (what does is in
+/// that judged it (storage slot, 20 bytes; contents are private). Every frame writes it afresh
+/// for every live triangle, so it keeps nothing from one frame to the next (what does is in
 /// [`BoundSlot`]s).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriangleSlot {
@@ -116,18 +116,11 @@ pub struct TriangleSlot {
     pub(super) factor: u8,
     /// The factor a round of agreement raises it to, applied when the round ends (0: none).
     pub(super) pending: u8,
-    /// Whether it was judged on its own bounds this frame (else it is a baked prefix
-    /// triangle within the recorded bound).
-    pub(super) judged: bool,
-    /// Whether it lies wholly outside the view this frame, with its surface piece: it is not
-    /// written (refined frames only).
-    pub(super) hidden: bool,
+    /// [`JUDGED`], [`HIDDEN`], and the edges to halve ([`HALVED`] shifted by the edge).
+    flags: u8,
     /// The factor and edge factors of the non-uniform pattern `pieces` bounds this frame
     /// (zeros when none).
     pub(super) pattern: [u8; 4],
-    /// Factors its edges (edge `i` opposite corner `i`) are asked to take this frame beyond
-    /// the triangle's own: a bisection where a uniform cut would overshoot (0 when none).
-    pub(super) split: [u8; 3],
     /// Bound of every piece it is cut into in the current frame, in object units.
     pub(super) pieces: f32,
     /// Its threshold in the current frame (object units): its own where it was judged on its
@@ -137,6 +130,71 @@ pub struct TriangleSlot {
     /// bound): its surface piece, and every flat piece it is cut into, lie within it of the
     /// flat triangle of its corners' surface points.
     pub(super) margin: f32,
+}
+
+/// [`TriangleSlot`] flag: it was judged on its own bounds this frame (else it is a baked
+/// prefix triangle within the recorded bound).
+const JUDGED: u8 = 1;
+/// [`TriangleSlot`] flag: it lies wholly outside the view this frame, with its surface piece,
+/// and is not written (refined frames only).
+const HIDDEN: u8 = 2;
+/// [`TriangleSlot`] flag, shifted left by `i`: edge `i` (opposite corner `i`) is asked to be
+/// halved this frame beyond the triangle's own factor (a bisection where a uniform cut would
+/// overshoot).
+const HALVED: u8 = 4;
+
+impl TriangleSlot {
+    fn set_flag(&mut self, flag: u8, on: bool) {
+        if on {
+            self.flags |= flag;
+        } else {
+            self.flags &= !flag;
+        }
+    }
+
+    /// Whether it was judged on its own bounds this frame.
+    pub(super) fn judged(&self) -> bool {
+        self.flags & JUDGED != 0
+    }
+
+    /// Sets [`TriangleSlot::judged`].
+    pub(super) fn set_judged(&mut self, on: bool) {
+        self.set_flag(JUDGED, on);
+    }
+
+    /// Whether it is off the view this frame (not written).
+    pub(super) fn hidden(&self) -> bool {
+        self.flags & HIDDEN != 0
+    }
+
+    /// Sets [`TriangleSlot::hidden`].
+    pub(super) fn set_hidden(&mut self, on: bool) {
+        self.set_flag(HIDDEN, on);
+    }
+
+    /// The factor edge `i` (opposite corner `i`) is asked to take this frame beyond the
+    /// triangle's own: 2 for a halved edge, 0 for none.
+    pub(super) fn asked(&self, i: usize) -> u8 {
+        if self.flags & (HALVED << i) != 0 {
+            2
+        } else {
+            0
+        }
+    }
+
+    /// Whether any edge is asked to be halved.
+    pub(super) fn halves(&self) -> bool {
+        self.flags & (HALVED * 7) != 0
+    }
+
+    /// Asks edge `i` to be halved where `split[i]` is 2, and nothing of the others (a split
+    /// holds only 0 and 2: see `refine::halving`).
+    pub(super) fn set_split(&mut self, split: [u8; 3]) {
+        for (i, &f) in split.iter().enumerate() {
+            debug_assert!(f == 0 || f == 2, "a split halves an edge or leaves it");
+            self.set_flag(HALVED << i, f > 1);
+        }
+    }
 }
 
 /// Storage sizes a [`Tessellator`](super::Tessellator) needs for a baked model.
@@ -314,3 +372,33 @@ impl fmt::Display for TessellatorError {
 }
 
 impl core::error::Error for TessellatorError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::mem::size_of;
+
+    #[test]
+    fn pool_slots_are_as_small_as_documented() {
+        assert_eq!(size_of::<MeshVertex>(), 6);
+        assert_eq!(size_of::<MeshTriangle>(), 12);
+        assert_eq!(size_of::<TriangleSlot>(), 20);
+    }
+
+    #[test]
+    fn flags_keep_apart() {
+        let mut s = TriangleSlot::default();
+        assert!(!s.judged() && !s.hidden() && !s.halves());
+        s.set_split([0, 2, 2]);
+        s.set_hidden(true);
+        assert_eq!([0, 1, 2].map(|i| s.asked(i)), [0, 2, 2]);
+        assert!(s.halves() && s.hidden() && !s.judged());
+        s.set_judged(true);
+        s.set_split([2, 0, 0]);
+        s.set_hidden(false);
+        assert_eq!([0, 1, 2].map(|i| s.asked(i)), [2, 0, 0]);
+        assert!(s.halves() && !s.hidden() && s.judged());
+        s.set_split([0; 3]);
+        assert!(!s.halves() && s.judged());
+    }
+}
