@@ -17,7 +17,7 @@
 //!
 //! ```text
 //! fw_teapot: frame K triangles T update_instructions U render_instructions R pixels_pushed P bit-identical
-//! fw_teapot: frame K render listed L passes N windows W
+//! fw_teapot: frame K render listed L list_slots S passes N windows W pixels_drawn D
 //! ```
 //!
 //! and at the end the RAM in bytes: the tessellator storage, the bands (depth and colour), the
@@ -59,7 +59,7 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::RgbColor;
 use spi_display::SpiDisplay;
 use spline_tess::bake::BakedModel;
-use spline_tess::render::ScreenTriangle;
+use spline_tess::render::ListSlot;
 use spline_tess::{PatchSet, Tessellator};
 
 /// One frame's measurements (the instruction counts are printed by the firmware only).
@@ -72,6 +72,7 @@ struct Measured {
     pushed: u32,
     windows: u32,
     listed: u32,
+    list_slots: u32,
     passes: u32,
     mesh_vertices: u32,
     mesh_triangles: u32,
@@ -86,13 +87,13 @@ const STORAGE_BYTES: usize = core::mem::size_of::<teapot::Storage>();
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const BAND_BYTES: usize = teapot::BAND * (2 + core::mem::size_of::<Rgb565>());
 #[cfg_attr(fw_quiet, allow(dead_code))]
-const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ScreenTriangle>();
+const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ListSlot>();
 
 /// The caller buffers of the renderer.
 struct Buffers {
     depth: [u16; teapot::BAND],
     colors: [Rgb565; teapot::BAND],
-    list: [ScreenTriangle; teapot::LIST],
+    list: [ListSlot; teapot::LIST],
 }
 
 /// Updates and draws frame `k`. Not inlined, so that its stack (and its callees') is
@@ -124,6 +125,7 @@ fn frame(
         pushed: display.pixels_pushed(),
         windows: display.windows,
         listed: drawn.listed,
+        list_slots: drawn.list_slots,
         passes: drawn.passes,
         mesh_vertices: stats.mesh_vertices as u32,
         mesh_triangles: stats.mesh_triangles as u32,
@@ -154,7 +156,7 @@ fn run(
     let mut buffers = Buffers {
         depth: [0; teapot::BAND],
         colors: [Rgb565::BLACK; teapot::BAND],
-        list: [ScreenTriangle::default(); teapot::LIST],
+        list: [ListSlot::default(); teapot::LIST],
     };
     let mut display = SpiDisplay::new(teapot::WIDTH, teapot::HEIGHT);
     let mut all = true;
@@ -217,9 +219,10 @@ mod device {
                         if _ok { "bit-identical" } else { "DIFFERENT" }
                     );
                     hprintln!(
-                        "fw_teapot: frame {} render listed {} passes {} windows {} pixels_drawn {}",
+                        "fw_teapot: frame {} render listed {} list_slots {} passes {} windows {} pixels_drawn {}",
                         _k,
                         _m.listed,
+                        _m.list_slots,
                         _m.passes,
                         _m.windows,
                         _m.pixels
@@ -251,12 +254,13 @@ fn main() -> std::process::ExitCode {
         |k, m, ok| {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
-                 listed {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} {}",
+                 listed {} list_slots {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
                 m.pushed,
                 m.listed,
+                m.list_slots,
                 m.passes,
                 m.mesh_vertices,
                 m.mesh_triangles,
@@ -302,13 +306,13 @@ fn main() -> std::process::ExitCode {
             + core::mem::size_of_val(&data::TEAPOT_HEADERS)
     );
     println!(
-        "fw_teapot (host): sizing pool_vertices {} pool_triangles {} bounds {} list_entries {} \
-         list_entry {} band_rows {} width {}",
+        "fw_teapot (host): sizing pool_vertices {} pool_triangles {} bounds {} list_capacity {} \
+         list_slot {} band_rows {} width {}",
         teapot::POOL_VERTICES,
         teapot::POOL_TRIANGLES,
         teapot::BOUNDS,
         teapot::LIST,
-        core::mem::size_of::<ScreenTriangle>(),
+        core::mem::size_of::<ListSlot>(),
         teapot::BAND_ROWS,
         teapot::WIDTH
     );

@@ -32,7 +32,7 @@ use common::obj::{frame_faces, write_obj};
 use common::runtime_storage::RuntimeStorage;
 use embedded_graphics::pixelcolor::Rgb888;
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
-use spline_tess::render::{Renderer, ScreenTriangle, Shading, Style, Wireframe};
+use spline_tess::render::{ListSlot, Renderer, Shading, Style, Wireframe};
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
@@ -194,8 +194,9 @@ fn run() -> Result<(), String> {
     };
     let [w, h] = args.size;
     let mut depth = vec![0u16; (w * BAND) as usize];
-    // Room for the frames' projected triangles, so that each is projected once per frame.
-    let mut list = vec![ScreenTriangle::default(); 1 << 17];
+    // Room for the frames' projected triangles (a list uses at most 65,535 slots, about 36,000
+    // triangles), so that each is projected once per frame.
+    let mut list = vec![ListSlot::default(); 1 << 16];
     let mut thumbnails = Vec::new();
     for (k, (eye, distance)) in path(args.frames, center, radius).into_iter().enumerate() {
         let camera = Camera::new(

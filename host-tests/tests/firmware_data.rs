@@ -273,7 +273,7 @@ mod spi_display;
 fn fw_teapot_frames() -> Vec<[u32; 3]> {
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::prelude::RgbColor;
-    use spline_tess::render::ScreenTriangle;
+    use spline_tess::render::ListSlot;
     with_firmware_bake(|patches, baked| {
         assert!(fw_teapot::Storage::covers(
             &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
@@ -289,12 +289,12 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
         let tess = &mut tess;
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
-        let mut list = vec![ScreenTriangle::default(); fw_teapot::LIST];
+        let mut list = vec![ListSlot::default(); fw_teapot::LIST];
         let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
         (0..fw_teapot::FRAMES.len())
             .map(|f| {
                 let stats = fw_teapot::update(tess, f).expect("frame updates");
-                let mut draw = |list: &mut [ScreenTriangle]| {
+                let mut draw = |list: &mut [ListSlot]| {
                     let drawn =
                         fw_teapot::render(tess, f, &mut depth, &mut colors, list, &mut display)
                             .expect("frame draws");

@@ -25,7 +25,7 @@ use host_tests::runtime::{indexed, RuntimeStorage};
 use host_tests::{models_dir, Rng};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::render::{
-    IndexedMesh, RenderError, Renderer, ScreenTriangle, Shading, Style, TriangleSource, Wireframe,
+    IndexedMesh, ListSlot, RenderError, Renderer, Shading, Style, TriangleSource, Wireframe,
 };
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
@@ -667,7 +667,7 @@ fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
         let expected: Vec<Rgb888> = framebuffer.color.iter().map(|c| c.unwrap_or(bg)).collect();
 
         let mut colors = vec![Rgb888::BLACK; (w * 16) as usize];
-        let mut banded = |list: &mut [ScreenTriangle], rows: u32| {
+        let mut banded = |list: &mut [ListSlot], rows: u32| {
             let mut depth = vec![0u16; (w * rows) as usize];
             let mut target = Windows {
                 counting: Counting::new(w, h),
@@ -703,11 +703,19 @@ fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
             "eye {eye:?}: bands differ from the framebuffer"
         );
 
-        let mut list = vec![ScreenTriangle::default(); 20_000];
+        let mut list = vec![ListSlot::default(); 20_000];
         let (listed, from_list) = banded(&mut list, 16);
         assert_eq!(listed.passes, 1, "eye {eye:?}: one pass with a list");
         let frame = tess.mesh_size().triangles as u32;
         assert!(listed.listed > 0 && listed.listed >= frame / 2);
+        // Triangles share their corners' slots: well under the four slots each would take
+        // with corners of its own.
+        assert!(
+            listed.list_slots <= 2 * listed.listed,
+            "eye {eye:?}: {} slots for {} triangles",
+            listed.list_slots,
+            listed.listed
+        );
         assert!(
             from_list == expected,
             "eye {eye:?}: the list draws differently"

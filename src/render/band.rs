@@ -10,7 +10,7 @@ use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
 use super::clip::ClipVertex;
-use super::list::{ScreenTriangle, SubpixelRows};
+use super::list::{listed_triangles, ListSlot, SubpixelRows};
 use super::project::{shade_level, CornerCache, Setup};
 use super::raster::{Span, Triangle};
 use super::{RenderStats, Style};
@@ -290,10 +290,11 @@ impl<O: BandOutput> Band<'_, '_, O> {
         });
     }
 
-    /// Draws the triangles of `list` that reach the band, in order.
-    pub fn draw_list(&mut self, list: &[ScreenTriangle]) {
+    /// Draws the triangles in the first `front` slots of `list` (its groups and triangles)
+    /// that reach the band, in order.
+    pub fn draw_list(&mut self, list: &[ListSlot], front: usize) {
         let rows = SubpixelRows::new(&self.rows());
-        for t in list {
+        for t in listed_triangles(list, front, &rows) {
             if t.meets(&rows) {
                 if let Some(tri) = t.triangle() {
                     self.rasterise(&tri);

@@ -1,89 +1,197 @@
-//! The frame's triangle list: every screen triangle of a frame, projected once and packed in
-//! 22 bytes, so that the bands rasterise from it instead of asking the source again.
+//! The frame's triangle list: every screen triangle of a frame, projected once and kept in
+//! 8-byte slots, so that the bands rasterise from it instead of asking the source again.
+//!
+//! A triangle takes one slot at the front of the list: the slots of its three corners, its
+//! wireframe edges and, with flat shading, its shade. A corner takes one slot at the back:
+//! its position at 1/16 pixel in `i16`, its depth key and its shade. Triangles that share a
+//! corner share its slot: a corner is looked up by value in a small hash table before it is
+//! added. At the front, triangles come in groups of at most [`GROUP`] of one patch, each
+//! after a header slot with their count and the subpixel rows they span, so that a band skips
+//! the groups that miss it without looking at their corners. On a tessellated mesh a frame of
+//! `T` triangles takes about `1.8 T` slots (about 14 bytes a triangle), where three corners
+//! of its own would take 28.
 
 use super::clip::ClipVertex;
 use super::project::{
     depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8, CornerCache, Setup,
 };
 use super::raster::{snap_checked, ScreenVertex, Triangle, HALF, SUBPIXELS};
+use super::Shading;
 use crate::sink::{TriangleSink, Vertex};
 
-/// A triangle after projection, as the frame's triangle list keeps it: corners at 1/16 pixel
-/// in `i16`, depth keys in `u16`, shades in `u8` and the wireframe edges in one byte (22
-/// bytes). See [`Renderer::with_triangle_list`](super::Renderer::with_triangle_list).
+/// One slot of the frame's triangle list (8 bytes): a screen triangle or one of its corners
+/// (see [`Renderer::with_triangle_list`](super::Renderer::with_triangle_list) and the module
+/// docs).
 ///
 /// Its contents are private; `Default` gives an empty slot to build the caller's buffer from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ScreenTriangle {
-    x: [i16; 3],
-    y: [i16; 3],
-    depth: [u16; 3],
-    shade: [u8; 3],
-    wire: u8,
-}
+pub struct ListSlot([u16; 4]);
 
-impl ScreenTriangle {
-    /// Packs a projected triangle; `None` when a corner does not fit the 1/16-pixel `i16`
-    /// range (beyond about ±2,047 pixels) or is not finite.
-    pub(super) fn pack(v: &[ScreenVertex; 3], wire: [bool; 3]) -> Option<ScreenTriangle> {
-        let fit = |c: f32| {
-            let s = snap_checked(c)?;
-            i16::try_from(s).ok()
-        };
-        let mut t = ScreenTriangle::default();
-        for i in 0..3 {
-            t.x[i] = fit(v[i].xy[0])?;
-            t.y[i] = fit(v[i].xy[1])?;
-            t.depth[i] = depth_to_u16(v[i].depth);
-            t.shade[i] = shade_to_u8(v[i].shade);
-            t.wire |= (wire[i] as u8) << i;
-        }
-        Some(t)
+/// A triangle slot's last word: wireframe edges in bits 0 to 2, [`FLAT`], the shade level in
+/// the high byte.
+const FLAT: u16 = 1 << 3;
+
+/// Triangles in a group, at most.
+const GROUP: u16 = 64;
+
+/// Slots a list uses at most: corner numbers are `u16`.
+const MAX_SLOTS: usize = u16::MAX as usize;
+
+impl ListSlot {
+    /// A corner: `x`, `y` on the 1/16-pixel grid, its depth key and shade level.
+    fn corner(x: i16, y: i16, depth: u16, shade: u8) -> ListSlot {
+        ListSlot([x as u16, y as u16, depth, shade as u16])
     }
 
-    /// The corners and wireframe edges as they were packed (positions on the 1/16-pixel
-    /// grid, depth and shade as [`project`](super::project) rounds them).
-    #[cfg(test)]
-    pub(super) fn unpack(&self) -> ([ScreenVertex; 3], [bool; 3]) {
-        let sub = 1.0 / SUBPIXELS as f32;
-        let v = [0, 1, 2].map(|i| ScreenVertex {
-            xy: [self.x[i] as f32 * sub, self.y[i] as f32 * sub],
-            depth: depth_from_u16(self.depth[i]),
-            shade: shade_from_u8(self.shade[i]),
-        });
-        (v, [0, 1, 2].map(|i| self.wire & (1 << i) != 0))
+    /// A corner slot's `y`, in subpixels.
+    fn y(&self) -> i16 {
+        self.0[1] as i16
     }
 
-    /// The triangle ready for scan conversion (as [`Triangle::new`] sets up the unpacked
-    /// corners); `None` when it has no area.
-    pub(super) fn triangle(&self) -> Option<Triangle> {
-        let wide = |c: [i16; 3]| c.map(i64::from);
-        Triangle::from_snapped(
-            wide(self.x),
-            wide(self.y),
-            self.depth.map(depth_from_u16),
-            self.shade.map(shade_from_u8),
-            [0, 1, 2].map(|i| self.wire & (1 << i) != 0),
+    /// A corner slot as the rasteriser takes it: `x`, `y` in subpixels, depth key, shade.
+    fn unpack_corner(&self) -> (i64, i64, f32, f32) {
+        let [x, y, depth, shade] = self.0;
+        (
+            x as i16 as i64,
+            y as i16 as i64,
+            depth_from_u16(depth),
+            shade_from_u8(shade as u8),
         )
     }
 
+    /// A triangle over corner slots `corners`, with wireframe edges `wire` and, when
+    /// `flat` holds a level, that one shade for the whole triangle.
+    fn triangle(corners: [u16; 3], wire: [bool; 3], flat: Option<u8>) -> ListSlot {
+        let mut meta = wire[0] as u16 | (wire[1] as u16) << 1 | (wire[2] as u16) << 2;
+        if let Some(level) = flat {
+            meta |= FLAT | (level as u16) << 8;
+        }
+        ListSlot([corners[0], corners[1], corners[2], meta])
+    }
+
+    /// A group header: no triangles yet, an empty span of rows.
+    fn empty_group() -> ListSlot {
+        ListSlot([0, i16::MAX as u16, i16::MIN as u16, 0])
+    }
+
+    /// A group header's triangle count.
+    fn group_len(&self) -> usize {
+        self.0[0] as usize
+    }
+
+    /// Counts one more triangle, with corner rows `y`, in a group header.
+    fn group_add(&mut self, y: [i16; 3]) {
+        let [count, top, bottom, _] = &mut self.0;
+        *count += 1;
+        let (lo, hi) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
+        *top = (*top as i16).min(lo) as u16;
+        *bottom = (*bottom as i16).max(hi) as u16;
+    }
+
+    /// Whether a group header's triangles may cover a pixel centre of the rows `rows`
+    /// stands for.
+    fn group_meets(&self, rows: &SubpixelRows) -> bool {
+        rows.meet(self.0[1] as i16, self.0[2] as i16)
+    }
+
+    /// A triangle slot's corner slots in `list` (`None` past its end: never for a list this
+    /// module wrote).
+    fn corners_in<'l>(&self, list: &'l [ListSlot]) -> Option<[&'l ListSlot; 3]> {
+        let [a, b, c, _] = self.0;
+        Some([
+            list.get(a as usize)?,
+            list.get(b as usize)?,
+            list.get(c as usize)?,
+        ])
+    }
+
+    /// A triangle slot ready for scan conversion, with its corner slots `corners`; `None`
+    /// when it has no area.
+    fn raster_triangle(&self, corners: [&ListSlot; 3]) -> Option<Triangle> {
+        let meta = self.0[3];
+        let c = corners.map(ListSlot::unpack_corner);
+        let shade = if meta & FLAT != 0 {
+            [shade_from_u8((meta >> 8) as u8); 3]
+        } else {
+            c.map(|c| c.3)
+        };
+        Triangle::from_snapped(
+            c.map(|c| c.0),
+            c.map(|c| c.1),
+            c.map(|c| c.2),
+            shade,
+            [0, 1, 2].map(|i| meta & (1 << i) != 0),
+        )
+    }
+}
+
+/// The triangles in the first `front` slots of `list` (a list this module filled) whose
+/// group may meet `rows`, each with its corners.
+pub(super) fn listed_triangles<'l>(
+    list: &'l [ListSlot],
+    front: usize,
+    rows: &SubpixelRows,
+) -> impl Iterator<Item = ListedTriangle<'l>> + 'l {
+    let front = list.get(..front).unwrap_or(&[]);
+    let rows = *rows;
+    let mut at = 0;
+    core::iter::from_fn(move || {
+        let header = front.get(at)?;
+        let n = header.group_len();
+        let group = front.get(at + 1..at + 1 + n).unwrap_or(&[]);
+        at += 1 + n;
+        Some(if header.group_meets(&rows) {
+            group
+        } else {
+            &[]
+        })
+    })
+    .flatten()
+    .filter_map(move |t| {
+        Some(ListedTriangle {
+            slot: t,
+            corners: t.corners_in(list)?,
+        })
+    })
+}
+
+/// A triangle of the list with its corner slots.
+pub(super) struct ListedTriangle<'l> {
+    slot: &'l ListSlot,
+    corners: [&'l ListSlot; 3],
+}
+
+impl ListedTriangle<'_> {
+    /// The triangle ready for scan conversion (as [`Triangle::new`] sets up the same
+    /// corners); `None` when it has no area.
+    pub fn triangle(&self) -> Option<Triangle> {
+        self.slot.raster_triangle(self.corners)
+    }
+
     /// Whether it may cover a pixel centre of the rows `rows` stands for.
-    pub(super) fn meets(&self, rows: &SubpixelRows) -> bool {
-        let [a, b, c] = self.y;
-        a.min(b).min(c) as i32 <= rows.top_max && a.max(b).max(c) as i32 >= rows.bottom_min
+    pub fn meets(&self, rows: &SubpixelRows) -> bool {
+        let [a, b, c] = self.corners.map(ListSlot::y);
+        rows.meet(a.min(b).min(c), a.max(b).max(c))
     }
 }
 
 /// Pixel rows `first..end` as limits on a triangle's highest and lowest corner, in
 /// subpixels: a triangle covers no centre of those rows when its top lies below the last
 /// row's centre or its bottom above the first row's centre.
+#[derive(Clone, Copy)]
 pub(super) struct SubpixelRows {
     top_max: i32,
     bottom_min: i32,
 }
 
 impl SubpixelRows {
+    /// Whether something from subpixel row `top` down to `bottom` may cover a pixel centre
+    /// of these rows.
+    fn meet(&self, top: i16, bottom: i16) -> bool {
+        top as i32 <= self.top_max && bottom as i32 >= self.bottom_min
+    }
+
     pub fn new(rows: &core::ops::Range<i32>) -> Self {
         let (sub, half) = (SUBPIXELS as i32, HALF as i32);
         SubpixelRows {
@@ -92,6 +200,9 @@ impl SubpixelRows {
         }
     }
 }
+
+/// Entries of the table that finds a corner already in the list by its value.
+const SHARED: usize = 256;
 
 /// The sink that fills the list from one pass over the source.
 ///
@@ -102,12 +213,22 @@ impl SubpixelRows {
 /// given up (`overflow`) and every band streams the whole frame.
 pub(super) struct ListSink<'a, 'b, 'c> {
     pub setup: &'a Setup<'a>,
-    pub list: &'b mut [ScreenTriangle],
+    list: &'b mut [ListSlot],
+    /// Group and triangle slots in use: `0..len`.
     pub len: usize,
+    /// Triangles listed.
+    pub listed: u32,
+    /// The slot of the open group's header, if one is open.
+    group: Option<usize>,
+    /// Corner slots in use: `top..` the list's usable end.
+    top: usize,
+    /// Corner slots by a hash of their value (`u16::MAX`: none).
+    shared: [u16; SHARED],
     /// Triangles handed over by the source.
     pub handed: u32,
-    /// The patch of the last triangle, and where its triangles start in the list.
-    current: Option<(u32, usize)>,
+    /// The patch of the last triangle, where its groups and corners start in the list, and the
+    /// triangles listed before it.
+    current: Option<(u32, usize, usize, u32)>,
     /// Whether the patches came in increasing order so far.
     increasing: bool,
     /// The first patch the list does not hold.
@@ -121,13 +242,18 @@ pub(super) struct ListSink<'a, 'b, 'c> {
 impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
     pub fn new(
         setup: &'a Setup<'a>,
-        list: &'b mut [ScreenTriangle],
+        list: &'b mut [ListSlot],
         corners: &'c mut CornerCache,
     ) -> Self {
+        let end = list.len().min(MAX_SLOTS);
         ListSink {
             setup,
-            list,
+            list: &mut list[..end],
             len: 0,
+            listed: 0,
+            group: None,
+            top: end,
+            shared: [u16::MAX; SHARED],
             handed: 0,
             current: None,
             increasing: true,
@@ -146,36 +272,106 @@ impl ListSink<'_, '_, '_> {
         self.open()
     }
 
+    /// Slots in use: the groups', the triangles' and the corners'.
+    pub fn used(&self) -> usize {
+        self.len + (self.list.len() - self.top)
+    }
+
     /// Whether the list is neither given up nor cut at a patch.
     fn open(&self) -> bool {
         !self.overflow && self.resume.is_none()
     }
 
+    /// The slot of a corner with value `value`: one already in the list, or a new one
+    /// (`None`: no room left beside the triangle slot `self.len`).
+    fn corner_slot(&mut self, value: ListSlot) -> Option<u16> {
+        let [x, y, d, s] = value.0;
+        let h = (x as u32 | (y as u32) << 16) ^ (d as u32 | (s as u32) << 16).rotate_left(7);
+        let entry = (h.wrapping_mul(0x9e37_79b1) >> 24) as usize % SHARED;
+        let known = self.shared[entry] as usize;
+        if known >= self.top && self.list.get(known) == Some(&value) {
+            return Some(known as u16);
+        }
+        if self.top <= self.len + 1 {
+            return None;
+        }
+        self.top -= 1;
+        self.list[self.top] = value;
+        self.shared[entry] = self.top as u16;
+        Some(self.top as u16)
+    }
+
+    /// Adds one projected triangle; false when it does not fit (nothing is added then).
+    fn push(&mut self, v: &[ScreenVertex; 3], wire: [bool; 3]) -> bool {
+        let fit = |c: f32| i16::try_from(snap_checked(c)?).ok();
+        let flat = self.setup.style.shading == Shading::Flat;
+        let mut values = [ListSlot::default(); 3];
+        let mut y = [0i16; 3];
+        for ((value, v), y) in values.iter_mut().zip(v).zip(&mut y) {
+            let (Some(x), Some(row)) = (fit(v.xy[0]), fit(v.xy[1])) else {
+                return false;
+            };
+            // With flat shading the triangle holds the shade (its corners share a slot).
+            let shade = if flat { 0 } else { shade_to_u8(v.shade) };
+            *value = ListSlot::corner(x, row, depth_to_u16(v.depth), shade);
+            *y = row;
+        }
+        let (len, top, group) = (self.len, self.top, self.group);
+        let header = match self.group {
+            Some(g) if self.list[g].group_len() < GROUP as usize => g,
+            _ => {
+                if self.len >= self.top {
+                    return false;
+                }
+                self.list[self.len] = ListSlot::empty_group();
+                self.group = Some(self.len);
+                self.len += 1;
+                self.len - 1
+            }
+        };
+        let mut corners = [0u16; 3];
+        for (slot, value) in corners.iter_mut().zip(values) {
+            match self.corner_slot(value) {
+                Some(s) => *slot = s,
+                None => {
+                    (self.len, self.top, self.group) = (len, top, group);
+                    return false;
+                }
+            }
+        }
+        let level = flat.then(|| shade_to_u8(v[0].shade));
+        self.list[self.len] = ListSlot::triangle(corners, wire, level);
+        self.len += 1;
+        self.listed += 1;
+        self.list[header].group_add(y);
+        true
+    }
+
     /// Lists one admitted triangle, its corners in view space (`inside`: all inside the clip
     /// planes).
     fn take(&mut self, patch: u32, corners: [ClipVertex; 3], inside: bool) {
-        match self.current {
-            Some((p, _)) if p == patch => {}
-            Some((p, _)) if p > patch => {
+        let started = match self.current {
+            Some((p, ..)) if p == patch => None,
+            Some((p, ..)) if p > patch => {
                 self.increasing = false;
-                self.current = Some((patch, self.len));
+                Some(patch)
             }
-            _ => self.current = Some((patch, self.len)),
+            _ => Some(patch),
+        };
+        if let Some(patch) = started {
+            // A patch starts a group of its own, so that a cut at its start cuts no group.
+            self.group = None;
+            self.current = Some((patch, self.len, self.top, self.listed));
         }
         let mut fits = true;
         self.setup.project(corners, inside, |v, wire| {
-            match (ScreenTriangle::pack(&v, wire), self.list.get_mut(self.len)) {
-                (Some(t), Some(slot)) if fits => {
-                    *slot = t;
-                    self.len += 1;
-                }
-                _ => fits = false,
-            }
+            fits = fits && self.push(&v, wire);
         });
         if !fits {
             match self.current {
-                Some((p, start)) if self.increasing => {
-                    self.len = start;
+                Some((p, len, top, listed)) if self.increasing => {
+                    (self.len, self.top, self.listed) = (len, top, listed);
+                    self.group = None;
                     self.resume = Some(p);
                 }
                 _ => self.overflow = true,
@@ -245,21 +441,44 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_packed_triangle_is_22_bytes() {
-        assert_eq!(core::mem::size_of::<ScreenTriangle>(), 22);
+    fn a_slot_is_8_bytes() {
+        assert_eq!(core::mem::size_of::<ListSlot>(), 8);
     }
 
     #[test]
-    fn packing_keeps_the_snapped_corners_and_rows() {
+    fn slots_keep_the_snapped_corners_and_rows() {
         let v = |x: f32, y: f32| ScreenVertex {
             xy: [x, y],
             depth: 300.0,
             shade: super::super::project::quantize_shade(0.2),
         };
+        let fit = |c: f32| i16::try_from(snap_checked(c).unwrap()).unwrap();
         let corners = [v(0.5, 0.49), v(10.25, 3.0), v(-4.0, 20.97)];
-        let t = ScreenTriangle::pack(&corners, [true, false, true]).unwrap();
-        let (back, wire) = t.unpack();
-        assert_eq!(wire, [true, false, true]);
+        // A group of one triangle, then its corners.
+        let mut list = [ListSlot::default(); 5];
+        let mut y = [0; 3];
+        for (k, c) in corners.iter().enumerate() {
+            let level = shade_to_u8(c.shade);
+            y[k] = fit(c.xy[1]);
+            list[2 + k] = ListSlot::corner(fit(c.xy[0]), y[k], 300, level);
+        }
+        let wire = [true, false, true];
+        list[0] = ListSlot::empty_group();
+        list[0].group_add(y);
+        list[1] = ListSlot::triangle([2, 3, 4], wire, None);
+        fn first_of(list: &[ListSlot]) -> Option<ListedTriangle<'_>> {
+            listed_triangles(list, 2, &SubpixelRows::new(&(-100..100))).next()
+        }
+        let listed = first_of(&list).unwrap();
+        let sub = 1.0 / SUBPIXELS as f32;
+        let back = [2, 3, 4].map(|k| {
+            let (x, y, depth, shade) = list[k].unpack_corner();
+            ScreenVertex {
+                xy: [x as f32 * sub, y as f32 * sub],
+                depth,
+                shade,
+            }
+        });
         for (a, b) in corners.iter().zip(&back) {
             assert_eq!(snap_checked(a.xy[0]), snap_checked(b.xy[0]));
             assert_eq!(snap_checked(a.xy[1]), snap_checked(b.xy[1]));
@@ -269,27 +488,38 @@ mod tests {
         let [first, last] = tri.rows();
         for r in first - 3..=last + 3 {
             let inside = (first..=last).contains(&r);
-            assert_eq!(t.meets(&SubpixelRows::new(&(r..r + 1))), inside, "row {r}");
+            let one = SubpixelRows::new(&(r..r + 1));
+            assert_eq!(listed.meets(&one), inside, "row {r}");
+            // The group spans the same rows as its one triangle.
+            assert_eq!(list[0].group_meets(&one), inside, "row {r}");
+            assert_eq!(listed_triangles(&list, 2, &one).count(), inside as usize);
             for end in r + 1..r + 4 {
                 let meets = first < end && last >= r;
                 assert_eq!(
-                    t.meets(&SubpixelRows::new(&(r..end))),
+                    listed.meets(&SubpixelRows::new(&(r..end))),
                     meets,
                     "rows {r}..{end}"
                 );
             }
         }
-        let direct = t.triangle().unwrap();
+        let direct = listed.triangle().unwrap();
         assert_eq!(direct.rows(), tri.rows());
         for r in first..=last {
             assert_eq!(direct.span(r, -50..50), tri.span(r, -50..50));
         }
-        assert!(
-            ScreenTriangle::pack(&[v(0.0, 0.0), v(2100.0, 0.0), v(0.0, 1.0)], [false; 3]).is_none()
-        );
-        assert!(
-            ScreenTriangle::pack(&[v(0.0, 0.0), v(f32::NAN, 0.0), v(0.0, 1.0)], [false; 3])
-                .is_none()
-        );
+        // A flat triangle takes its shade from its own slot.
+        list[1] = ListSlot::triangle([2, 3, 4], wire, Some(200));
+        let flat = first_of(&list).unwrap().triangle().unwrap();
+        let mut shaded = back;
+        for c in &mut shaded {
+            c.shade = shade_from_u8(200);
+        }
+        let expected = Triangle::new(shaded, wire).unwrap();
+        for r in first..=last {
+            assert_eq!(flat.span(r, -50..50), expected.span(r, -50..50));
+        }
+        // A corner slot past the list's end: the triangle is left out, not a panic.
+        list[1] = ListSlot::triangle([2, 3, 9], wire, None);
+        assert!(first_of(&list).is_none());
     }
 }

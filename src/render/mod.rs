@@ -15,8 +15,8 @@
 //!
 //! Triangles come from a [`TriangleSource`]. With a caller triangle list
 //! ([`Renderer::with_triangle_list`]), the source is asked once per frame and every triangle is
-//! projected once and kept in 22 bytes ([`ScreenTriangle`]); each band rasterises from the
-//! list. Without one (or when the frame does not fit it), each band asks the source for the
+//! projected once and kept in 8-byte [`ListSlot`]s (one for the triangle, one for each corner
+//! not shared with a triangle before it); each band rasterises from the list. Without one (or when the frame does not fit it), each band asks the source for the
 //! triangles that may reach it: a [`Tessellator`](crate::Tessellator) streams them straight
 //! from its domain meshes, evaluating their vertices again, so no mesh buffer is needed. An
 //! [`IndexedMesh`] draws what [`write_mesh`](crate::Tessellator::write_mesh) wrote. Both ways
@@ -90,7 +90,7 @@ use embedded_graphics::primitives::Rectangle;
 use crate::view::Camera;
 use band::{Band, BandOutput, BandPixels, Buffered, Rgb565Be, Runs, Typed};
 use list::ListSink;
-pub use list::ScreenTriangle;
+pub use list::ListSlot;
 use project::{CornerCache, Setup};
 pub use source::{IndexedMesh, TriangleSource};
 
@@ -230,6 +230,8 @@ pub struct RenderStats {
     /// Screen triangles kept in the triangle list (0 when there was none). When the list
     /// holds only part of the frame, the rest is streamed band by band (`passes` counts them).
     pub listed: u32,
+    /// Slots of the triangle list they take, theirs and their corners' (see [`ListSlot`]).
+    pub list_slots: u32,
     /// Triangle pixels that passed the depth test (a pixel nearer than an earlier one counts
     /// again).
     pub pixels: u32,
@@ -257,7 +259,8 @@ pub struct RenderStats {
 /// Without a triangle list, every band asks its source again for the triangles that may reach
 /// it (a [`Tessellator`](crate::Tessellator) evaluates their vertices again). With one
 /// ([`with_triangle_list`](Self::with_triangle_list)), the source is asked once per frame:
-/// each triangle is projected once, kept in 22 bytes, and every band rasterises from the list.
+/// each triangle is projected once, kept in 8 bytes plus 8 for each corner it does not share
+/// with a triangle before it, and every band rasterises from the list.
 /// When the frame has more triangles than the list holds, the list keeps the whole patches that
 /// fit and every band streams the rest from the source (a source that does not hand its
 /// patches in increasing order is then streamed whole, band by band, and
@@ -265,7 +268,7 @@ pub struct RenderStats {
 #[derive(Debug)]
 pub struct Renderer<'d> {
     depth: &'d mut [u16],
-    list: &'d mut [ScreenTriangle],
+    list: &'d mut [ListSlot],
 }
 
 /// The drawn area and its bands.
@@ -287,16 +290,19 @@ impl<'d> Renderer<'d> {
     }
 
     /// A renderer over `depth` that keeps each frame's projected triangles in `list` (see
-    /// the type's docs). The teapot at 240x240 and 1 px needs about 1,300 entries.
+    /// the type's docs): a slot per triangle and one per distinct corner, about 1.8 slots a
+    /// triangle on a tessellated mesh, and one per patch. The teapot at 240x240 and 1 px
+    /// (1,230 triangles) takes about 2,100 slots. At most 65,535 slots are used (a corner's
+    /// slot number is a `u16`).
     ///
     /// ```
-    /// use spline_tess::render::{Renderer, ScreenTriangle};
+    /// use spline_tess::render::{ListSlot, Renderer};
     /// let mut depth = [0u16; 240 * 16];
-    /// let mut list = [ScreenTriangle::default(); 256];
+    /// let mut list = [ListSlot::default(); 512];
     /// let renderer = Renderer::with_triangle_list(&mut depth, &mut list);
     /// # let _ = renderer;
     /// ```
-    pub fn with_triangle_list(depth: &'d mut [u16], list: &'d mut [ScreenTriangle]) -> Self {
+    pub fn with_triangle_list(depth: &'d mut [u16], list: &'d mut [ListSlot]) -> Self {
         Renderer { depth, list }
     }
 
@@ -523,7 +529,8 @@ impl<'d> Renderer<'d> {
             stats.triangles += sink.handed;
             if !sink.overflow {
                 listed = Some((sink.len, sink.resume));
-                stats.listed = sink.len as u32;
+                stats.listed = sink.listed;
+                stats.list_slots = sink.used() as u32;
             }
         }
         let mut top = y0;
@@ -549,7 +556,7 @@ impl<'d> Renderer<'d> {
             let rows = top as u32..bottom as u32;
             match listed {
                 Some((n, resume)) => {
-                    band.draw_list(self.list.get(..n).unwrap_or(&[]));
+                    band.draw_list(self.list, n);
                     if let Some(first) = resume {
                         band.stats.passes += 1;
                         let mut rest = list::Remaining {

@@ -3,8 +3,8 @@
 //!
 //! Corners leave here with their depth key rounded to an integer in `0..=65535` and their
 //! shade rounded to a multiple of 1/255 (the rasteriser snaps positions to 1/16 pixel itself).
-//! That is exactly what a [`ScreenTriangle`](super::ScreenTriangle) can hold, so a triangle drawn
-//! straight from the source and one kept in the frame's triangle list give the same pixels.
+//! That is exactly what a [`ListSlot`](super::ListSlot) can hold, so a triangle drawn straight
+//! from the source and one kept in the frame's triangle list give the same pixels.
 
 use glam::Vec3;
 
