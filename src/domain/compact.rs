@@ -65,22 +65,6 @@ impl<'a> DomainMesh<'a> {
         mesh
     }
 
-    /// Chains the slots after the live counts as the free lists (the live ones come first).
-    fn chain_free_slots(&mut self) {
-        let (nv, nt) = (self.vertex_count, self.triangle_count);
-        let last = self.vertices.len();
-        for (k, slot) in self.vertices.iter_mut().enumerate().skip(nv) {
-            *slot = MeshVertex::free(if k + 1 < last { k as u16 + 1 } else { NONE });
-        }
-        self.free_vertex = if nv < last { nv as u16 } else { NONE };
-        let last = self.triangles.len();
-        for (k, slot) in self.triangles.iter_mut().enumerate().skip(nt) {
-            *slot = MeshTriangle::free(if k + 1 < last { k as u16 + 1 } else { NONE });
-        }
-        self.free_triangle = if nt < last { nt as u16 } else { NONE };
-        self.hint = 0;
-    }
-
     /// Moves live triangle `from` to free slot `to`.
     fn move_triangle(&mut self, from: u16, to: u16) {
         let tri = self.triangles[from as usize];

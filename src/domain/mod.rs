@@ -324,13 +324,6 @@ impl<'a> DomainMesh<'a> {
             GridPoint::new(m, m),
             GridPoint::new(0, m),
         ];
-        let (nv, nt) = (vertices.len(), triangles.len());
-        for (k, slot) in vertices.iter_mut().enumerate() {
-            *slot = MeshVertex::free(if k + 1 < nv { k as u16 + 1 } else { NONE });
-        }
-        for (k, slot) in triangles.iter_mut().enumerate() {
-            *slot = MeshTriangle::free(if k + 1 < nt { k as u16 + 1 } else { NONE });
-        }
         let mut mesh = DomainMesh {
             vertices,
             triangles,
@@ -341,6 +334,8 @@ impl<'a> DomainMesh<'a> {
             hint: 0,
             metric,
         };
+        // Every slot free (no live ones before them).
+        mesh.chain_free_slots();
         for c in corners {
             mesh.take_vertex(c);
         }
@@ -475,6 +470,22 @@ impl<'a> DomainMesh<'a> {
 
     fn tri_points(&self, t: u16) -> [GridPoint; 3] {
         self.triangles[t as usize].v.map(|v| self.pt(v))
+    }
+
+    /// Chains the slots after the live counts as the free lists (the live ones come first).
+    fn chain_free_slots(&mut self) {
+        let (nv, nt) = (self.vertex_count, self.triangle_count);
+        let last = self.vertices.len();
+        for (k, slot) in self.vertices.iter_mut().enumerate().skip(nv) {
+            *slot = MeshVertex::free(if k + 1 < last { k as u16 + 1 } else { NONE });
+        }
+        self.free_vertex = if nv < last { nv as u16 } else { NONE };
+        let last = self.triangles.len();
+        for (k, slot) in self.triangles.iter_mut().enumerate().skip(nt) {
+            *slot = MeshTriangle::free(if k + 1 < last { k as u16 + 1 } else { NONE });
+        }
+        self.free_triangle = if nt < last { nt as u16 } else { NONE };
+        self.hint = 0;
     }
 
     fn take_vertex(&mut self, p: GridPoint) -> u16 {

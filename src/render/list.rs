@@ -33,7 +33,7 @@ pub struct ListSlot([u16; 4]);
 const FLAT: u16 = 1 << 3;
 
 /// Triangles in a group, at most.
-const GROUP: u16 = 64;
+const GROUP: usize = 64;
 
 /// Slots a list uses at most: corner numbers are `u16`.
 const MAX_SLOTS: usize = u16::MAX as usize;
@@ -318,7 +318,7 @@ impl ListSink<'_, '_, '_> {
         }
         let (len, top, group) = (self.len, self.top, self.group);
         let header = match self.group {
-            Some(g) if self.list[g].group_len() < GROUP as usize => g,
+            Some(g) if self.list[g].group_len() < GROUP => g,
             _ => {
                 if self.len >= self.top {
                     return false;
