@@ -339,6 +339,11 @@ impl ListSink<'_, '_, '_> {
                 }
             }
         }
+        // (Corners all found in the list take no room: the triangle's slot may still not.)
+        if self.len >= self.top {
+            (self.len, self.top, self.group) = (len, top, group);
+            return false;
+        }
         let level = flat.then(|| shade_to_u8(v[0].shade));
         self.list[self.len] = ListSlot::triangle(corners, wire, level);
         self.len += 1;
@@ -443,6 +448,47 @@ mod tests {
     #[test]
     fn a_slot_is_8_bytes() {
         assert_eq!(core::mem::size_of::<ListSlot>(), 8);
+    }
+
+    /// A triangle whose corners are all in the list already still needs its own slot: a full
+    /// list refuses it and keeps its corners (it once wrote over the lowest corner slot).
+    #[test]
+    fn a_full_list_refuses_a_triangle_of_shared_corners() {
+        use crate::view::{Camera, Projection};
+        use glam::Vec3;
+        let camera = Camera::new(
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Orthographic { height: 4.0 },
+            0.1,
+            [32, 32],
+        )
+        .unwrap();
+        let style = super::super::Style::default();
+        let setup = Setup::new(&camera, None, &style);
+        let mut corners = CornerCache::new();
+        let v = |x: f32, y: f32| ScreenVertex {
+            xy: [x, y],
+            depth: 300.0,
+            shade: super::super::project::quantize_shade(0.2),
+        };
+        let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
+        // A group header, two triangles and their three shared corners.
+        let mut list = [ListSlot::default(); 6];
+        let mut sink = ListSink::new(&setup, &mut list, &mut corners);
+        assert!(sink.push(&t, [false; 3]));
+        assert!(sink.push(&t, [false; 3]));
+        assert_eq!((sink.len, sink.used()), (3, 6));
+        assert!(!sink.push(&t, [false; 3]), "no slot left for a third");
+        assert_eq!((sink.len, sink.used(), sink.listed), (3, 6, 2));
+        let kept: [_; 3] = core::array::from_fn(|k| list[3 + k].unpack_corner());
+        for (k, c) in kept.iter().enumerate() {
+            assert!(t.iter().any(|s| snap_checked(s.xy[1]) == Some(c.1)), "{k}");
+        }
+        let all = SubpixelRows::new(&(-100..100));
+        let drawn = listed_triangles(&list, 3, &all).filter_map(|l| l.triangle());
+        assert_eq!(drawn.count(), 2);
     }
 
     #[test]
