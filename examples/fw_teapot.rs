@@ -77,6 +77,8 @@ struct Measured {
     mesh_vertices: u32,
     mesh_triangles: u32,
     prefix_scale: f32,
+    max_error: f32,
+    patches_without_states: u32,
     update: u64,
     render: u64,
 }
@@ -130,6 +132,8 @@ fn frame(
         mesh_vertices: stats.mesh_vertices as u32,
         mesh_triangles: stats.mesh_triangles as u32,
         prefix_scale: stats.prefix_scale,
+        max_error: stats.max_predicted_error,
+        patches_without_states: stats.patches_without_states as u32,
         update: t1.saturating_sub(t0),
         render: t2.saturating_sub(t1),
     })
@@ -254,7 +258,8 @@ fn main() -> std::process::ExitCode {
         |k, m, ok| {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
-                 listed {} list_slots {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} {}",
+                 listed {} list_slots {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} \
+                 bound_px {:.3} patches_without_states {} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
@@ -265,6 +270,8 @@ fn main() -> std::process::ExitCode {
                 m.mesh_vertices,
                 m.mesh_triangles,
                 m.prefix_scale,
+                m.max_error,
+                m.patches_without_states,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )
         },
@@ -283,7 +290,8 @@ fn main() -> std::process::ExitCode {
                 + n.curves * size_of::<CurveSlot>()
                 + n.curve_order * 2
                 + n.vertices * size_of::<MeshVertex>()
-                + n.triangles * (size_of::<MeshTriangle>() + size_of::<TriangleSlot>())
+                + n.triangles * size_of::<MeshTriangle>()
+                + n.triangle_states * size_of::<TriangleSlot>()
                 + n.bounds * size_of::<BoundSlot>()
                 + n.vertex_points * size_of::<PointSlot>()
                 + n.scratch * 4
@@ -306,10 +314,11 @@ fn main() -> std::process::ExitCode {
             + core::mem::size_of_val(&data::TEAPOT_HEADERS)
     );
     println!(
-        "fw_teapot (host): sizing pool_vertices {} pool_triangles {} bounds {} list_capacity {} \
-         list_slot {} band_rows {} width {}",
+        "fw_teapot (host): sizing pool_vertices {} pool_triangles {} triangle_states {} bounds {} \
+         list_capacity {} list_slot {} band_rows {} width {}",
         teapot::POOL_VERTICES,
         teapot::POOL_TRIANGLES,
+        teapot::STATES,
         teapot::BOUNDS,
         teapot::LIST,
         core::mem::size_of::<ListSlot>(),

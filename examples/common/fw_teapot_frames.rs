@@ -38,6 +38,12 @@ pub const ORDER: usize = 364;
 pub const POOL_VERTICES: usize = 1024;
 /// The pool's triangle slots.
 pub const POOL_TRIANGLES: usize = 1536;
+/// Triangle states (20 bytes each), one per live triangle of the patches whose triangles a
+/// frame judges on their own or cuts. Frames 0 and 1 judge those of four patches, along
+/// sides holding curve samples their neighbours asked for (196 states); the near frames judge
+/// every patch's, and the patches that find no room stay uncut, within the bound the frame
+/// reports (`FrameStats::patches_without_states`).
+pub const STATES: usize = 224;
 /// Bound-cache entries (88 bytes each): the bounds the frames compute, kept for the next
 /// frames. Measured 2026-11-24 under QEMU, frame 1's update takes 1.08M instructions with 256
 /// entries, 1.10M with 64, 1.14M with 32 and 1.16M with none; frame 0 does not change. The
@@ -51,8 +57,17 @@ pub const POINTS: usize = 0;
 pub const SCRATCH: usize = 542;
 
 /// fw_teapot's tessellator storage.
-pub type Storage =
-    FixedStorage<PATCHES, CURVES, ORDER, POOL_VERTICES, POOL_TRIANGLES, BOUNDS, POINTS, SCRATCH>;
+pub type Storage = FixedStorage<
+    PATCHES,
+    CURVES,
+    ORDER,
+    POOL_VERTICES,
+    POOL_TRIANGLES,
+    STATES,
+    BOUNDS,
+    POINTS,
+    SCRATCH,
+>;
 
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.
 pub const FRAMES: [([f32; 3], f32, Shading, bool); 4] = [

@@ -116,7 +116,7 @@ pub struct Frame {
 
 /// The firmware's storage, in caller memory (on the device: the stack).
 pub type Storage =
-    FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, POINTS, SCRATCH>;
+    FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, TRIANGLES, BOUNDS, POINTS, SCRATCH>;
 
 /// A tessellator over `storage`, if its pool holds every baked step of `baked` (so the
 /// frames' triangles are the error-control figures'; the bound cache may be any size).

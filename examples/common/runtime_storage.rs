@@ -35,7 +35,7 @@ impl RuntimeStorage {
             order: vec![0; s.curve_order],
             vertices: vec![MeshVertex::default(); s.vertices],
             triangles: vec![MeshTriangle::default(); s.triangles],
-            states: vec![TriangleSlot::default(); s.triangles],
+            states: vec![TriangleSlot::default(); s.triangle_states],
             bounds: vec![BoundSlot::default(); s.bounds],
             points: vec![PointSlot::default(); s.vertex_points],
             scratch: vec![0; s.scratch],

@@ -31,6 +31,8 @@
 //! (BENCHMARKS.md), this leaves 4% of the written triangles with nothing on screen, from 29%.
 
 use super::pattern::{self, Local};
+use super::states::NO_STATES;
+use super::storage::TriangleSlot;
 use super::{along, common_side, Tessellator, CORNER_UV};
 use crate::domain::GridPoint;
 use crate::model::EdgeLink;
@@ -104,6 +106,11 @@ pub(super) struct PatchView<'t, 'm, 's> {
     tess: &'t Tessellator<'m, 's>,
     /// The view whose hidden pieces [`refine`](Self::refine) leaves out (none: every piece).
     hide: Option<View>,
+    /// Where its triangles' states start in the arena and how many there are, if it has
+    /// states (see `states`).
+    states: Option<(usize, usize)>,
+    /// The state of every triangle when it has none.
+    plain: TriangleSlot,
 }
 
 impl PatchView<'_, '_, '_> {
@@ -115,13 +122,21 @@ impl PatchView<'_, '_, '_> {
         self.tess.storage.triangles[self.to + t].live_parts()
     }
 
+    /// Triangle `t`'s state this frame.
+    fn state(&self, t: usize) -> &TriangleSlot {
+        match self.states {
+            Some((start, count)) if t < count => &self.tess.storage.triangle_states[start + t],
+            _ => &self.plain,
+        }
+    }
+
     /// Whether triangle `t` is off the view this frame (not written).
     fn hidden(&self, t: usize) -> bool {
-        self.tess.storage.triangle_states[self.to + t].hidden()
+        self.state(t).hidden()
     }
 
     pub(super) fn factor(&self, t: usize) -> u8 {
-        self.tess.storage.triangle_states[self.to + t].factor.max(1)
+        self.state(t).factor.max(1)
     }
 
     /// The node a collapsed side maps to.
@@ -209,12 +224,12 @@ impl PatchView<'_, '_, '_> {
     /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
     pub(super) fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
         let own = self.factor(t);
-        let asked = |t: usize, i: usize| self.tess.storage.triangle_states[self.to + t].asked(i);
+        let asked = |t: usize, i: usize| self.state(t).asked(i);
         match n[i] {
             Some(nb) => {
                 let nb = nb as usize;
                 // The neighbour's side of the same edge (looked up only when it asks).
-                let asks = self.tess.storage.triangle_states[self.to + nb].halves();
+                let asks = self.state(nb).halves();
                 let back = asks
                     .then(|| self.triangle(nb))
                     .flatten()
@@ -293,7 +308,7 @@ impl PatchView<'_, '_, '_> {
         // the margin (a piece's surface and flat triangle lie within it of the flat triangle
         // of its corners' barycentric combinations of `points`).
         let hide = self.hide.and_then(|view| {
-            let state = &self.tess.storage.triangle_states[self.to + t];
+            let state = self.state(t);
             let patch = self.tess.patches.patch(self.p)?;
             let points = self.tess.cached_corner_points(self.p, &patch, pr);
             // (With the rounding of the combinations.)
@@ -446,6 +461,9 @@ impl<'m, 's> Tessellator<'m, 's> {
             nodes: slot.nodes,
             tess: self,
             hide: None,
+            states: (slot.states != NO_STATES)
+                .then_some((slot.states as usize, slot.state_count as usize)),
+            plain: TriangleSlot::plain(slot.plain, slot.c),
         })
     }
 
@@ -847,7 +865,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             if view.hidden(t) {
                 continue;
             }
-            let bound = self.storage.triangle_states[view.to + t].pieces;
+            let bound = view.state(t).pieces;
             view.refine(
                 t,
                 |_| {},

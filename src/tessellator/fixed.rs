@@ -7,22 +7,23 @@ use super::{BoundSlot, PointSlot};
 use crate::domain::{MeshTriangle, MeshVertex};
 
 /// [`TessellatorStorage`] in arrays: `PATCHES` patch slots, `CURVES` curve slots, `ORDER`
-/// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, a bound
-/// cache of `BOUNDS` entries, a vertex cache of `POINTS` entries, and `SCRATCH` output
-/// scratch. [`FixedStorage::covers`] checks it against what a bake needs
+/// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, `STATES`
+/// triangle states, a bound cache of `BOUNDS` entries, a vertex cache of `POINTS` entries,
+/// and `SCRATCH` output scratch. [`FixedStorage::covers`] checks it against what a bake needs
 /// ([`StorageSize::minimum`]); a pool larger than that lets frames keep more baked steps.
 ///
 /// ```
 /// use spline_tess::tessellator::{FixedStorage, StorageSize};
 ///
-/// // Four patches with up to 16 curve samples each side, a pool for about 300 triangles, a
-/// // bound cache of 64 entries and a vertex cache for every vertex slot.
-/// type Storage = FixedStorage<4, 16, 256, 192, 320, 64, 192, 1024>;
+/// // Four patches with up to 16 curve samples each side, a pool for about 300 triangles,
+/// // states for 128 judged or cut triangles, a bound cache of 64 entries and a vertex cache
+/// // for every vertex slot.
+/// type Storage = FixedStorage<4, 16, 256, 192, 320, 128, 64, 192, 1024>;
 /// let mut storage = Storage::new();
 /// let slices = storage.as_storage();
 /// assert_eq!((slices.vertices.len(), slices.triangles.len()), (192, 320));
 /// let least = StorageSize { patches: 4, curves: 12, curve_order: 200, vertices: 16,
-///                           triangles: 8, bounds: 0, vertex_points: 0,
+///                           triangles: 8, triangle_states: 0, bounds: 0, vertex_points: 0,
 ///                           scratch: 900 };
 /// assert!(Storage::covers(&least));
 /// ```
@@ -33,6 +34,7 @@ pub struct FixedStorage<
     const ORDER: usize,
     const VERTICES: usize,
     const TRIANGLES: usize,
+    const STATES: usize,
     const BOUNDS: usize,
     const POINTS: usize,
     const SCRATCH: usize,
@@ -42,7 +44,7 @@ pub struct FixedStorage<
     order: [u16; ORDER],
     vertices: [MeshVertex; VERTICES],
     triangles: [MeshTriangle; TRIANGLES],
-    states: [TriangleSlot; TRIANGLES],
+    states: [TriangleSlot; STATES],
     bounds: [BoundSlot; BOUNDS],
     points: [PointSlot; POINTS],
     scratch: [u32; SCRATCH],
@@ -54,10 +56,11 @@ impl<
         const ORDER: usize,
         const VERTICES: usize,
         const TRIANGLES: usize,
+        const STATES: usize,
         const BOUNDS: usize,
         const POINTS: usize,
         const SCRATCH: usize,
-    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, POINTS, SCRATCH>
+    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, STATES, BOUNDS, POINTS, SCRATCH>
 {
     /// Empty storage.
     pub fn new() -> Self {
@@ -67,7 +70,7 @@ impl<
             order: [0; ORDER],
             vertices: [MeshVertex::default(); VERTICES],
             triangles: [MeshTriangle::default(); TRIANGLES],
-            states: [TriangleSlot::default(); TRIANGLES],
+            states: [TriangleSlot::default(); STATES],
             bounds: [BoundSlot::default(); BOUNDS],
             points: [PointSlot::default(); POINTS],
             scratch: [0; SCRATCH],
@@ -81,6 +84,7 @@ impl<
         curve_order: ORDER,
         vertices: VERTICES,
         triangles: TRIANGLES,
+        triangle_states: STATES,
         bounds: BOUNDS,
         vertex_points: POINTS,
         scratch: SCRATCH,
@@ -94,6 +98,7 @@ impl<
             && size.curve_order <= s.curve_order
             && size.vertices <= s.vertices
             && size.triangles <= s.triangles
+            && size.triangle_states <= s.triangle_states
             && size.bounds <= s.bounds
             && size.vertex_points <= s.vertex_points
             && size.scratch <= s.scratch
@@ -121,11 +126,12 @@ impl<
         const ORDER: usize,
         const VERTICES: usize,
         const TRIANGLES: usize,
+        const STATES: usize,
         const BOUNDS: usize,
         const POINTS: usize,
         const SCRATCH: usize,
     > Default
-    for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, BOUNDS, POINTS, SCRATCH>
+    for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, STATES, BOUNDS, POINTS, SCRATCH>
 {
     fn default() -> Self {
         Self::new()

@@ -40,6 +40,7 @@ mod pattern;
 mod pool;
 mod refine;
 mod select;
+mod states;
 mod storage;
 mod vertex_cache;
 
@@ -170,7 +171,9 @@ pub struct FrameStats {
     /// Of those, patches culled for facing away from the eye.
     pub back_facing_patches: usize,
     /// Largest predicted error of the frame, in the view's units (pixels or model units);
-    /// at most the tolerance unless refinement hit [`Settings::max_factor`] or was off.
+    /// at most the tolerance unless refinement hit [`Settings::max_factor`], was off, or
+    /// found the triangle-state arena full (see
+    /// [`patches_without_states`](Self::patches_without_states)).
     pub max_predicted_error: f32,
     /// Live domain-mesh vertices of the visible patches: the vertex slots the frame uses.
     pub mesh_vertices: usize,
@@ -184,6 +187,10 @@ pub struct FrameStats {
     /// patches' thresholds were multiplied by to choose the steps that fit (refinement takes
     /// over from them, within the same bound: see [`StorageSize::minimum`]).
     pub prefix_scale: f32,
+    /// Patches whose triangles were to be judged on their own or cut this frame but found the
+    /// triangle-state arena ([`TessellatorStorage::triangle_states`]) full: they are left
+    /// uncut, within a bound that [`max_predicted_error`](Self::max_predicted_error) reports.
+    pub patches_without_states: usize,
 }
 
 /// The run-time tessellator of one baked model, over caller storage.
@@ -230,7 +237,7 @@ pub struct FrameStats {
 /// let mut order = vec![0u16; size.curve_order];
 /// let mut mv = vec![MeshVertex::default(); size.vertices];
 /// let mut mt = vec![MeshTriangle::default(); size.triangles];
-/// let mut ts = vec![TriangleSlot::default(); size.triangles];
+/// let mut ts = vec![TriangleSlot::default(); size.triangle_states];
 /// let mut bounds = vec![BoundSlot::default(); size.bounds];
 /// let mut points = vec![PointSlot::default(); size.vertex_points];
 /// let mut scratch = vec![0u32; size.scratch];
@@ -249,10 +256,11 @@ pub struct FrameStats {
 /// let mut triangles = vec![[0u16; 3]; fine.triangles];
 /// tess.write_mesh(&mut vertices, &mut triangles).unwrap();
 ///
-/// // The pool (vertices, triangles, triangle states) may be any size from the least one,
-/// // four vertex and two triangle slots per patch. A frame that needs more cuts its baked
-/// // steps to fit, and refinement takes over within the same bound. The caches may be
-/// // empty: bounds and points are then computed again whenever a frame needs them.
+/// // The pool (vertices, triangles) may be any size from the least one, four vertex and two
+/// // triangle slots per patch. A frame that needs more cuts its baked steps to fit, and
+/// // refinement takes over within the same bound in the patches whose triangles find room
+/// // for their states (here, all). The caches may be empty: bounds and points are then
+/// // computed again whenever a frame needs them.
 /// let least = StorageSize::minimum(&baked, &settings);
 /// let mut mv = [MeshVertex::default(); 4];
 /// let mut mt = [MeshTriangle::default(); 2];
@@ -264,6 +272,7 @@ pub struct FrameStats {
 /// let mut small = Tessellator::new(patches, baked, settings, storage).unwrap();
 /// let cut = small.update(&View::Object { tolerance: 0.002 }).unwrap();
 /// assert!(cut.prefix_scale > 1.0 && cut.max_predicted_error <= 0.002);
+/// assert_eq!(cut.patches_without_states, 0);
 /// // What this view needs for every baked step it asks for:
 /// assert_eq!(cut.pool_needed.vertices, fine.mesh_vertices);
 /// ```
@@ -281,6 +290,8 @@ pub struct Tessellator<'m, 's> {
     closed: Option<BoundingSphere>,
     /// The bound-cache entry used when the caller's cache is empty.
     spare_bound: BoundSlot,
+    /// Triangle states the frame's patches have taken from the arena.
+    states_taken: usize,
     /// The box around every patch (computed once: a renderer asks for it every frame).
     #[cfg(feature = "embedded-graphics")]
     model_box: Option<Aabb>,
@@ -340,7 +351,6 @@ impl<'m, 's> Tessellator<'m, 's> {
             || s.curve_order.len() < needed.curve_order
             || s.vertices.len() < needed.vertices
             || s.triangles.len() < needed.triangles
-            || s.triangle_states.len() < needed.triangles
             || s.scratch.len() < needed.scratch
         {
             return Err(TessellatorError::StorageTooSmall { needed });
@@ -356,6 +366,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             counts: MeshCounts::default(),
             closed: None,
             spare_bound: BoundSlot::default(),
+            states_taken: 0,
             #[cfg(feature = "embedded-graphics")]
             model_box: patches.aabb(),
         };
@@ -398,9 +409,6 @@ impl<'m, 's> Tessellator<'m, 's> {
             )
             .map_err(|_| TessellatorError::PatchTooLarge { patch: p })?;
             let header = mesh.header();
-            for t in &mut self.storage.triangle_states[to..to + 2] {
-                *t = TriangleSlot::default();
-            }
             let sphere = BoundingSphere::of_points(patch.points()).unwrap_or(BoundingSphere {
                 center: Vec3::ZERO,
                 radius: 0.0,
@@ -416,6 +424,7 @@ impl<'m, 's> Tessellator<'m, 's> {
                 step_cap: cap,
                 center: sphere.center.to_array(),
                 radius: sphere.radius,
+                states: states::NO_STATES,
                 ..PatchSlot::default()
             };
         }

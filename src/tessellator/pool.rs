@@ -98,11 +98,7 @@ impl Tessellator<'_, '_> {
     pub fn pool_size(&self) -> PoolSize {
         PoolSize {
             vertices: self.storage.vertices.len(),
-            triangles: self
-                .storage
-                .triangles
-                .len()
-                .min(self.storage.triangle_states.len()),
+            triangles: self.storage.triangles.len(),
         }
     }
 

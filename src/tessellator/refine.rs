@@ -62,6 +62,7 @@
 
 use super::bound_cache::{KNOW_COARSE, KNOW_WHOLE};
 use super::select::recorded;
+use super::storage::TriangleSlot;
 use super::{common_side, FrameStats, Tessellator};
 use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
 use crate::domain::GridPoint;
@@ -307,6 +308,10 @@ impl Tessellator<'_, '_> {
         for c in self.storage.curves[..baked.curve_count()].iter_mut() {
             c.factor = 1;
         }
+        // States for the triangles judged on their own or hidden (see `states`); a patch
+        // without them leaves every triangle uncut.
+        self.clear_states();
+        self.share_states(refine);
         for p in 0..baked.patch_count() {
             let mut slot = self.storage.patches[p];
             if slot.culled {
@@ -316,6 +321,8 @@ impl Tessellator<'_, '_> {
                 continue;
             };
             let extra: [bool; 4] = core::array::from_fn(|s| slot.sides[s] > slot.requests[s]);
+            let stated = self.has_states(p);
+            let max = if stated { max } else { 1 };
             let exhausted = slot.exhausted();
             // The recorded list is a running minimum: a prefix's value is its own bound only
             // where it fell at its last step (the shortest prefix with that value), as it does
@@ -332,34 +339,25 @@ impl Tessellator<'_, '_> {
             } else {
                 slot.recorded / slot.c
             };
-            let (vo, to, tc) = (
-                slot.vertex_offset as usize,
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
+            let (vo, tc) = (slot.vertex_offset as usize, slot.triangle_capacity as usize);
             for t in 0..tc {
-                let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
+                let Some((v, n)) =
+                    self.storage.triangles[slot.triangle_offset as usize + t].live_parts()
+                else {
                     continue;
                 };
                 let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
                 let near_extra = corners
                     .iter()
                     .any(|&q| side_of(q).is_some_and(|s| extra[s.index()]));
-                let state = &mut self.storage.triangle_states[to + t];
-                state.threshold = slot.c;
-                state.pieces = slot.recorded;
-                state.pattern = [0; 4];
-                state.set_split([0; 3]);
+                let mut state = TriangleSlot::plain(slot.recorded, slot.c);
                 let needs = exhausted || near_extra;
                 state.set_judged(needs);
-                state.set_hidden(false);
                 // Off the view (with its surface piece): not written in a refined frame.
-                let hide = refine && !slot.inside;
-                state.margin = slot.recorded;
+                let hide = refine && !slot.inside && stated;
                 if hide && !needs {
                     let points = self.bound_entry(p, corners).corner_points(&patch);
-                    let hidden = view.triangle_scale(points, slot.recorded).1;
-                    self.storage.triangle_states[to + t].set_hidden(hidden);
+                    state.set_hidden(view.triangle_scale(points, slot.recorded).1);
                 }
                 let f = if needs {
                     // A bound at hand: the whole patch's curvature term, and the recorded
@@ -372,7 +370,6 @@ impl Tessellator<'_, '_> {
                     }
                     let (f, pieces, c, own_bound) =
                         self.judge(p, &patch, corners, &whole, at_hand, view, tol, max, stats);
-                    let state = &mut self.storage.triangle_states[to + t];
                     state.threshold = c;
                     state.pieces = pieces;
                     // (An infinite threshold: the triangle, within the bound that judged
@@ -393,7 +390,7 @@ impl Tessellator<'_, '_> {
                     };
                     match cheaper {
                         Some(split) => {
-                            self.storage.triangle_states[to + t].set_split(split);
+                            state.set_split(split);
                             // (The patch is refined: no fast path for it.)
                             slot.factor = slot.factor.max(2);
                             1
@@ -403,8 +400,14 @@ impl Tessellator<'_, '_> {
                 } else {
                     1
                 };
-                self.storage.triangle_states[to + t].factor = f;
+                state.factor = f;
                 slot.factor = slot.factor.max(f);
+                if stated {
+                    self.storage.triangle_states[slot.states as usize + t] = state;
+                } else {
+                    // Uncut: its bound joins the one every triangle of the patch reports.
+                    slot.plain = math::max(slot.plain, state.pieces);
+                }
                 // Boundary edges hand their factor to the curve.
                 for i in 0..3 {
                     if n[i].is_some() {
@@ -434,6 +437,10 @@ impl Tessellator<'_, '_> {
             self.check_patterns(view, tol, false, stats);
         }
         self.spread_curve_factors();
+        stats.patches_without_states = self.storage.patches[..baked.patch_count()]
+            .iter()
+            .filter(|slot| slot.short)
+            .count();
     }
 
     /// A curve's factor can exceed every triangle's along it in one patch: that patch is
@@ -468,21 +475,14 @@ impl Tessellator<'_, '_> {
         stats: &mut FrameStats,
     ) -> bool {
         let baked = self.baked;
-        let max = self.settings.max_factor;
         let mut changed = false;
         for p in 0..baked.patch_count() {
-            let slot = self.storage.patches[p];
-            if slot.culled {
+            if self.storage.patches[p].culled {
                 continue;
             }
             let Some(patch) = self.patches.patch(p) else {
                 continue;
             };
-            let (vo, to, tc) = (
-                slot.vertex_offset as usize,
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
             // Nothing changed since the patch was last checked: its patterns and bounds stand.
             let curve_factors = baked.patch(p).map_or([1; 4], |bp| {
                 bp.edges.map(|link| match link {
@@ -490,35 +490,52 @@ impl Tessellator<'_, '_> {
                     EdgeLink::Collapsed => 1,
                 })
             });
-            if slot.settled && slot.checked_curves == curve_factors {
+            let here = &self.storage.patches[p];
+            if here.settled && here.checked_curves == curve_factors {
                 continue;
             }
+            // Without a factor above 1 in the patch or on its curves, every pattern is the
+            // triangle itself. A patch cut by its curves alone takes states now (see `states`).
+            let curve_factor = curve_factors.into_iter().max().unwrap_or(1);
+            let cut = curve_factor > 1
+                || (0..here.triangle_capacity as usize).any(|t| {
+                    let state = self.state(p, t);
+                    state.factor > 1 || state.halves()
+                });
+            if cut {
+                self.give_states(p);
+            }
+            let stated = self.has_states(p);
+            let max = if stated { self.settings.max_factor } else { 1 };
             self.storage.patches[p].settled = true;
             self.storage.patches[p].checked_curves = curve_factors;
+            let slot = self.storage.patches[p];
+            let (vo, to, tc) = (
+                slot.vertex_offset as usize,
+                slot.triangle_offset as usize,
+                slot.triangle_capacity as usize,
+            );
 
-            let mut worst_ratio = if slot.exhausted() {
+            let mut worst_ratio = if !stated {
+                // What `choose_factors` found (its rounds only add to it).
+                slot.error_ratio
+            } else if slot.exhausted() {
                 0.0
             } else {
                 slot.recorded / slot.c
             };
-            // Without a factor above 1 in the patch or on its curves, every pattern is the
-            // triangle itself.
-            let curve_factor = curve_factors.into_iter().max().unwrap_or(1);
-            let plain = curve_factor <= 1
-                && (0..tc).all(|t| {
-                    let state = &self.storage.triangle_states[to + t];
-                    state.factor <= 1 && !state.halves()
-                });
             for t in 0..tc {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
                 };
                 let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
-                let state = &mut self.storage.triangle_states[to + t];
+                let mut state = self.state(p, t);
                 let f = state.factor.max(1);
-                if plain {
+                if !cut {
                     // Uncut: `pieces` and `threshold` are as `choose_factors` left them.
-                    worst_ratio = math::max(worst_ratio, state.pieces / state.threshold);
+                    if stated {
+                        worst_ratio = math::max(worst_ratio, state.pieces / state.threshold);
+                    }
                     continue;
                 }
                 let mut bound = self.bound_entry(p, corners).cached();
@@ -533,23 +550,24 @@ impl Tessellator<'_, '_> {
                     // one the recorded bound gives at its corners.
                     if f > 1 {
                         let b = self.bound_of(p, &patch, corners, stats);
-                        self.storage.triangle_states[to + t].threshold = threshold(view, tol, &b);
+                        state.threshold = threshold(view, tol, &b);
                         bound = Some(b);
-                    } else if !self.storage.triangle_states[to + t].judged() {
+                    } else if !state.judged() {
                         let points = self.bound_entry(p, corners).corner_points(&patch);
-                        let own = own_threshold(view, tol, points, slot.recorded);
-                        self.storage.triangle_states[to + t].threshold = math::max(slot.c, own);
+                        // (Every triangle of a patch without states is within `plain`.)
+                        let margin = if stated { slot.recorded } else { slot.plain };
+                        let own = own_threshold(view, tol, points, margin);
+                        state.threshold = math::max(slot.c, own);
                     }
                 }
-                let c = self.storage.triangle_states[to + t].threshold;
+                let c = state.threshold;
                 // Pieces of a non-uniform pattern, each bounded on its own.
                 // (A pattern already bounded this frame keeps its bound.)
                 let mut pieces = None;
                 let mut computed = None;
-                let known = self.storage.triangle_states[to + t];
                 // The whole patch's bounds (cached in its slot) where a pattern is new.
                 let whole = match edges {
-                    Some(e) if e != [f; 3] && known.pattern != [f, e[0], e[1], e[2]] => Some(
+                    Some(e) if e != [f; 3] && state.pattern != [f, e[0], e[1], e[2]] => Some(
                         *self.storage.patches[p]
                             .whole
                             .get_or_insert_with(|| PatchBounds::of(&patch)),
@@ -558,8 +576,8 @@ impl Tessellator<'_, '_> {
                 };
                 if let (Some(view_p), Some(edges)) = (self.patch_view(p), edges) {
                     let key = [f, edges[0], edges[1], edges[2]];
-                    if edges != [f; 3] && known.pattern == key {
-                        pieces = Some(known.pieces);
+                    if edges != [f; 3] && state.pattern == key {
+                        pieces = Some(state.pieces);
                     } else if edges != [f; 3] {
                         computed = Some(key);
                         // First with the whole patch's remainder; cut to the triangle's box
@@ -589,7 +607,7 @@ impl Tessellator<'_, '_> {
                     }
                 }
                 if let Some(key) = computed {
-                    self.storage.triangle_states[to + t].pattern = key;
+                    state.pattern = key;
                     stats.estimated += 1;
                 }
                 let piece_bound = match (pieces, bound) {
@@ -597,8 +615,7 @@ impl Tessellator<'_, '_> {
                         if allow_raise && worst > c && f < max {
                             // Pieces shrink about as the factor grows.
                             let grow = libm::ceilf(f as f32 * sqrt(worst / c));
-                            let bisected = self.storage.triangle_states[to + t].halves();
-                            let next = if f == 1 && bisected {
+                            let next = if f == 1 && state.halves() {
                                 // A halving that was not enough: the uniform cut its own
                                 // bound chose.
                                 2
@@ -611,7 +628,8 @@ impl Tessellator<'_, '_> {
                             // sees the same factors (the outcome does not depend on the
                             // order of the triangles in storage).
                             changed = true;
-                            self.storage.triangle_states[to + t].pending = next;
+                            state.pending = next;
+                            self.put_state(p, t, state);
                             continue;
                         }
                         worst
@@ -619,10 +637,13 @@ impl Tessellator<'_, '_> {
                     // Cut uniformly: by its own bound, which chose the factor.
                     (None, Some(b)) if f > 1 => refined_bound(&b, f),
                     // Uncut: a baked prefix triangle within the recorded bound, or one
-                    // judged uncut in `choose_factors` (by whichever bound settled it).
-                    (None, _) => self.storage.triangle_states[to + t].pieces,
+                    // judged uncut in `choose_factors` (by whichever bound settled it). (In a
+                    // patch without states, `choose_factors` counted it.)
+                    (None, _) if !stated => continue,
+                    (None, _) => state.pieces,
                 };
-                self.storage.triangle_states[to + t].pieces = piece_bound;
+                state.pieces = piece_bound;
+                self.put_state(p, t, state);
                 worst_ratio = math::max(worst_ratio, piece_bound / c);
             }
             self.storage.patches[p].error_ratio = worst_ratio;
@@ -633,14 +654,13 @@ impl Tessellator<'_, '_> {
                 if slot.culled {
                     continue;
                 }
-                let (to, tc) = (
-                    slot.triangle_offset as usize,
-                    slot.triangle_capacity as usize,
-                );
-                for t in 0..tc {
-                    let next = self.storage.triangle_states[to + t].pending;
+                for t in 0..slot.triangle_capacity as usize {
+                    let Some(state) = self.state_mut(p, t) else {
+                        break;
+                    };
+                    let next = state.pending;
                     if next > 0 {
-                        self.storage.triangle_states[to + t].pending = 0;
+                        state.pending = 0;
                         self.raise_factor(p, t, next, view, tol, stats);
                     }
                 }
@@ -673,7 +693,9 @@ impl Tessellator<'_, '_> {
         };
         let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
         let b = self.bound_of(p, &patch, corners, stats);
-        let state = &mut self.storage.triangle_states[to + t];
+        let Some(state) = self.state_mut(p, t) else {
+            return;
+        };
         state.threshold = threshold(view, tol, &b);
         state.factor = f;
         self.storage.patches[p].settled = false;

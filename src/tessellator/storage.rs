@@ -66,6 +66,15 @@ pub struct PatchSlot {
     pub(super) cone: Option<NormalCone>,
     /// Whether it is culled this frame for facing away from the eye.
     pub(super) back_facing: bool,
+    /// Where its triangles' states start in the frame's arena (`NO_STATES`: it has none,
+    /// and every triangle has [`TriangleSlot::plain`] of `plain`; see `states`).
+    pub(super) states: u32,
+    /// How many states it has (its live triangles, in its first triangle slots).
+    pub(super) state_count: u32,
+    /// For a patch without states: a bound of every triangle's pieces this frame.
+    pub(super) plain: f32,
+    /// Whether it asked for states this frame and found the arena full.
+    pub(super) short: bool,
 }
 
 impl PatchSlot {
@@ -107,9 +116,10 @@ pub struct CurveSlot {
 }
 
 /// One domain triangle's state in the current frame: its refinement factor and the bounds
-/// that judged it (storage slot, 20 bytes; contents are private). Every frame writes it afresh
-/// for every live triangle, so it keeps nothing from one frame to the next (what does is in
-/// [`BoundSlot`]s).
+/// that judged it (storage slot, 20 bytes; contents are private). Only the patches whose
+/// triangles are judged on their own or cut take slots, from an arena of any length (see
+/// [`TessellatorStorage::triangle_states`]). Every frame writes them afresh, so they keep
+/// nothing from one frame to the next (what does is in [`BoundSlot`]s).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriangleSlot {
     /// Its refinement factor in the current frame.
@@ -209,8 +219,13 @@ pub struct StorageSize {
     pub curve_order: usize,
     /// [`MeshVertex`] slots: the pool shared by all patches.
     pub vertices: usize,
-    /// [`MeshTriangle`] and [`TriangleSlot`] slots: the pool shared by all patches.
+    /// [`MeshTriangle`] slots: the pool shared by all patches.
     pub triangles: usize,
+    /// [`TriangleSlot`]s: the arena of the frame's judged and cut triangles (any number
+    /// works, none included; a patch whose triangles are judged or cut takes one per triangle
+    /// slot, and one that finds the arena full is left uncut, its bound reported like a
+    /// budget fit's).
+    pub triangle_states: usize,
     /// [`BoundSlot`]s: the bound cache (any number works, none included; more entries spare
     /// frames recomputing bounds they computed before).
     pub bounds: usize,
@@ -238,15 +253,19 @@ impl StorageSize {
                 size.triangles += t;
             }
         }
+        size.triangle_states = size.triangles;
         size.bounds = size.triangles;
         size.vertex_points = size.vertices;
         size
     }
 
     /// The least storage a [`Tessellator`](super::Tessellator) works with: a pool of four
-    /// vertex and two triangle slots per patch, and no caches. Frames then cut their prefixes of baked steps
-    /// to what the pool holds, and refinement takes over, within the same error bound (see
-    /// [`FrameStats::prefix_scale`](super::FrameStats::prefix_scale)).
+    /// vertex and two triangle slots per patch, no triangle states and no caches. Frames then
+    /// cut their prefixes of baked steps to what the pool holds (see
+    /// [`FrameStats::prefix_scale`](super::FrameStats::prefix_scale)); refinement takes over,
+    /// within the same error bound, in the patches the triangle-state arena holds, and the
+    /// others report their bound (see
+    /// [`FrameStats::patches_without_states`](super::FrameStats::patches_without_states)).
     pub fn minimum(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
         let mut size = StorageSize {
             patches: baked.patch_count(),
@@ -254,6 +273,7 @@ impl StorageSize {
             curve_order: baked.curve_sample_count(),
             vertices: 4 * baked.patch_count(),
             triangles: 2 * baked.patch_count(),
+            triangle_states: 0,
             bounds: 0,
             vertex_points: 0,
             scratch: 0,
@@ -267,11 +287,13 @@ impl StorageSize {
         size
     }
 
-    /// This size with a pool of `pool`'s slots.
+    /// This size with a pool of `pool`'s slots, and a triangle state for each of its triangle
+    /// slots (so that refinement can take over wherever the pool cuts the prefixes).
     pub fn with_pool(self, pool: PoolSize) -> StorageSize {
         StorageSize {
             vertices: pool.vertices,
             triangles: pool.triangles,
+            triangle_states: pool.triangles,
             ..self
         }
     }
@@ -300,9 +322,10 @@ pub(super) fn patch_capacity(
 }
 
 /// The caller's storage for a [`Tessellator`](super::Tessellator), at least
-/// [`StorageSize::minimum`] (longer slices are fine). `vertices`, `triangles` and
-/// `triangle_states` are the pool all patches share; [`StorageSize::of`] sizes it for every
-/// baked step. `bounds` and `vertex_points` are caches of any length.
+/// [`StorageSize::minimum`] (longer slices are fine). `vertices` and `triangles` are the pool
+/// all patches share; [`StorageSize::of`] sizes it for every baked step. `triangle_states` is
+/// the arena of the frame's judged and cut triangles, and `bounds` and `vertex_points` are
+/// caches: all three of any length.
 #[derive(Debug)]
 pub struct TessellatorStorage<'s> {
     /// Per patch.
@@ -315,8 +338,10 @@ pub struct TessellatorStorage<'s> {
     pub vertices: &'s mut [MeshVertex],
     /// The pool's domain-mesh triangles.
     pub triangles: &'s mut [MeshTriangle],
-    /// The frame's state of each domain triangle slot (the pool's triangles are the shorter
-    /// of this and `triangles`).
+    /// The frame's states of the triangles of the patches that judge their triangles on
+    /// their own or cut them, one per triangle slot of each such patch: any length, none
+    /// included. A patch that finds it full is left uncut this frame, within a bound it
+    /// reports (in [`FrameStats::max_predicted_error`](super::FrameStats::max_predicted_error)).
     pub triangle_states: &'s mut [TriangleSlot],
     /// The bound cache: any length, none included.
     pub bounds: &'s mut [BoundSlot],

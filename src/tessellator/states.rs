@@ -1,0 +1,169 @@
+//! The frame's triangle states: an arena of [`TriangleSlot`]s that only some patches use.
+//!
+//! A patch whose baked prefix is within its threshold, and whose triangles are all baked
+//! prefix triangles, judges none of them on its own and cuts none: every one of its triangles
+//! has factor 1 and the prefix's recorded bound. Such a patch needs no state per triangle, and
+//! in a frame that needs no refinement (most frames of a small display) that is every patch.
+//!
+//! Each frame starts with an empty arena. A patch takes a stretch of it, one state per live
+//! triangle of its mesh (compacted to its first slots), when its triangles are to be judged on their own (its prefix is exhausted,
+//! some of its sides hold curve samples beyond its own requests, or its triangles off the view
+//! are to be hidden) or cut (a curve along it is refined by a neighbour). A patch without
+//! states has, for every triangle, [`TriangleSlot::plain`] of its slot's `plain` bound.
+//!
+//! A patch that finds the arena full is left uncut: every bound computed for one of its
+//! triangles this frame (at factor 1, with the non-uniform pattern its curves give it) raises
+//! its `plain` bound and its largest bound over threshold, so the frame reports it in
+//! [`FrameStats::max_predicted_error`](super::FrameStats::max_predicted_error), like a budget
+//! fit, and every triangle's reported bound still covers it.
+
+use super::storage::TriangleSlot;
+use super::Tessellator;
+use crate::domain::DomainMesh;
+
+/// [`PatchSlot::states`](super::PatchSlot) of a patch without states this frame.
+pub(super) const NO_STATES: u32 = u32::MAX;
+
+impl TriangleSlot {
+    /// The state of every triangle of a patch without states: factor 1, uncut, not judged on
+    /// its own, within `bound` against threshold `c`.
+    pub(super) fn plain(bound: f32, c: f32) -> TriangleSlot {
+        let mut state = TriangleSlot::default();
+        state.factor = 1;
+        state.pieces = bound;
+        state.threshold = c;
+        state.margin = bound;
+        state
+    }
+}
+
+impl Tessellator<'_, '_> {
+    /// Empties the arena for a new frame: no patch has states.
+    pub(super) fn clear_states(&mut self) {
+        self.states_taken = 0;
+        let count = self.baked.patch_count();
+        for slot in self.storage.patches[..count].iter_mut() {
+            slot.states = NO_STATES;
+            slot.state_count = 0;
+            slot.plain = slot.recorded;
+            slot.short = false;
+        }
+    }
+
+    /// Whether patch `p`'s triangles are to be judged on their own or hidden this frame:
+    /// its prefix is exhausted, some side holds curve samples beyond its requests, or, in a
+    /// refined frame, it is not wholly inside the view.
+    pub(super) fn wants_states(&self, p: usize, refine: bool) -> bool {
+        let slot = &self.storage.patches[p];
+        let extra = (0..4).any(|s| slot.sides[s] > slot.requests[s]);
+        !slot.culled && (slot.exhausted() || extra || (refine && !slot.inside))
+    }
+
+    /// Gives states to every patch that wants them ([`wants_states`](Self::wants_states)),
+    /// if the arena holds them all; otherwise to the patches farthest over their thresholds
+    /// first (recorded bound over threshold), each that still fits.
+    pub(super) fn share_states(&mut self, refine: bool) {
+        let count = self.baked.patch_count();
+        let wanted: usize = (0..count)
+            .filter(|&p| self.wants_states(p, refine))
+            .map(|p| self.storage.patches[p].mesh.triangle_count())
+            .sum();
+        if wanted <= self.storage.triangle_states.len() {
+            for p in 0..count {
+                if self.wants_states(p, refine) {
+                    self.give_states(p);
+                }
+            }
+            return;
+        }
+        // (Quadratic in the patches, in frames short of states only.)
+        loop {
+            let mut best: Option<(f32, usize)> = None;
+            for p in 0..count {
+                let slot = &self.storage.patches[p];
+                if slot.states != NO_STATES || slot.short || !self.wants_states(p, refine) {
+                    continue;
+                }
+                let over = slot.recorded / slot.c;
+                // (NaN, from a zero threshold and bound, counts as nothing over.)
+                let over = if over.is_nan() { 0.0 } else { over };
+                if best.is_none_or(|(b, _)| over > b) {
+                    best = Some((over, p));
+                }
+            }
+            let Some((_, p)) = best else {
+                return;
+            };
+            self.give_states(p);
+        }
+    }
+
+    /// Whether patch `p` has states this frame.
+    pub(super) fn has_states(&self, p: usize) -> bool {
+        self.storage.patches[p].states != NO_STATES
+    }
+
+    /// Gives patch `p` a state per live triangle, each [`TriangleSlot::plain`] of its bound,
+    /// unless it has them already; its mesh is compacted first, so that its live triangles
+    /// take its first triangle slots. False when the arena has no room for them.
+    ///
+    /// (A live count, unlike the slots a mesh's history leaves its triangles in, depends on
+    /// the frame alone: so do which patches find room, and the frame's triangles.)
+    pub(super) fn give_states(&mut self, p: usize) -> bool {
+        let slot = self.storage.patches[p];
+        if slot.states != NO_STATES {
+            return true;
+        }
+        let (start, count) = (self.states_taken, slot.mesh.triangle_count());
+        if start + count > self.storage.triangle_states.len() {
+            self.storage.patches[p].short = true;
+            return false;
+        }
+        let mut mesh = DomainMesh::resume(
+            &mut self.storage.vertices[slot.vertex_range()],
+            &mut self.storage.triangles[slot.triangle_range()],
+            slot.mesh,
+        );
+        mesh.compact(|_, _| {});
+        let header = mesh.header();
+        self.storage.triangle_states[start..start + count]
+            .fill(TriangleSlot::plain(slot.plain, slot.c));
+        let slot = &mut self.storage.patches[p];
+        slot.mesh = header;
+        slot.states = start as u32;
+        slot.state_count = count as u32;
+        self.states_taken = start + count;
+        true
+    }
+
+    /// Triangle `t`'s state in patch `p` (its patch's plain one when it has none).
+    pub(super) fn state(&self, p: usize, t: usize) -> TriangleSlot {
+        let slot = &self.storage.patches[p];
+        if slot.states == NO_STATES || t >= slot.state_count as usize {
+            return TriangleSlot::plain(slot.plain, slot.c);
+        }
+        self.storage.triangle_states[slot.states as usize + t]
+    }
+
+    /// Triangle `t`'s state in patch `p`, to change, if the patch has states.
+    pub(super) fn state_mut(&mut self, p: usize, t: usize) -> Option<&mut TriangleSlot> {
+        let slot = &self.storage.patches[p];
+        if slot.states == NO_STATES || t >= slot.state_count as usize {
+            return None;
+        }
+        self.storage
+            .triangle_states
+            .get_mut(slot.states as usize + t)
+    }
+
+    /// Writes triangle `t`'s state in patch `p`. In a patch without states, its pieces'
+    /// bound joins the patch's `plain` bound instead.
+    pub(super) fn put_state(&mut self, p: usize, t: usize, state: TriangleSlot) {
+        if let Some(s) = self.state_mut(p, t) {
+            *s = state;
+        } else {
+            let slot = &mut self.storage.patches[p];
+            slot.plain = crate::math::max(slot.plain, state.pieces);
+        }
+    }
+}
