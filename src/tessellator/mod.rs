@@ -36,12 +36,14 @@ mod bound_cache;
 mod budget;
 mod emit;
 mod fixed;
+mod patch_view;
 mod pattern;
 mod pool;
 mod refine;
 mod select;
 mod states;
 mod storage;
+mod stream;
 mod vertex_cache;
 
 pub use bound_cache::BoundSlot;
