@@ -348,6 +348,47 @@ fn fw_teapot_expected_source() -> String {
     s
 }
 
+/// A triangle list of any length draws what streaming draws: every frame of fw_teapot with
+/// lists from a few slots to more than the frame takes, so that the list fills up at many
+/// places (a full list once wrote a triangle over a corner it shared).
+#[test]
+fn fw_teapot_lists_of_any_length_draw_the_same() {
+    use embedded_graphics::pixelcolor::Rgb565;
+    use embedded_graphics::prelude::RgbColor;
+    use spline_tess::render::ListSlot;
+    with_firmware_bake(|patches, baked| {
+        let mut storage = Box::new(fw_teapot::Storage::new());
+        let mut tess = spline_tess::Tessellator::new(
+            patches,
+            baked,
+            fw_tessellate::SETTINGS,
+            storage.as_storage(),
+        )
+        .expect("capacities cover the bake");
+        let mut depth = vec![0u16; fw_teapot::BAND];
+        let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
+        let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
+        for f in 0..fw_teapot::FRAMES.len() {
+            fw_teapot::update(&mut tess, f).expect("frame updates");
+            let mut draw = |list: &mut [ListSlot]| {
+                let stats =
+                    fw_teapot::render(&tess, f, &mut depth, &mut colors, list, &mut display)
+                        .expect("frame draws");
+                (display.checksum(), stats.listed < stats.triangles)
+            };
+            let (streamed, _) = draw(&mut []);
+            let mut partial = 0;
+            for len in (1..4000).step_by(41) {
+                let mut list = vec![ListSlot::default(); len];
+                let (sum, cut) = draw(&mut list);
+                assert_eq!(sum, streamed, "frame {f}, a list of {len} slots");
+                partial += usize::from(cut);
+            }
+            assert!(partial > 20, "frame {f}: the lists were seldom cut");
+        }
+    });
+}
+
 /// fw_teapot's frames are real: they draw, differ, and grow as the camera comes closer.
 #[test]
 fn fw_teapot_frames_are_real() {
