@@ -227,13 +227,13 @@ impl Tessellator<'_, '_> {
                 let mut faces = 0u32;
                 view.refine(
                     t,
-                    |point| {
+                    &mut |point| {
                         if let Some(vs) = vs_out.as_mut() {
                             vs[(face_base + faces) as usize] = self.vertex_data(point, p);
                         }
                         faces += 1;
                     },
-                    |tri, _| {
+                    &mut |tri, _| {
                         if let Some(ts) = ts_out.as_mut() {
                             let index = |q: Point| -> u32 {
                                 match q {

@@ -226,11 +226,15 @@ impl PatchView<'_, '_, '_> {
 
     /// Every refined triangle of domain triangle `t`, as output points; degenerate ones (two
     /// corners on one collapsed edge) are left out. `faces` receives the inner points first.
+    ///
+    /// (The callbacks are `dyn`: one copy of the traversal serves the writer, the stream and
+    /// the bounds of the pieces. Measured 2026-11-24 on fw_teapot: 7.5 KB less kernel code at
+    /// opt-level "s", for 8k more instructions in a frame of 9.7M.)
     pub(super) fn refine(
         &self,
         t: usize,
-        mut faces: impl FnMut(Point),
-        mut out: impl FnMut([Point; 3], [[u32; 3]; 3]),
+        faces: &mut dyn FnMut(Point),
+        out: &mut dyn FnMut([Point; 3], [[u32; 3]; 3]),
     ) {
         let Some((v, n)) = self.triangle(t) else {
             return;

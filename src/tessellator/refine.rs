@@ -584,16 +584,11 @@ impl Tessellator<'_, '_> {
                         // only where that is over the threshold.
                         let worst_with = |bounds: &PatchBounds| {
                             let mut worst = 0.0f32;
-                            view_p.refine(
-                                t,
-                                |_| {},
-                                |_, local_uv| {
-                                    let piece = local_uv.map(|[u, v, d]| {
-                                        (u as f32 / d as f32, v as f32 / d as f32)
-                                    });
-                                    worst = math::max(worst, piece_bound(&patch, bounds, piece, c));
-                                },
-                            );
+                            view_p.refine(t, &mut |_| {}, &mut |_, local_uv| {
+                                let piece = local_uv
+                                    .map(|[u, v, d]| (u as f32 / d as f32, v as f32 / d as f32));
+                                worst = math::max(worst, piece_bound(&patch, bounds, piece, c));
+                            });
                             worst
                         };
                         let whole = whole.unwrap_or_else(|| PatchBounds::of(&patch));

@@ -92,19 +92,15 @@ impl Tessellator<'_, '_> {
                 continue;
             }
             let bound = view.state(t).pieces;
-            view.refine(
-                t,
-                |_| {},
-                |tri, local| {
-                    let info = TriangleInfo {
-                        patch: p as u32,
-                        uv: local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]),
-                        bound,
-                    };
-                    let keys = tri.map(|q| view.key(t, q));
-                    f(&info, keys, &mut |i| vertex(tri[i % 3]));
-                },
-            );
+            view.refine(t, &mut |_| {}, &mut |tri, local| {
+                let info = TriangleInfo {
+                    patch: p as u32,
+                    uv: local.map(|[u, v, d]| [u as f32 / d as f32, v as f32 / d as f32]),
+                    bound,
+                };
+                let keys = tri.map(|q| view.key(t, q));
+                f(&info, keys, &mut |i| vertex(tri[i % 3]));
+            });
         }
     }
 }
