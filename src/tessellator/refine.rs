@@ -339,7 +339,13 @@ impl Tessellator<'_, '_> {
             } else {
                 slot.recorded / slot.c
             };
+            // Without states, and with nothing to judge, every triangle is its prefix's, uncut.
             let (vo, tc) = (slot.vertex_offset as usize, slot.triangle_capacity as usize);
+            let tc = if stated || exhausted || extra.contains(&true) {
+                tc
+            } else {
+                0
+            };
             for t in 0..tc {
                 let Some((v, n)) =
                     self.storage.triangles[slot.triangle_offset as usize + t].live_parts()
@@ -497,8 +503,9 @@ impl Tessellator<'_, '_> {
             // Without a factor above 1 in the patch or on its curves, every pattern is the
             // triangle itself. A patch cut by its curves alone takes states now (see `states`).
             let curve_factor = curve_factors.into_iter().max().unwrap_or(1);
+            // (A patch without states has no factor above 1 and no halved edge.)
             let cut = curve_factor > 1
-                || (0..here.triangle_capacity as usize).any(|t| {
+                || (0..here.state_count as usize).any(|t| {
                     let state = self.state(p, t);
                     state.factor > 1 || state.halves()
                 });
@@ -509,6 +516,10 @@ impl Tessellator<'_, '_> {
             let max = if stated { self.settings.max_factor } else { 1 };
             self.storage.patches[p].settled = true;
             self.storage.patches[p].checked_curves = curve_factors;
+            if !cut && !stated {
+                // Uncut, and its bound over threshold is what `choose_factors` found.
+                continue;
+            }
             let slot = self.storage.patches[p];
             let (vo, to, tc) = (
                 slot.vertex_offset as usize,
