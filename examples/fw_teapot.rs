@@ -315,7 +315,7 @@ fn main() -> std::process::ExitCode {
     );
     println!(
         "fw_teapot (host): sizing pool_vertices {} pool_triangles {} triangle_states {} bounds {} \
-         list_capacity {} list_slot {} band_rows {} width {}",
+         list_capacity {} list_slot {} band_rows {} width {} height {}",
         teapot::POOL_VERTICES,
         teapot::POOL_TRIANGLES,
         teapot::STATES,
@@ -323,7 +323,8 @@ fn main() -> std::process::ExitCode {
         teapot::LIST,
         core::mem::size_of::<ListSlot>(),
         teapot::BAND_ROWS,
-        teapot::WIDTH
+        teapot::WIDTH,
+        teapot::HEIGHT
     );
     if ok {
         std::process::ExitCode::SUCCESS
