@@ -31,6 +31,7 @@
 //! along a curve use the same bits (and, in indexed output, the same index). A collapsed edge
 //! is one vertex, and triangles that would have two corners on it are dropped.
 
+mod agree;
 mod back;
 mod bound_cache;
 mod budget;

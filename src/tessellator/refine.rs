@@ -36,20 +36,9 @@
 //!
 //! Otherwise a triangle is cut uniformly by the smallest factor `n` whose pieces are within
 //! `c(T)`: for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
-//! curvature term `½ ρ² / n²` plus the rounding slack (both in [`TriangleBound`]). Each edge
-//! takes the larger factor of its two triangles (and any halving asked of it) and each curve
-//! the largest of the triangles along it, so both sides of every edge place the same points
-//! (see `pattern`). A triangle whose edges then differ from its inside is cut in a pattern
-//! whose pieces are not uniform: each piece is bounded on its own, from the lattice of step
-//! 1/3 on the piece (7 points besides its corners) and a ninth of the piece's curvature term
-//! (the same argument as the bound's; the coarser step 1/2 left most halvings and their
-//! neighbours over), first with the whole patch's second derivatives and, where a piece is
-//! over, with the triangle's box; where one is still over, the triangle's
-//! factor grows and the edges are agreed again. The factors a round raises are applied when
-//! the round ends, so every triangle of a round sees the same factors and the result does not
-//! depend on the order of the triangles in storage. A round skips a patch whose factors and
-//! curve factors have not changed since it was last checked, and a pattern keeps its bound for
-//! the frame once computed.
+//! curvature term `½ ρ² / n²` plus the rounding slack (both in [`TriangleBound`]). Then the
+//! edges agree on their factors, and the pieces of non-uniform patterns are bounded on their
+//! own (see `agree`).
 //!
 //! A triangle whose threshold is infinite (its region, within the bound that judged it, is off
 //! the view) is marked hidden and not written; in a patch not wholly inside the view, so is
@@ -66,16 +55,13 @@ use super::storage::TriangleSlot;
 use super::{common_side, FrameStats, Tessellator};
 use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
 use crate::domain::GridPoint;
-use crate::math::{self, length, sqrt};
+use crate::math::{self, length};
 use crate::model::EdgeLink;
 use crate::patch::{BezierPatch, Side};
 use crate::view::View;
 
-/// Rounds of agreeing edges and checking non-uniform patterns, at most.
-const AGREE_ROUNDS: usize = 32;
-
 /// The side a non-corner boundary point lies on.
-fn side_of(p: GridPoint) -> Option<Side> {
+pub(super) fn side_of(p: GridPoint) -> Option<Side> {
     let m = GridPoint::MAX;
     let on_u = p.u == 0 || p.u == m;
     let on_v = p.v == 0 || p.v == m;
@@ -106,7 +92,7 @@ fn factor_for(b: &TriangleBound, c: f32, max: u8) -> u8 {
 
 /// The threshold of a triangle whose surface piece lies within `bound` of the flat triangle
 /// of `points`.
-fn own_threshold(view: &View, tol: f32, points: [[f32; 3]; 3], bound: f32) -> f32 {
+pub(super) fn own_threshold(view: &View, tol: f32, points: [[f32; 3]; 3], bound: f32) -> f32 {
     let (scale, culled) = view.triangle_scale(points, bound);
     if culled {
         f32::INFINITY
@@ -116,7 +102,7 @@ fn own_threshold(view: &View, tol: f32, points: [[f32; 3]; 3], bound: f32) -> f3
 }
 
 /// [`own_threshold`] with a triangle's own bound.
-fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
+pub(super) fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
     own_threshold(view, tol, b.points, b.bound())
 }
 
@@ -183,7 +169,12 @@ fn halving(
 /// corners) and a ninth of its curvature term (the bound's argument, see
 /// [`crate::deviation`]). Either way the bound is within `c` exactly when the smaller of the
 /// two is.
-fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3], c: f32) -> f32 {
+pub(super) fn piece_bound(
+    patch: &BezierPatch<'_>,
+    local: &PatchBounds,
+    uv: [(f32, f32); 3],
+    c: f32,
+) -> f32 {
     let curvature = local.curvature_term(uv);
     let general = curvature + local.slack;
     if general <= c {
@@ -205,7 +196,7 @@ fn piece_bound(patch: &BezierPatch<'_>, local: &PatchBounds, uv: [(f32, f32); 3]
 impl Tessellator<'_, '_> {
     /// The own bound of triangle `corners` of patch `patch` (index `p`), computed when the
     /// cache does not hold it.
-    fn bound_of(
+    pub(super) fn bound_of(
         &mut self,
         p: usize,
         patch: &BezierPatch<'_>,
@@ -430,294 +421,10 @@ impl Tessellator<'_, '_> {
             }
             self.storage.patches[p] = slot;
         }
-        // Agree on edges and bound the pieces of non-uniform patterns, until nothing changes;
-        // the last round leaves every patch's largest bound over threshold.
-        let mut settled = false;
-        for _ in 0..AGREE_ROUNDS {
-            if !self.check_patterns(view, tol, refine, stats) {
-                settled = true;
-                break;
-            }
-        }
-        if !settled {
-            self.check_patterns(view, tol, false, stats);
-        }
-        self.spread_curve_factors();
+        self.agree(view, tol, refine, stats);
         stats.patches_without_states = self.storage.patches[..baked.patch_count()]
             .iter()
             .filter(|slot| slot.short)
             .count();
-    }
-
-    /// A curve's factor can exceed every triangle's along it in one patch: that patch is
-    /// refined too.
-    fn spread_curve_factors(&mut self) {
-        let baked = self.baked;
-        for p in 0..baked.patch_count() {
-            if self.storage.patches[p].culled {
-                continue;
-            }
-            if let Some(bp) = baked.patch(p) {
-                for link in bp.edges {
-                    if let EdgeLink::Curve { curve, .. } = link {
-                        let f = self.storage.curves[curve as usize].factor;
-                        let slot = &mut self.storage.patches[p];
-                        slot.factor = slot.factor.max(f);
-                    }
-                }
-            }
-        }
-    }
-
-    /// One round of agreement: every triangle's bound over threshold for the factors of the
-    /// moment; a triangle cut in a non-uniform pattern has each piece bounded, and one with a
-    /// piece over its threshold gets a larger factor (and hands it to its curves). Returns
-    /// whether any factor changed.
-    fn check_patterns(
-        &mut self,
-        view: &View,
-        tol: f32,
-        allow_raise: bool,
-        stats: &mut FrameStats,
-    ) -> bool {
-        let baked = self.baked;
-        let mut changed = false;
-        for p in 0..baked.patch_count() {
-            if self.storage.patches[p].culled {
-                continue;
-            }
-            let Some(patch) = self.patches.patch(p) else {
-                continue;
-            };
-            // Nothing changed since the patch was last checked: its patterns and bounds stand.
-            let curve_factors = baked.patch(p).map_or([1; 4], |bp| {
-                bp.edges.map(|link| match link {
-                    EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].factor,
-                    EdgeLink::Collapsed => 1,
-                })
-            });
-            let here = &self.storage.patches[p];
-            if here.settled && here.checked_curves == curve_factors {
-                continue;
-            }
-            // Without a factor above 1 in the patch or on its curves, every pattern is the
-            // triangle itself. A patch cut by its curves alone takes states now (see `states`).
-            let curve_factor = curve_factors.into_iter().max().unwrap_or(1);
-            // (A patch without states has no factor above 1 and no halved edge.)
-            let cut = curve_factor > 1
-                || (0..here.state_count as usize).any(|t| {
-                    let state = self.state(p, t);
-                    state.factor > 1 || state.halves()
-                });
-            if cut {
-                self.give_states(p);
-            }
-            let stated = self.has_states(p);
-            let max = if stated { self.settings.max_factor } else { 1 };
-            self.storage.patches[p].settled = true;
-            self.storage.patches[p].checked_curves = curve_factors;
-            if !cut && !stated {
-                // Uncut, and its bound over threshold is what `choose_factors` found.
-                continue;
-            }
-            let slot = self.storage.patches[p];
-            let (vo, to, tc) = (
-                slot.vertex_offset as usize,
-                slot.triangle_offset as usize,
-                slot.triangle_capacity as usize,
-            );
-
-            let mut worst_ratio = if !stated {
-                // What `choose_factors` found (its rounds only add to it).
-                slot.error_ratio
-            } else if slot.exhausted() {
-                0.0
-            } else {
-                slot.recorded / slot.c
-            };
-            for t in 0..tc {
-                let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
-                    continue;
-                };
-                let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
-                let mut state = self.state(p, t);
-                let f = state.factor.max(1);
-                if !cut {
-                    // Uncut: `pieces` and `threshold` are as `choose_factors` left them.
-                    if stated {
-                        worst_ratio = math::max(worst_ratio, state.pieces / state.threshold);
-                    }
-                    continue;
-                }
-                let mut bound = self.bound_entry(p, corners).cached();
-                let edges = self
-                    .patch_view(p)
-                    .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
-                let uniform = edges.is_none_or(|e| e == [f; 3]);
-                if !uniform {
-                    // Its pieces are judged at its own depth, not at its patch's nearest: a
-                    // cut triangle by its own bound (which chose its factor), an uncut one by
-                    // the threshold it was judged with, or, for a baked prefix triangle, the
-                    // one the recorded bound gives at its corners.
-                    if f > 1 {
-                        let b = self.bound_of(p, &patch, corners, stats);
-                        state.threshold = threshold(view, tol, &b);
-                        bound = Some(b);
-                    } else if !state.judged() {
-                        let points = self.bound_entry(p, corners).corner_points(&patch);
-                        // (Every triangle of a patch without states is within `plain`.)
-                        let margin = if stated { slot.recorded } else { slot.plain };
-                        let own = own_threshold(view, tol, points, margin);
-                        state.threshold = math::max(slot.c, own);
-                    }
-                }
-                let c = state.threshold;
-                // Pieces of a non-uniform pattern, each bounded on its own.
-                // (A pattern already bounded this frame keeps its bound.)
-                let mut pieces = None;
-                let mut computed = None;
-                // The whole patch's bounds (cached in its slot) where a pattern is new.
-                let whole = match edges {
-                    Some(e) if e != [f; 3] && state.pattern != [f, e[0], e[1], e[2]] => Some(
-                        *self.storage.patches[p]
-                            .whole
-                            .get_or_insert_with(|| PatchBounds::of(&patch)),
-                    ),
-                    _ => None,
-                };
-                if let (Some(view_p), Some(edges)) = (self.patch_view(p), edges) {
-                    let key = [f, edges[0], edges[1], edges[2]];
-                    if edges != [f; 3] && state.pattern == key {
-                        pieces = Some(state.pieces);
-                    } else if edges != [f; 3] {
-                        computed = Some(key);
-                        // First with the whole patch's remainder; cut to the triangle's box
-                        // only where that is over the threshold.
-                        let worst_with = |bounds: &PatchBounds| {
-                            let mut worst = 0.0f32;
-                            view_p.refine(t, &mut |_| {}, &mut |_, local_uv| {
-                                let piece = local_uv
-                                    .map(|[u, v, d]| (u as f32 / d as f32, v as f32 / d as f32));
-                                worst = math::max(worst, piece_bound(&patch, bounds, piece, c));
-                            });
-                            worst
-                        };
-                        let whole = whole.unwrap_or_else(|| PatchBounds::of(&patch));
-                        let mut worst = worst_with(&whole);
-                        if worst > c {
-                            let local =
-                                PatchBounds::around(&patch, corners.map(GridPoint::to_unit));
-                            worst = math::min(worst, worst_with(&local));
-                        }
-                        pieces = Some(worst);
-                    }
-                }
-                if let Some(key) = computed {
-                    state.pattern = key;
-                    stats.estimated += 1;
-                }
-                let piece_bound = match (pieces, bound) {
-                    (Some(worst), _) => {
-                        if allow_raise && worst > c && f < max {
-                            // Pieces shrink about as the factor grows.
-                            let grow = libm::ceilf(f as f32 * sqrt(worst / c));
-                            let next = if f == 1 && state.halves() {
-                                // A halving that was not enough: the uniform cut its own
-                                // bound chose.
-                                2
-                            } else if grow >= max as f32 {
-                                max
-                            } else {
-                                (grow as u8).max(f + 1)
-                            };
-                            // Applied after the round, so that every triangle of a round
-                            // sees the same factors (the outcome does not depend on the
-                            // order of the triangles in storage).
-                            changed = true;
-                            state.pending = next;
-                            self.put_state(p, t, state);
-                            continue;
-                        }
-                        worst
-                    }
-                    // Cut uniformly: by its own bound, which chose the factor.
-                    (None, Some(b)) if f > 1 => refined_bound(&b, f),
-                    // Uncut: a baked prefix triangle within the recorded bound, or one
-                    // judged uncut in `choose_factors` (by whichever bound settled it). (In a
-                    // patch without states, `choose_factors` counted it.)
-                    (None, _) if !stated => continue,
-                    (None, _) => state.pieces,
-                };
-                state.pieces = piece_bound;
-                self.put_state(p, t, state);
-                worst_ratio = math::max(worst_ratio, piece_bound / c);
-            }
-            self.storage.patches[p].error_ratio = worst_ratio;
-        }
-        if changed {
-            for p in 0..baked.patch_count() {
-                let slot = self.storage.patches[p];
-                if slot.culled {
-                    continue;
-                }
-                for t in 0..slot.triangle_capacity as usize {
-                    let Some(state) = self.state_mut(p, t) else {
-                        break;
-                    };
-                    let next = state.pending;
-                    if next > 0 {
-                        state.pending = 0;
-                        self.raise_factor(p, t, next, view, tol, stats);
-                    }
-                }
-            }
-        }
-        changed
-    }
-
-    /// Sets triangle `t` of patch `p` to factor `f` (computing its bound if it has none) and
-    /// hands the factor to the curves along it.
-    fn raise_factor(
-        &mut self,
-        p: usize,
-        t: usize,
-        f: u8,
-        view: &View,
-        tol: f32,
-        stats: &mut FrameStats,
-    ) {
-        let Some(patch) = self.patches.patch(p) else {
-            return;
-        };
-        let Some(bp) = self.baked.patch(p) else {
-            return;
-        };
-        let slot = self.storage.patches[p];
-        let (vo, to) = (slot.vertex_offset as usize, slot.triangle_offset as usize);
-        let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
-            return;
-        };
-        let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
-        let b = self.bound_of(p, &patch, corners, stats);
-        let Some(state) = self.state_mut(p, t) else {
-            return;
-        };
-        state.threshold = threshold(view, tol, &b);
-        state.factor = f;
-        self.storage.patches[p].settled = false;
-        let s = &mut self.storage.patches[p];
-        s.factor = s.factor.max(f);
-        for i in 0..3 {
-            if n[i].is_some() {
-                continue;
-            }
-            let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
-            if let Some(side) = common_side(a, b) {
-                if let EdgeLink::Curve { curve, .. } = bp.edges[side.index()] {
-                    let cs = &mut self.storage.curves[curve as usize];
-                    cs.factor = cs.factor.max(f);
-                }
-            }
-        }
     }
 }
