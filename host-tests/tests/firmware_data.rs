@@ -266,14 +266,8 @@ mod fw_teapot;
 #[path = "../../examples/common/spi_display.rs"]
 mod spi_display;
 
-/// Every frame of fw_teapot drawn on the host with the same code: triangles, pixels drawn,
-/// checksum of the pixels pushed to the display model. Drawn once with the demo's triangle
-/// list and once streamed band by band, which must agree; every frame pushes each pixel of
-/// the screen once.
-fn fw_teapot_frames() -> Vec<[u32; 3]> {
-    use embedded_graphics::pixelcolor::Rgb565;
-    use embedded_graphics::prelude::RgbColor;
-    use spline_tess::render::ListSlot;
+/// Runs `f` on a tessellator over the firmware's bake of the teapot, in fw_teapot's storage.
+fn with_fw_teapot_tessellator<R>(f: impl FnOnce(&mut spline_tess::Tessellator<'_, '_>) -> R) -> R {
     with_firmware_bake(|patches, baked| {
         assert!(fw_teapot::Storage::covers(
             &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
@@ -286,7 +280,19 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
             storage.as_storage(),
         )
         .expect("capacities cover the bake");
-        let tess = &mut tess;
+        f(&mut tess)
+    })
+}
+
+/// Every frame of fw_teapot drawn on the host with the same code: triangles, pixels drawn,
+/// checksum of the pixels pushed to the display model. Drawn once with the demo's triangle
+/// list and once streamed band by band, which must agree; every frame pushes each pixel of
+/// the screen once.
+fn fw_teapot_frames() -> Vec<[u32; 3]> {
+    use embedded_graphics::pixelcolor::Rgb565;
+    use embedded_graphics::prelude::RgbColor;
+    use spline_tess::render::ListSlot;
+    with_fw_teapot_tessellator(|tess| {
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
         let mut list = vec![ListSlot::default(); fw_teapot::LIST];
@@ -361,24 +367,15 @@ fn fw_teapot_lists_of_any_length_draw_the_same() {
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::prelude::RgbColor;
     use spline_tess::render::ListSlot;
-    with_firmware_bake(|patches, baked| {
-        let mut storage = Box::new(fw_teapot::Storage::new());
-        let mut tess = spline_tess::Tessellator::new(
-            patches,
-            baked,
-            fw_tessellate::SETTINGS,
-            storage.as_storage(),
-        )
-        .expect("capacities cover the bake");
+    with_fw_teapot_tessellator(|tess| {
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
         let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
         for f in 0..fw_teapot::FRAMES.len() {
-            fw_teapot::update(&mut tess, f).expect("frame updates");
+            fw_teapot::update(tess, f).expect("frame updates");
             let mut draw = |list: &mut [ListSlot]| {
-                let stats =
-                    fw_teapot::render(&tess, f, &mut depth, &mut colors, list, &mut display)
-                        .expect("frame draws");
+                let stats = fw_teapot::render(tess, f, &mut depth, &mut colors, list, &mut display)
+                    .expect("frame draws");
                 (display.checksum(), stats.listed < stats.triangles)
             };
             let (streamed, _) = draw(&mut []);

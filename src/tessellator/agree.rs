@@ -16,7 +16,7 @@
 //! the frame once computed.
 
 use super::refine::{own_threshold, piece_bound, refined_bound, threshold};
-use super::{common_side, FrameStats, Tessellator};
+use super::{FrameStats, Tessellator};
 use crate::deviation::PatchBounds;
 use crate::domain::GridPoint;
 use crate::math::{self, sqrt};
@@ -302,17 +302,6 @@ impl Tessellator<'_, '_> {
         self.storage.patches[p].settled = false;
         let s = &mut self.storage.patches[p];
         s.factor = s.factor.max(f);
-        for i in 0..3 {
-            if n[i].is_some() {
-                continue;
-            }
-            let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
-            if let Some(side) = common_side(a, b) {
-                if let EdgeLink::Curve { curve, .. } = bp.edges[side.index()] {
-                    let cs = &mut self.storage.curves[curve as usize];
-                    cs.factor = cs.factor.max(f);
-                }
-            }
-        }
+        self.hand_to_curves(&bp.edges, corners, n, f);
     }
 }

@@ -405,19 +405,7 @@ impl Tessellator<'_, '_> {
                     // Uncut: its bound joins the one every triangle of the patch reports.
                     slot.plain = math::max(slot.plain, state.pieces);
                 }
-                // Boundary edges hand their factor to the curve.
-                for i in 0..3 {
-                    if n[i].is_some() {
-                        continue;
-                    }
-                    let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
-                    if let Some(side) = common_side(a, b) {
-                        if let EdgeLink::Curve { curve, .. } = bp.edges[side.index()] {
-                            let cs = &mut self.storage.curves[curve as usize];
-                            cs.factor = cs.factor.max(f);
-                        }
-                    }
-                }
+                self.hand_to_curves(&bp.edges, corners, n, f);
             }
             self.storage.patches[p] = slot;
         }
@@ -426,5 +414,28 @@ impl Tessellator<'_, '_> {
             .iter()
             .filter(|slot| slot.short)
             .count();
+    }
+
+    /// Hands factor `f` of a triangle (corner points `corners`, neighbours `n`) to the curves
+    /// along its boundary edges, for a patch whose sides are `edges`.
+    pub(super) fn hand_to_curves(
+        &mut self,
+        edges: &[EdgeLink; 4],
+        corners: [GridPoint; 3],
+        n: [Option<u16>; 3],
+        f: u8,
+    ) {
+        for i in 0..3 {
+            if n[i].is_some() {
+                continue;
+            }
+            let (a, b) = (corners[(i + 1) % 3], corners[(i + 2) % 3]);
+            if let Some(side) = common_side(a, b) {
+                if let EdgeLink::Curve { curve, .. } = edges[side.index()] {
+                    let cs = &mut self.storage.curves[curve as usize];
+                    cs.factor = cs.factor.max(f);
+                }
+            }
+        }
     }
 }
