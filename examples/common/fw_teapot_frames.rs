@@ -48,10 +48,11 @@ pub const POOL_TRIANGLES: usize = 1536;
 /// reports (`FrameStats::patches_without_states`).
 pub const STATES: usize = 224;
 /// Bound-cache entries (88 bytes each): the bounds the frames compute, kept for the next
-/// frames. Measured 2026-11-24 under QEMU, frame 1's update takes 1.08M instructions with 256
-/// entries, 1.10M with 64, 1.14M with 32 and 1.16M with none; frame 0 does not change. The
-/// demo keeps 64: 17 KB less RAM for 2% more update.
-pub const BOUNDS: usize = 64;
+/// frames. Measured 2026-11-24 under QEMU (frames that judge only the triangles along extra
+/// curve samples), frame 1's update takes 0.73M instructions with 64 entries, 0.76M with 32
+/// and 0.78M with none, and frames 0, 2 and 3 change by less than 0.3%: the demo keeps none,
+/// 5,632 bytes less RAM for 0.7% more instructions in frame 1.
+pub const BOUNDS: usize = 0;
 /// Vertex-cache entries: none. One per pool vertex slot (32 bytes each, 32,768 in all) would
 /// spare frame 1 about 0.5M of its 9.2M instructions (measured 2026-11-24); the demo keeps the
 /// RAM instead.
