@@ -6,10 +6,19 @@
 //! in a frame that needs no refinement (most frames of a small display) that is every patch.
 //!
 //! Each frame starts with an empty arena. A patch takes a stretch of it, one state per live
-//! triangle of its mesh (compacted to its first slots), when its triangles are to be judged on their own (its prefix is exhausted,
-//! some of its sides hold curve samples beyond its own requests, or its triangles off the view
-//! are to be hidden) or cut (a curve along it is refined by a neighbour). A patch without
-//! states has, for every triangle, [`TriangleSlot::plain`] of its slot's `plain` bound.
+//! triangle of its mesh (compacted to its first slots), when its triangles are to be judged on
+//! their own (its prefix is exhausted, some of its sides hold curve samples beyond its own
+//! requests, or its triangles off the view are to be hidden) or cut (a curve along it is
+//! refined by a neighbour). A patch without states has, for every triangle,
+//! [`TriangleSlot::plain`] of its slot's `plain` bound.
+//!
+//! Why the bound stays a bound without states: every triangle of such a patch is written
+//! uncut, at factor 1, in the pattern its curves give it. Its `plain` bound starts at the
+//! prefix's recorded bound (which covers every baked prefix triangle) and takes the maximum of
+//! every bound computed for one of its triangles (a judged triangle's own bound at factor 1,
+//! and each piece's bound of a non-uniform pattern), so it covers each triangle it is written
+//! with. Its largest bound over threshold is the maximum of the same bounds, each over the
+//! threshold it was judged against.
 //!
 //! A patch that finds the arena full is left uncut: every bound computed for one of its
 //! triangles this frame (at factor 1, with the non-uniform pattern its curves give it) raises
