@@ -79,6 +79,7 @@ struct Measured {
     prefix_scale: f32,
     max_error: f32,
     patches_without_states: u32,
+    states_needed: u32,
     update: u64,
     render: u64,
 }
@@ -134,6 +135,7 @@ fn frame(
         prefix_scale: stats.prefix_scale,
         max_error: stats.max_predicted_error,
         patches_without_states: stats.patches_without_states as u32,
+        states_needed: stats.triangle_states_needed as u32,
         update: t1.saturating_sub(t0),
         render: t2.saturating_sub(t1),
     })
@@ -259,7 +261,7 @@ fn main() -> std::process::ExitCode {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
                  listed {} list_slots {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} \
-                 bound_px {:.3} patches_without_states {} {}",
+                 bound_px {:.3} states_needed {} patches_without_states {} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
@@ -271,6 +273,7 @@ fn main() -> std::process::ExitCode {
                 m.mesh_triangles,
                 m.prefix_scale,
                 m.max_error,
+                m.states_needed,
                 m.patches_without_states,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )

@@ -43,9 +43,10 @@ pub const POOL_VERTICES: usize = 1024;
 pub const POOL_TRIANGLES: usize = 1536;
 /// Triangle states (20 bytes each), one per live triangle of the patches whose triangles a
 /// frame judges on their own or cuts. Frames 0 and 1 judge those of four patches, along
-/// sides holding curve samples their neighbours asked for (196 states); the near frames judge
-/// every patch's, and the patches that find no room stay uncut, within the bound the frame
-/// reports (`FrameStats::patches_without_states`).
+/// sides holding curve samples their neighbours asked for: 196 states (the host run prints
+/// `states_needed`, from `FrameStats::triangle_states_needed`). The near frames judge every
+/// patch's, and the patches that find no room stay uncut, within the bound the frame reports
+/// (`FrameStats::patches_without_states`).
 pub const STATES: usize = 224;
 /// Bound-cache entries (88 bytes each): the bounds the frames compute, kept for the next
 /// frames. Measured 2026-11-24 under QEMU (frames that judge only the triangles along extra

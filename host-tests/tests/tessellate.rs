@@ -385,6 +385,11 @@ fn run_model(path: &std::path::Path, pool: Pool) {
         let tolerance = step.view.tolerance() as f64;
         let short = stats.patches_without_states > 0;
         short_frames += usize::from(short);
+        assert_eq!(
+            short,
+            stats.triangle_states_needed > size.triangle_states,
+            "{what}: patches without states exactly when the arena is short of what they need"
+        );
         assert!(
             short || stats.max_predicted_error as f64 <= tolerance * (1.0 + 1e-6),
             "{what}: the frame's bound {} is over the tolerance",

@@ -194,6 +194,10 @@ pub struct FrameStats {
     /// triangle-state arena ([`TessellatorStorage::triangle_states`]) full: they are left
     /// uncut, within a bound that [`max_predicted_error`](Self::max_predicted_error) reports.
     pub patches_without_states: usize,
+    /// Triangle states the frame's patches asked for (one per live triangle of each patch
+    /// whose triangles are judged on their own, hidden or cut): an arena of at least this many
+    /// ([`StorageSize::triangle_states`]) leaves no patch without states.
+    pub triangle_states_needed: usize,
 }
 
 /// The run-time tessellator of one baked model, over caller storage.
@@ -295,6 +299,8 @@ pub struct Tessellator<'m, 's> {
     spare_bound: BoundSlot,
     /// Triangle states the frame's patches have taken from the arena.
     states_taken: usize,
+    /// Triangle states the frame's patches have asked for.
+    states_wanted: usize,
     /// The box around every patch (computed once: a renderer asks for it every frame).
     #[cfg(feature = "embedded-graphics")]
     model_box: Option<Aabb>,
@@ -370,6 +376,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             closed: None,
             spare_bound: BoundSlot::default(),
             states_taken: 0,
+            states_wanted: 0,
             #[cfg(feature = "embedded-graphics")]
             model_box: patches.aabb(),
         };

@@ -410,6 +410,7 @@ impl Tessellator<'_, '_> {
             self.storage.patches[p] = slot;
         }
         self.agree(view, tol, refine, stats);
+        stats.triangle_states_needed = self.states_wanted;
         stats.patches_without_states = self.storage.patches[..baked.patch_count()]
             .iter()
             .filter(|slot| slot.short)

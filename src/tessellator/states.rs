@@ -50,6 +50,7 @@ impl Tessellator<'_, '_> {
     /// Empties the arena for a new frame: no patch has states.
     pub(super) fn clear_states(&mut self) {
         self.states_taken = 0;
+        self.states_wanted = 0;
         let count = self.baked.patch_count();
         for slot in self.storage.patches[..count].iter_mut() {
             slot.states = NO_STATES;
@@ -124,6 +125,9 @@ impl Tessellator<'_, '_> {
             return true;
         }
         let (start, count) = (self.states_taken, slot.mesh.triangle_count());
+        if !slot.short {
+            self.states_wanted += count;
+        }
         if start + count > self.storage.triangle_states.len() {
             self.storage.patches[p].short = true;
             return false;
