@@ -434,7 +434,6 @@ impl<'m, 's> Tessellator<'m, 's> {
                 step_cap: cap,
                 center: sphere.center.to_array(),
                 radius: sphere.radius,
-                states: states::NO_STATES,
                 ..PatchSlot::default()
             };
         }

@@ -26,7 +26,6 @@
 //! (BENCHMARKS.md), this leaves 4% of the written triangles with nothing on screen, from 29%.
 
 use super::pattern::{self, Local};
-use super::states::NO_STATES;
 use super::storage::TriangleSlot;
 use super::{along, common_side, Tessellator, CORNER_UV};
 use crate::domain::GridPoint;
@@ -76,9 +75,9 @@ pub(super) struct PatchView<'t, 'm, 's> {
     tess: &'t Tessellator<'m, 's>,
     /// The view whose hidden pieces [`refine`](Self::refine) leaves out (none: every piece).
     hide: Option<View>,
-    /// Where its triangles' states start in the arena and how many there are, if it has
-    /// states (see `states`).
-    states: Option<(usize, usize)>,
+    /// Where its triangles' states start in the arena and how many there are (0: it has
+    /// none; see `states`).
+    states: (usize, usize),
     /// The state of every triangle when it has none.
     plain: TriangleSlot,
 }
@@ -94,9 +93,11 @@ impl PatchView<'_, '_, '_> {
 
     /// Triangle `t`'s state this frame.
     pub(super) fn state(&self, t: usize) -> &TriangleSlot {
-        match self.states {
-            Some((start, count)) if t < count => &self.tess.storage.triangle_states[start + t],
-            _ => &self.plain,
+        let (start, count) = self.states;
+        if t < count {
+            &self.tess.storage.triangle_states[start + t]
+        } else {
+            &self.plain
         }
     }
 
@@ -435,8 +436,7 @@ impl<'m, 's> Tessellator<'m, 's> {
             nodes: slot.nodes,
             tess: self,
             hide: None,
-            states: (slot.states != NO_STATES)
-                .then_some((slot.states as usize, slot.state_count as usize)),
+            states: (slot.states as usize, slot.state_count as usize),
             plain: TriangleSlot::plain(slot.plain, slot.c),
         })
     }

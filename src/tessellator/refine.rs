@@ -399,12 +399,7 @@ impl Tessellator<'_, '_> {
                 };
                 state.factor = f;
                 slot.factor = slot.factor.max(f);
-                if stated {
-                    self.storage.triangle_states[slot.states as usize + t] = state;
-                } else {
-                    // Uncut: its bound joins the one every triangle of the patch reports.
-                    slot.plain = math::max(slot.plain, state.pieces);
-                }
+                slot.put_state(self.storage.triangle_states, t, state);
                 self.hand_to_curves(&bp.edges, corners, n, f);
             }
             self.storage.patches[p] = slot;

@@ -30,9 +30,6 @@ use super::storage::TriangleSlot;
 use super::Tessellator;
 use crate::domain::DomainMesh;
 
-/// [`PatchSlot::states`](super::PatchSlot) of a patch without states this frame.
-pub(super) const NO_STATES: u32 = u32::MAX;
-
 impl TriangleSlot {
     /// The state of every triangle of a patch without states: factor 1, uncut, not judged on
     /// its own, within `bound` against threshold `c`.
@@ -53,7 +50,7 @@ impl Tessellator<'_, '_> {
         self.states_wanted = 0;
         let count = self.baked.patch_count();
         for slot in self.storage.patches[..count].iter_mut() {
-            slot.states = NO_STATES;
+            slot.states = 0;
             slot.state_count = 0;
             slot.plain = slot.recorded;
             slot.short = false;
@@ -91,7 +88,7 @@ impl Tessellator<'_, '_> {
             let mut best: Option<(f32, usize)> = None;
             for p in 0..count {
                 let slot = &self.storage.patches[p];
-                if slot.states != NO_STATES || slot.short || !self.wants_states(p, refine) {
+                if slot.state_count > 0 || slot.short || !self.wants_states(p, refine) {
                     continue;
                 }
                 let over = slot.recorded / slot.c;
@@ -110,7 +107,7 @@ impl Tessellator<'_, '_> {
 
     /// Whether patch `p` has states this frame.
     pub(super) fn has_states(&self, p: usize) -> bool {
-        self.storage.patches[p].states != NO_STATES
+        self.storage.patches[p].state_count > 0
     }
 
     /// Gives patch `p` a state per live triangle, each [`TriangleSlot::plain`] of its bound,
@@ -121,7 +118,7 @@ impl Tessellator<'_, '_> {
     /// the frame alone: so do which patches find room, and the frame's triangles.)
     pub(super) fn give_states(&mut self, p: usize) -> bool {
         let slot = self.storage.patches[p];
-        if slot.states != NO_STATES {
+        if slot.state_count > 0 {
             return true;
         }
         let (start, count) = (self.states_taken, slot.mesh.triangle_count());
@@ -152,31 +149,23 @@ impl Tessellator<'_, '_> {
     /// Triangle `t`'s state in patch `p` (its patch's plain one when it has none).
     pub(super) fn state(&self, p: usize, t: usize) -> TriangleSlot {
         let slot = &self.storage.patches[p];
-        if slot.states == NO_STATES || t >= slot.state_count as usize {
-            return TriangleSlot::plain(slot.plain, slot.c);
+        match slot
+            .state_index(t)
+            .and_then(|i| self.storage.triangle_states.get(i))
+        {
+            Some(&state) => state,
+            None => TriangleSlot::plain(slot.plain, slot.c),
         }
-        self.storage.triangle_states[slot.states as usize + t]
     }
 
     /// Triangle `t`'s state in patch `p`, to change, if the patch has states.
     pub(super) fn state_mut(&mut self, p: usize, t: usize) -> Option<&mut TriangleSlot> {
-        let slot = &self.storage.patches[p];
-        if slot.states == NO_STATES || t >= slot.state_count as usize {
-            return None;
-        }
-        self.storage
-            .triangle_states
-            .get_mut(slot.states as usize + t)
+        let i = self.storage.patches[p].state_index(t)?;
+        self.storage.triangle_states.get_mut(i)
     }
 
-    /// Writes triangle `t`'s state in patch `p`. In a patch without states, its pieces'
-    /// bound joins the patch's `plain` bound instead.
+    /// Writes triangle `t`'s state in patch `p` ([`PatchSlot::put_state`]).
     pub(super) fn put_state(&mut self, p: usize, t: usize, state: TriangleSlot) {
-        if let Some(s) = self.state_mut(p, t) {
-            *s = state;
-        } else {
-            let slot = &mut self.storage.patches[p];
-            slot.plain = crate::math::max(slot.plain, state.pieces);
-        }
+        self.storage.patches[p].put_state(self.storage.triangle_states, t, state);
     }
 }

@@ -66,10 +66,10 @@ pub struct PatchSlot {
     pub(super) cone: Option<NormalCone>,
     /// Whether it is culled this frame for facing away from the eye.
     pub(super) back_facing: bool,
-    /// Where its triangles' states start in the frame's arena (`NO_STATES`: it has none,
-    /// and every triangle has [`TriangleSlot::plain`] of `plain`; see `states`).
+    /// Where its triangles' states start in the frame's arena (see `states`).
     pub(super) states: u32,
-    /// How many states it has (its live triangles, in its first triangle slots).
+    /// How many states it has: its live triangles, in its first triangle slots (0: it has
+    /// none, and every triangle has [`TriangleSlot::plain`] of `plain`).
     pub(super) state_count: u32,
     /// For a patch without states: a bound of every triangle's pieces this frame.
     pub(super) plain: f32,
@@ -78,6 +78,20 @@ pub struct PatchSlot {
 }
 
 impl PatchSlot {
+    /// Where triangle `t`'s state is in the frame's arena, if the patch has one for it.
+    pub(super) fn state_index(&self, t: usize) -> Option<usize> {
+        (t < self.state_count as usize).then(|| self.states as usize + t)
+    }
+
+    /// Writes triangle `t`'s state into `arena`. In a patch without states, its pieces'
+    /// bound joins the patch's `plain` bound instead.
+    pub(super) fn put_state(&mut self, arena: &mut [TriangleSlot], t: usize, state: TriangleSlot) {
+        match self.state_index(t).and_then(|i| arena.get_mut(i)) {
+            Some(s) => *s = state,
+            None => self.plain = crate::math::max(self.plain, state.pieces),
+        }
+    }
+
     /// Its stretch of the pool's vertex slots.
     pub(super) fn vertex_range(&self) -> core::ops::Range<usize> {
         let start = self.vertex_offset as usize;
