@@ -77,19 +77,129 @@ impl Plane {
 /// A triangle ready for scan conversion.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Triangle {
-    x: [i64; 3],
-    y: [i64; 3],
-    /// The edge opposite corner `i` as a limit on the columns of each row: at the row through
-    /// subpixel height `yc`, column `px` is inside when `k[i] * px >= m0[i] - dx[i] * yc`
-    /// (see [`span`](Self::span)).
-    k: [i64; 3],
-    m0: [i64; 3],
+    /// Corners in subpixels (within [`COORDINATE_LIMIT`] pixels, so `i32` holds them and
+    /// their differences).
+    x: [i32; 3],
+    y: [i32; 3],
+    edges: Edges,
+    /// `dx[i]`: the change of `x` along the edge opposite corner `i`.
     dx: [i32; 3],
     depth: Plane,
     shade: Plane,
     /// `1 / (SUBPIXELS * |edge|)` for wireframe edges, 0 for the others.
     inv_length: [f32; 3],
     rows: [i32; 2],
+}
+
+/// The edges as limits on the columns of each row: at the row through subpixel height `yc`,
+/// column `px` is inside the edge opposite corner `i` when `k[i] * px >= m0[i] - dx[i] * yc`
+/// (see [`Triangle::span`]).
+#[derive(Clone, Copy, Debug)]
+enum Edges {
+    /// Every corner within [`NARROW_LIMIT`] subpixels of the origin: 32-bit arithmetic.
+    Narrow { k: [i32; 3], m0: [i32; 3] },
+    /// 64-bit arithmetic, for corners up to [`COORDINATE_LIMIT`] pixels away.
+    Wide { k: [i64; 3], m0: [i64; 3] },
+}
+
+/// Corners within this many subpixels (512 pixels) of the origin take the 32-bit edge
+/// arithmetic of [`Edges::Narrow`]; those of a viewport up to 256 pixels always do, as the
+/// clip keeps corners within twice the viewport. Every quantity then fits `i32` with room
+/// to spare, with `L = 2^13`: differences of corners `|dx|, |dy| <= 2L`, twice the area and
+/// `c = dy x_p - dx y_p` at most `2 (2L) L = 2^28`, `|m0| <= 2^28 + 1 + 8 (2L) < 2^29`,
+/// `|k| = 16 |dy| <= 2^18`, and at a row of the triangle (`|yc| <= L + 8`)
+/// `|m0 - dx yc| < 2^29 + 2^27`. The results are the same integers as in 64 bits.
+const NARROW_LIMIT: i64 = 1 << 13;
+
+/// The integer type of the edge functions: `i32` or `i64`, with the same exact results
+/// wherever both apply.
+trait EdgeInt:
+    Copy
+    + Ord
+    + From<i32>
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Neg<Output = Self>
+{
+    /// `floor(self / b)` for `b > 0`.
+    fn floor_div(self, b: Self) -> Self;
+    /// As `i64`.
+    fn wide(self) -> i64;
+    /// As `f32` (see [`wide_to_f32`]).
+    fn to_f32(self) -> f32;
+    /// The edges with these coefficients.
+    fn edges(k: [Self; 3], m0: [Self; 3]) -> Edges;
+}
+
+impl EdgeInt for i32 {
+    #[inline]
+    fn floor_div(self, b: i32) -> i32 {
+        self.div_euclid(b)
+    }
+    #[inline]
+    fn wide(self) -> i64 {
+        self as i64
+    }
+    #[inline]
+    fn to_f32(self) -> f32 {
+        self as f32
+    }
+    #[inline]
+    fn edges(k: [i32; 3], m0: [i32; 3]) -> Edges {
+        Edges::Narrow { k, m0 }
+    }
+}
+
+impl EdgeInt for i64 {
+    #[inline]
+    fn floor_div(self, b: i64) -> i64 {
+        floor_div(self, b)
+    }
+    #[inline]
+    fn wide(self) -> i64 {
+        self
+    }
+    #[inline]
+    fn to_f32(self) -> f32 {
+        wide_to_f32(self)
+    }
+    #[inline]
+    fn edges(k: [i64; 3], m0: [i64; 3]) -> Edges {
+        Edges::Wide { k, m0 }
+    }
+}
+
+/// `ceil(a / b)` for `b > 0`.
+#[inline]
+fn ceil_div<I: EdgeInt>(a: I, b: I) -> I {
+    -(-a).floor_div(b)
+}
+
+/// The columns `lo..=hi` (within the given ones) of the row through subpixel height `yc`
+/// that lie inside every edge.
+#[inline]
+fn inside_columns<I: EdgeInt>(
+    k: &[I; 3],
+    m0: &[I; 3],
+    dx: &[i32; 3],
+    yc: I,
+    mut lo: I,
+    mut hi: I,
+) -> Option<(I, I)> {
+    let zero = I::from(0);
+    for i in 0..3 {
+        let m = m0[i] - I::from(dx[i]) * yc;
+        let k = k[i];
+        if k > zero {
+            lo = lo.max(ceil_div(m, k));
+        } else if k < zero {
+            hi = hi.min((-m).floor_div(-k));
+        } else if m > zero {
+            return None;
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
 }
 
 /// `v` as `f32`: exactly rounded when it fits `i32` (one instruction on a 32-bit core, where
@@ -104,13 +214,6 @@ fn wide_to_f32(v: i64) -> f32 {
     }
 }
 
-/// A difference of two subpixel coordinates (each within [`COORDINATE_LIMIT`] pixels, or a
-/// pixel centre of a viewport no larger than that) as `f32`: it fits `i32`.
-#[inline]
-fn offset_to_f32(d: i64) -> f32 {
-    d as i32 as f32
-}
-
 fn snap(v: f32) -> i64 {
     // `floor` without the library call: `x` is within `±2^28`, so truncation is exact in
     // `i32` and one comparison corrects it for negative non-integers.
@@ -123,11 +226,6 @@ fn snap(v: f32) -> i64 {
 /// (the comparison is false for NaN).
 pub(crate) fn snap_checked(v: f32) -> Option<i64> {
     (v.abs() <= COORDINATE_LIMIT).then(|| snap(v))
-}
-
-/// `ceil(a / b)` for `b > 0`.
-fn ceil_div(a: i64, b: i64) -> i64 {
-    -floor_div(-a, b)
 }
 
 /// `floor(a / b)` for `b > 0`, in 32 bits when both fit (64-bit division is a library call
@@ -160,17 +258,34 @@ impl Triangle {
     /// within [`COORDINATE_LIMIT`] pixels) with their depth keys and shades; `None` when it
     /// has no area.
     pub fn from_snapped(
-        mut x: [i64; 3],
-        mut y: [i64; 3],
+        x: [i64; 3],
+        y: [i64; 3],
+        depth: [f32; 3],
+        shade: [f32; 3],
+        wire: [bool; 3],
+    ) -> Option<Triangle> {
+        if x.iter().chain(&y).all(|v| v.abs() <= NARROW_LIMIT) {
+            Triangle::set_up(x.map(|v| v as i32), y.map(|v| v as i32), depth, shade, wire)
+        } else {
+            Triangle::set_up(x, y, depth, shade, wire)
+        }
+    }
+
+    /// [`from_snapped`](Self::from_snapped) in the integer type `I`, which holds every edge
+    /// quantity of these corners.
+    fn set_up<I: EdgeInt>(
+        mut x: [I; 3],
+        mut y: [I; 3],
         mut depth: [f32; 3],
         mut shade: [f32; 3],
         mut wire: [bool; 3],
     ) -> Option<Triangle> {
+        let zero = I::from(0);
         let mut area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
-        if area == 0 {
+        if area == zero {
             return None;
         }
-        if area < 0 {
+        if area < zero {
             x.swap(1, 2);
             y.swap(1, 2);
             depth.swap(1, 2);
@@ -178,25 +293,31 @@ impl Triangle {
             wire.swap(1, 2);
             area = -area;
         }
-        let (mut k, mut m0, mut dxs) = ([0i64; 3], [0i64; 3], [0i32; 3]);
+        let (sub, half) = (I::from(SUBPIXELS as i32), I::from(HALF as i32));
+        let (mut k, mut m0, mut dxs) = ([zero; 3], [zero; 3], [0i32; 3]);
         let mut inv_length = [0f32; 3];
         let mut edges = [[0f32; 2]; 3];
         for i in 0..3 {
             let (p, q) = ((i + 1) % 3, (i + 2) % 3);
             let (dx, dy) = (x[q] - x[p], y[q] - y[p]);
-            edges[i] = [offset_to_f32(dx), offset_to_f32(dy)];
+            // Corners are within `COORDINATE_LIMIT` pixels: `|dx| < 2^30`.
+            let (dx32, dy32) = (dx.wide() as i32, dy.wide() as i32);
+            edges[i] = [dx32 as f32, dy32 as f32];
             // Top-left: an edge going up (y down) or a horizontal edge going right.
-            let bias = if dy < 0 || (dy == 0 && dx > 0) { 0 } else { 1 };
+            let bias = if dy < zero || (dy == zero && dx > zero) {
+                0
+            } else {
+                1
+            };
             // E(X, Y) = dx (Y - y_p) - dy (X - x_p) = a X + dx Y + c, with a = -dy and
             // c = dy x_p - dx y_p. At X = S px + H: E >= bias  <=>  S a px >= bias - c - H a
             // - dx Y.
             let (a, c) = (-dy, dy * x[p] - dx * y[p]);
-            k[i] = SUBPIXELS * a;
-            m0[i] = bias - c - HALF * a;
-            // Corners are within `COORDINATE_LIMIT` pixels: `|dx| < 2^30`.
-            dxs[i] = dx as i32;
+            k[i] = sub * a;
+            m0[i] = I::from(bias) - c - half * a;
+            dxs[i] = dx32;
             if wire[i] {
-                let len = crate::math::sqrt(wide_to_f32(dx * dx + dy * dy));
+                let len = crate::math::sqrt((dx * dx + dy * dy).to_f32());
                 inv_length[i] = 1.0 / (SUBPIXELS as f32 * len);
             }
         }
@@ -204,7 +325,7 @@ impl Triangle {
         // weights sum to 1), and `E_i` changes by `-dy_i` per step right and `dx_i` per step
         // down; through the differences, an attribute equal at the corners stays exactly
         // constant.
-        let inv_area = 1.0 / wide_to_f32(area);
+        let inv_area = 1.0 / area.to_f32();
         let plane = |v: [f32; 3]| {
             let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
             Plane {
@@ -215,14 +336,13 @@ impl Triangle {
         };
         let top = *y.iter().min()?;
         let bottom = *y.iter().max()?;
-        let first = ceil_div(top - HALF, SUBPIXELS);
-        let last = floor_div(bottom - HALF, SUBPIXELS);
+        let first = ceil_div(top - half, sub).wide();
+        let last = (bottom - half).floor_div(sub).wide();
         let clamp = |r: i64| r.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
         Some(Triangle {
-            x,
-            y,
-            k,
-            m0,
+            x: x.map(|v| v.wide() as i32),
+            y: y.map(|v| v.wide() as i32),
+            edges: I::edges(k, m0),
             dx: dxs,
             depth: plane(depth),
             shade: plane(shade),
@@ -238,25 +358,23 @@ impl Triangle {
 
     /// The pixels of row `row` inside the triangle, clipped to columns `columns`.
     pub fn span(&self, row: i32, columns: Range<i32>) -> Option<Span> {
-        let yc = row as i64 * SUBPIXELS + HALF;
-        let (mut lo, mut hi) = (columns.start as i64, columns.end as i64 - 1);
-        for i in 0..3 {
-            // |dx| < 2^30 and |yc| < 2^36 (row is an `i32`): exact in `i64`.
-            let m = self.m0[i] - self.dx[i] as i64 * yc;
-            let k = self.k[i];
-            if k > 0 {
-                lo = lo.max(ceil_div(m, k));
-            } else if k < 0 {
-                hi = hi.min(floor_div(-m, -k));
-            } else if m > 0 {
-                return None;
-            }
-        }
-        if lo > hi {
+        // Rows off the triangle's have no pixel; on its rows `|yc|` stays within the bounds
+        // [`NARROW_LIMIT`] assumes.
+        if row < self.rows[0] || row > self.rows[1] || columns.is_empty() {
             return None;
         }
-        let xc = lo * SUBPIXELS + HALF;
-        let (rx, ry) = (offset_to_f32(xc - self.x[0]), offset_to_f32(yc - self.y[0]));
+        let yc = row * SUBPIXELS as i32 + HALF as i32;
+        let (lo, hi) = (columns.start, columns.end - 1);
+        let (lo, hi) = match &self.edges {
+            Edges::Narrow { k, m0 } => inside_columns(k, m0, &self.dx, yc, lo, hi)?,
+            Edges::Wide { k, m0 } => {
+                let (lo, hi) = inside_columns(k, m0, &self.dx, yc as i64, lo as i64, hi as i64)?;
+                // Within `columns`: `i32`.
+                (lo as i32, hi as i32)
+            }
+        };
+        let xc = lo * SUBPIXELS as i32 + HALF as i32;
+        let (rx, ry) = ((xc - self.x[0]) as f32, (yc - self.y[0]) as f32);
         // E_i = dx (Y - y_p) - dy (X - x_p), in `f32` (only a distance to draw).
         let edge = core::array::from_fn(|i| {
             if self.inv_length[i] == 0.0 {
@@ -267,17 +385,17 @@ impl Triangle {
             }
             let (p, q) = ((i + 1) % 3, (i + 2) % 3);
             let (dx, dy) = (self.x[q] - self.x[p], self.y[q] - self.y[p]);
-            let ex = offset_to_f32(xc - self.x[p]);
-            let ey = offset_to_f32(yc - self.y[p]);
-            let e = offset_to_f32(dx) * ey - offset_to_f32(dy) * ex;
+            let ex = (xc - self.x[p]) as f32;
+            let ey = (yc - self.y[p]) as f32;
+            let e = dx as f32 * ey - dy as f32 * ex;
             Ramp {
                 start: e * self.inv_length[i],
-                step: -(SUBPIXELS as f32) * offset_to_f32(dy) * self.inv_length[i],
+                step: -(SUBPIXELS as f32) * dy as f32 * self.inv_length[i],
             }
         });
         Some(Span {
-            x0: lo as i32,
-            x1: hi as i32 + 1,
+            x0: lo,
+            x1: hi + 1,
             depth: self.depth.ramp(rx, ry),
             shade: self.shade.ramp(rx, ry),
             edge,
@@ -376,6 +494,50 @@ mod tests {
                 assert_eq!(ceil_div(a, b), -((-a).div_euclid(b)), "{a} / {b}");
             }
         }
+    }
+
+    #[test]
+    fn narrow_and_wide_edges_give_the_same_spans() {
+        // Corners up to the narrow limit, with wireframe edges, through both arithmetics.
+        let mut seed = 0x2545_f491_u32;
+        let mut next = |range: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed as i64 % (2 * range + 1)) - range
+        };
+        let mut spans = 0;
+        for n in 0..400 {
+            // Mostly small triangles, some reaching the limit.
+            let (reach, size) = if n % 4 == 0 {
+                (NARROW_LIMIT, NARROW_LIMIT)
+            } else {
+                (800, 60)
+            };
+            let (cx, cy) = (next(reach - size), next(reach - size));
+            let x: [i64; 3] = core::array::from_fn(|_| cx + next(size));
+            let y: [i64; 3] = core::array::from_fn(|_| cy + next(size));
+            let (depth, shade, wire) = ([0.3, 0.9, 0.5], [1.0, 0.2, 0.6], [true, n % 2 == 0, true]);
+            let narrow =
+                Triangle::set_up(x.map(|v| v as i32), y.map(|v| v as i32), depth, shade, wire);
+            let wide = Triangle::set_up(x, y, depth, shade, wire);
+            let (Some(narrow), Some(wide)) = (narrow, wide) else {
+                assert!(narrow.is_none() && wide.is_none());
+                continue;
+            };
+            assert!(matches!(narrow.edges, Edges::Narrow { .. }));
+            assert!(matches!(wide.edges, Edges::Wide { .. }));
+            assert_eq!(narrow.rows(), wide.rows());
+            let [first, last] = wide.rows();
+            for row in first - 2..=last + 2 {
+                for columns in [-600..600, -3..4, 0..240, 5..5] {
+                    let s = wide.span(row, columns.clone());
+                    assert_eq!(narrow.span(row, columns), s);
+                    spans += s.is_some() as u32;
+                }
+            }
+        }
+        assert!(spans > 1000, "{spans}");
     }
 
     #[test]
