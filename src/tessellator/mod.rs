@@ -42,7 +42,9 @@ mod pattern;
 mod pool;
 mod refine;
 mod select;
+mod settings;
 mod states;
+mod stats;
 mod storage;
 mod stream;
 mod vertex_cache;
@@ -51,6 +53,8 @@ pub use bound_cache::BoundSlot;
 pub use budget::{BudgetError, BudgetFit};
 pub use fixed::FixedStorage;
 pub use pool::PoolSize;
+pub use settings::{BackPatches, Settings, MAX_FACTOR};
+pub use stats::FrameStats;
 pub use storage::{
     CurveSlot, PatchSlot, StorageSize, TessellatorError, TessellatorStorage, TriangleSlot,
 };
@@ -73,58 +77,10 @@ use crate::view::View;
 use emit::MeshCounts;
 use storage::patch_capacity;
 
-/// Largest refinement factor (a refined triangle has at most `MAX_FACTOR²` pieces plus
-/// `3 MAX_FACTOR` along its sides); [`Settings::max_factor`] is capped here.
-pub const MAX_FACTOR: u8 = 64;
-
 /// Largest frame, in triangles, that refinement may produce: comfortably inside the `u32`
 /// indices and counts of the output. A frame whose refinement could exceed it is not refined
 /// (its [`FrameStats::max_predicted_error`] says how far above the tolerance it is).
 const MAX_REFINED_TRIANGLES: u64 = (u32::MAX / 8) as u64;
-
-/// Run-time settings.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Settings {
-    /// Interior samples per patch the storage holds, at most (the rest of a patch's list is
-    /// never used; refinement takes over).
-    pub max_interior_samples: u16,
-    /// Largest refinement factor of a triangle (1 turns refinement off; values above
-    /// [`MAX_FACTOR`] count as it).
-    pub max_factor: u8,
-    /// Whether patches that show the eye only their back are left out.
-    pub back_patches: BackPatches,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Settings {
-            max_interior_samples: u16::MAX,
-            max_factor: MAX_FACTOR,
-            back_patches: BackPatches::CullWhenClosed,
-        }
-    }
-}
-
-/// Whether a frame leaves out the patches that face away from the eye.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum BackPatches {
-    /// Left out where that hides nothing. Checked once, when the tessellator is made: the
-    /// model is closed (every boundary curve shared by exactly two patch edges), the two
-    /// patches along every curve have their normals `S_u × S_v` on the same side, and the
-    /// sign of the enclosed volume (by quadrature, taken only when it is at least 1% of the
-    /// integral of its absolute value) says which side is out
-    /// ([`Tessellator::culls_back_patches`] tells). Checked per frame: the model's bounding
-    /// sphere lies wholly beyond the near plane (so the eye is outside and nothing cuts the
-    /// surface open). Then a patch whose outward [`NormalCone`](crate::NormalCone) faces away
-    /// from the eye at every control point is culled like one off the view
-    /// ([`FrameStats::back_facing_patches`]). Drawn otherwise.
-    #[default]
-    CullWhenClosed,
-    /// Always drawn.
-    Draw,
-}
 
 /// Why a frame could not be updated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -152,53 +108,6 @@ impl fmt::Display for UpdateError {
 }
 
 impl core::error::Error for UpdateError {}
-
-/// Numbers of one frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct FrameStats {
-    /// Triangles of the frame's mesh.
-    pub triangles: usize,
-    /// Vertices of the frame's indexed mesh.
-    pub vertices: usize,
-    /// Domain-mesh insertions this frame (a curve sample counts once per patch using it).
-    pub inserted: usize,
-    /// Domain-mesh deletions this frame.
-    pub deleted: usize,
-    /// Triangles whose deviation was estimated this frame (new since the last frame).
-    pub estimated: usize,
-    /// Patches with at least one refined triangle or edge.
-    pub refined_patches: usize,
-    /// Patches culled by the view (off it, or facing away from the eye).
-    pub culled_patches: usize,
-    /// Of those, patches culled for facing away from the eye.
-    pub back_facing_patches: usize,
-    /// Largest predicted error of the frame, in the view's units (pixels or model units);
-    /// at most the tolerance unless refinement hit [`Settings::max_factor`], was off, or
-    /// found the triangle-state arena full (see
-    /// [`patches_without_states`](Self::patches_without_states)).
-    pub max_predicted_error: f32,
-    /// Live domain-mesh vertices of the visible patches: the vertex slots the frame uses.
-    pub mesh_vertices: usize,
-    /// Live domain-mesh triangles of the visible patches: the triangle slots the frame uses.
-    pub mesh_triangles: usize,
-    /// Pool slots the visible patches would use with every baked step the view asks for: a
-    /// pool of at least this (plus four vertex and two triangle slots per culled patch)
-    /// gives [`prefix_scale`](Self::prefix_scale) 1.
-    pub pool_needed: PoolSize,
-    /// 1 when the pool held every baked step the view asks for; otherwise the factor the
-    /// patches' thresholds were multiplied by to choose the steps that fit (refinement takes
-    /// over from them, within the same bound: see [`StorageSize::minimum`]).
-    pub prefix_scale: f32,
-    /// Patches whose triangles were to be judged on their own or cut this frame but found the
-    /// triangle-state arena ([`TessellatorStorage::triangle_states`]) full: they are left
-    /// uncut, within a bound that [`max_predicted_error`](Self::max_predicted_error) reports.
-    pub patches_without_states: usize,
-    /// Triangle states the frame's patches asked for (one per live triangle of each patch
-    /// whose triangles are judged on their own, hidden or cut): an arena of at least this many
-    /// ([`StorageSize::triangle_states`]) leaves no patch without states.
-    pub triangle_states_needed: usize,
-}
 
 /// The run-time tessellator of one baked model, over caller storage.
 ///
