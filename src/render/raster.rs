@@ -104,7 +104,8 @@ enum Edges {
 
 /// Corners within this many subpixels (512 pixels) of the origin take the 32-bit edge
 /// arithmetic of [`Edges::Narrow`]; those of a viewport up to 256 pixels always do, as the
-/// clip keeps corners within twice the viewport. Every quantity then fits `i32` with room
+/// clip's guard band keeps corners between `-W/2` and `3W/2` pixels for a viewport `W` pixels
+/// wide (and as much down). Every quantity then fits `i32` with room
 /// to spare, with `L = 2^13`: differences of corners `|dx|, |dy| <= 2L`, twice the area and
 /// `c = dy x_p - dx y_p` at most `2 (2L) L = 2^28`, `|m0| <= 2^28 + 1 + 8 (2L) < 2^29`,
 /// `|k| = 16 |dy| <= 2^18`, and at a row of the triangle (`|yc| <= L + 8`)
