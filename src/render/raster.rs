@@ -103,13 +103,14 @@ enum Edges {
 }
 
 /// Corners within this many subpixels (512 pixels) of the origin take the 32-bit edge
-/// arithmetic of [`Edges::Narrow`]; those of a viewport up to 256 pixels always do, as the
-/// clip's guard band keeps corners between `-W/2` and `3W/2` pixels for a viewport `W` pixels
-/// wide (and as much down). Every quantity then fits `i32` with room
-/// to spare, with `L = 2^13`: differences of corners `|dx|, |dy| <= 2L`, twice the area and
-/// `c = dy x_p - dx y_p` at most `2 (2L) L = 2^28`, `|m0| <= 2^28 + 1 + 8 (2L) < 2^29`,
-/// `|k| = 16 |dy| <= 2^18`, and at a row of the triangle (`|yc| <= L + 8`)
-/// `|m0 - dx yc| < 2^29 + 2^27`. The results are the same integers as in 64 bits.
+/// arithmetic of [`Edges::Narrow`]. Those of a viewport up to 256 pixels always do: the clip's
+/// guard band keeps corners between `-W/2` and `3W/2` pixels across a viewport `W` pixels wide,
+/// and likewise down. With `L = 2^13`, every quantity then fits `i32` with room to spare:
+/// differences of corners `|dx|, |dy| <= 2L`, so `dx² + dy² <= 2^29`; twice the area at most
+/// `(2L)² = 2^28`; `c = dy x_p - dx y_p` at most `2 (2L) L = 2^28`;
+/// `|m0| <= 2^28 + 1 + 8 (2L) < 2^29`; `|k| = 16 |dy| <= 2^18`; and at a row of the triangle
+/// (`|yc| <= L`), `|m0 - dx yc| < 2^29 + 2^28`. The results are the same integers as in 64
+/// bits.
 const NARROW_LIMIT: i64 = 1 << 13;
 
 /// The integer type of the edge functions: `i32` or `i64`, with the same exact results
