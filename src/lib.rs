@@ -101,6 +101,8 @@ mod patch;
 pub mod render;
 mod sink;
 pub mod tessellator;
+#[cfg(test)]
+mod test_rng;
 mod view;
 
 pub use bound::{Aabb, BoundingSphere};

@@ -170,13 +170,8 @@ mod tests {
 
     #[test]
     fn the_filter_never_contradicts_the_exact_test() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |range: i64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % (2 * range as u64 + 1)) as i64 - range
-        };
+        let mut rng = crate::test_rng::TestRng::new(0x2545_f491_4f6c_dd1d);
+        let mut next = |range: i64| rng.signed(range);
         let (mut decided, mut total) = (0, 0);
         // Random differences at every scale up to the grid's 2^20.
         for scale in [3i64, 100, 65_535, (1 << 20) - 1] {

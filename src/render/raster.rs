@@ -501,13 +501,8 @@ mod tests {
     #[test]
     fn narrow_and_wide_edges_give_the_same_spans() {
         // Corners up to the narrow limit, with wireframe edges, through both arithmetics.
-        let mut seed = 0x2545_f491_u32;
-        let mut next = |range: i64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            (seed as i64 % (2 * range + 1)) - range
-        };
+        let mut rng = crate::test_rng::TestRng::new(0x2545_f491_4f6c_dd1d);
+        let mut next = |range: i64| rng.signed(range);
         let mut spans = 0;
         for n in 0..400 {
             // Mostly small triangles, some reaching the limit.
