@@ -161,6 +161,13 @@ pub enum WriteError {
         /// Vertices of the mesh.
         vertices: usize,
     },
+    /// The tessellator's output scratch
+    /// ([`TessellatorStorage::scratch`](crate::tessellator::TessellatorStorage::scratch)) is
+    /// shorter than this frame's index tables; the buffers are untouched.
+    ScratchTooSmall {
+        /// `u32`s the frame needs.
+        needed: usize,
+    },
 }
 
 impl fmt::Display for WriteError {
@@ -173,6 +180,12 @@ impl fmt::Display for WriteError {
             ),
             WriteError::IndexOverflow { vertices } => {
                 write!(f, "{vertices} vertices do not fit the index type")
+            }
+            WriteError::ScratchTooSmall { needed } => {
+                write!(
+                    f,
+                    "output scratch too small: the frame needs {needed} slots"
+                )
             }
         }
     }

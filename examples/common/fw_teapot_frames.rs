@@ -58,8 +58,9 @@ pub const BOUNDS: usize = 0;
 /// spare frame 1 about 0.5M of its 9.2M instructions (measured 2026-11-24); the demo keeps the
 /// RAM instead.
 pub const POINTS: usize = 0;
-/// Output scratch: the largest patch's vertex slots plus three per triangle slot.
-pub const SCRATCH: usize = 542;
+/// Scratch: three per patch, to build the tessellator. The demo only streams its frames to
+/// the renderer; writing them as an indexed mesh would need 542 (`StorageSize::scratch`).
+pub const SCRATCH: usize = 3 * PATCHES;
 
 /// fw_teapot's tessellator storage.
 pub type Storage = FixedStorage<

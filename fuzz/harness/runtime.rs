@@ -182,6 +182,9 @@ fn write_small<I: MeshIndex + PartialEq>(
             assert!(n > I::LIMIT);
             assert!(vs.iter().all(|v| *v == marker));
         }
+        Err(e @ WriteError::ScratchTooSmall { .. }) => {
+            panic!("storage sized by StorageSize::of has the scratch of every frame: {e}")
+        }
     }
 }
 

@@ -9,7 +9,7 @@ use spline_tess::Vertex;
 pub use crate::runtime_storage::RuntimeStorage;
 
 /// An indexed mesh.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     /// Vertices.
     pub vertices: Vec<Vertex>,

@@ -179,6 +179,59 @@ fn small_buffers_are_untouched_and_say_what_is_needed() {
     assert!(v.iter().all(|x| *x == marker));
 }
 
+#[test]
+fn streaming_needs_no_write_scratch_and_write_mesh_says_what_it_needs() {
+    let (file, bytes) = teaspoon();
+    let baked = BakedModel::from_bytes(&bytes).unwrap();
+    let settings = Settings::default();
+    let view = View::Object { tolerance: 2e-3 };
+    // The reference: storage for every frame, written.
+    let mut full = RuntimeStorage::new(&baked, &settings);
+    let mut reference = full.tessellator(file.patches(), baked, settings);
+    let stats = reference.update(&view).unwrap();
+    let mesh = indexed(&mut reference);
+    // The same pool with only the least scratch (three per patch, for building): the frame
+    // is counted and streamed the same.
+    let size = StorageSize {
+        scratch: StorageSize::minimum(&baked, &settings).scratch,
+        ..StorageSize::of(&baked, &settings)
+    };
+    assert_eq!(size.scratch, 3 * baked.patch_count());
+    let mut short = RuntimeStorage::with_size(&size);
+    let mut t = short.tessellator(file.patches(), baked, settings);
+    assert_eq!(t.update(&view).unwrap(), stats);
+    assert_eq!(t.mesh_size(), reference.mesh_size());
+    let mut streamed = 0;
+    t.stream_with_info(|_, _| streamed += 1);
+    assert_eq!(streamed, stats.triangles);
+    for p in 0..baked.patch_count() {
+        assert_eq!(t.patch_triangles(p), reference.patch_triangles(p));
+    }
+    // Writing needs the index tables: a typed error, the buffers untouched.
+    let marker = Vertex {
+        patch: 7777,
+        ..Vertex::default()
+    };
+    let mut v = vec![marker; mesh.vertices.len()];
+    let mut tr = vec![[9u32; 3]; mesh.triangles.len()];
+    let Err(WriteError::ScratchTooSmall { needed }) = t.write_mesh(&mut v, &mut tr) else {
+        panic!("write_mesh with the least scratch must fail");
+    };
+    assert!(v.iter().all(|x| *x == marker) && tr.iter().all(|x| *x == [9; 3]));
+    assert!(needed > size.scratch && needed <= StorageSize::of(&baked, &settings).scratch);
+    assert!(WriteError::ScratchTooSmall { needed }
+        .to_string()
+        .contains("scratch"));
+    // With exactly what it asked for, it writes the reference's mesh.
+    let mut enough = RuntimeStorage::with_size(&StorageSize {
+        scratch: needed,
+        ..size
+    });
+    let mut t = enough.tessellator(file.patches(), baked, settings);
+    t.update(&view).unwrap();
+    assert_eq!(indexed(&mut t), mesh);
+}
+
 proptest! {
     #![proptest_config(proptest_config(48))]
 

@@ -21,9 +21,23 @@ pub(crate) struct MeshCounts {
 }
 
 impl Tessellator<'_, '_> {
-    /// Counts the frame's mesh (and fills the scratch tables as [`write_mesh`](Self::write_mesh) would).
+    /// Counts the frame's mesh and each patch's range of its triangles, as
+    /// [`write_mesh`](Self::write_mesh) would write them (without the scratch).
     pub(crate) fn count(&mut self) -> MeshCounts {
         self.emit::<u32>(None).unwrap_or_default()
+    }
+
+    /// The `u32` scratch [`write_mesh`](Self::write_mesh) needs for the current frame: the
+    /// largest visible patch's vertex slots plus three per triangle slot (its index tables).
+    pub(crate) fn write_scratch(&self) -> usize {
+        (0..self.baked.patch_count())
+            .filter(|&p| !self.storage.patches[p].culled)
+            .map(|p| {
+                let s = &self.storage.patches[p];
+                s.vertex_capacity as usize + 3 * s.triangle_capacity as usize
+            })
+            .max()
+            .unwrap_or(0)
     }
 
     /// Writes the frame's mesh: vertices, then triangles as index triples
@@ -43,12 +57,17 @@ impl Tessellator<'_, '_> {
                 vertices: needed.vertices,
             });
         }
+        let scratch = self.write_scratch();
+        if self.storage.scratch.len() < scratch {
+            return Err(WriteError::ScratchTooSmall { needed: scratch });
+        }
         self.emit(Some((vertices, triangles)));
         Ok(needed)
     }
 
-    /// The traversal behind [`write_mesh`] and the counts: assigns indices in the scratch
-    /// tables and, with buffers, writes.
+    /// The traversal behind [`write_mesh`] and the counts: with buffers, assigns indices in
+    /// the scratch tables (at least [`write_scratch`](Self::write_scratch) long) and writes;
+    /// without, only counts.
     fn emit<I: MeshIndex>(
         &mut self,
         mut out: Option<(&mut [Vertex], &mut [[I; 3]])>,
@@ -104,20 +123,26 @@ impl Tessellator<'_, '_> {
             Some((vs, ts)) => (Some(vs), Some(ts)),
             None => (None, None),
         };
+        // The index tables, when writing (counting needs none).
         let scratch = core::mem::take(&mut self.storage.scratch);
+        let tables = if ts_out.is_some() {
+            &mut scratch[..]
+        } else {
+            &mut []
+        };
         for p in 0..baked.patch_count() {
             let Some(view) = self.output_view(p) else {
                 continue;
             };
             let vc = self.storage.patches[p].vertex_capacity as usize;
-            let (vidx, ebase) = scratch.split_at_mut(vc);
+            let (vidx, ebase) = tables.split_at_mut(vc.min(tables.len()));
             // Domain vertices.
-            for (id, slot) in vidx.iter_mut().enumerate().take(vc) {
+            for id in 0..vc {
                 if self.storage.vertices[view.vo + id].live_point().is_none() {
                     continue;
                 }
                 let point = view.vertex(id as u16);
-                *slot = match point {
+                let index = match point {
                     Point::Node(n) => n,
                     Point::Curve { curve, j, .. } => self.curve_index(curve, j),
                     Point::Vertex { p: g, .. } => {
@@ -137,6 +162,9 @@ impl Tessellator<'_, '_> {
                         next - 1
                     }
                 };
+                if let Some(slot) = vidx.get_mut(id) {
+                    *slot = index;
+                }
             }
             if self.storage.patches[p].factor <= 1 {
                 // Nothing refined in or around the patch: its triangles as they are (what the
@@ -187,14 +215,18 @@ impl Tessellator<'_, '_> {
                     let Some(nb) = n[i] else { continue };
                     let nb = nb as usize;
                     if nb < t {
-                        let j = view
-                            .triangle(nb)
-                            .and_then(|(_, nn)| nn.iter().position(|&x| x == Some(t as u16)))
-                            .unwrap_or(0);
-                        ebase[3 * t + i] = ebase[3 * nb + j];
+                        if !ebase.is_empty() {
+                            let j = view
+                                .triangle(nb)
+                                .and_then(|(_, nn)| nn.iter().position(|&x| x == Some(t as u16)))
+                                .unwrap_or(0);
+                            ebase[3 * t + i] = ebase[3 * nb + j];
+                        }
                         continue;
                     }
-                    ebase[3 * t + i] = next;
+                    if let Some(slot) = ebase.get_mut(3 * t + i) {
+                        *slot = next;
+                    }
                     let f = view.edge_factor(t, v, n, i) as u32;
                     if f <= 1 {
                         continue;

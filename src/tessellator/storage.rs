@@ -246,16 +246,22 @@ pub struct StorageSize {
     /// [`PointSlot`]s: the vertex cache, one per pool vertex slot from the first (any number
     /// works, none included; the slots past it are evaluated at every output).
     pub vertex_points: usize,
-    /// `u32` scratch for output: the largest patch's vertex slots plus three per triangle
-    /// slot.
+    /// `u32` scratch: three per patch when the tessellator is built (to orient a closed
+    /// model's patches), and for [`write_mesh`](super::Tessellator::write_mesh) the largest
+    /// patch's vertex slots plus three per triangle slot. A tessellator whose frames are only
+    /// streamed ([`stream`](super::Tessellator::stream), the renderer) needs no more than the
+    /// first; [`write_mesh`](super::Tessellator::write_mesh) with less than the second
+    /// returns [`WriteError::ScratchTooSmall`](crate::WriteError::ScratchTooSmall).
     pub scratch: usize,
 }
 
 impl StorageSize {
     /// What `baked` needs with `settings` for every frame to hold every step it asks for:
-    /// a pool of every patch's slots, a bound cache of one entry per triangle slot and a vertex
-    /// cache of one per vertex slot. (A
-    /// smaller pool and cache work: see [`StorageSize::minimum`].)
+    /// a pool of every patch's slots, a bound cache of one entry per triangle slot, a vertex
+    /// cache of one per vertex slot, and the scratch of
+    /// [`write_mesh`](super::Tessellator::write_mesh) for any frame. (A smaller pool and
+    /// cache work, and a frame that is only streamed needs less scratch: see
+    /// [`StorageSize::minimum`].)
     pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
         let mut size = StorageSize::minimum(baked, settings);
         size.vertices = 0;
@@ -265,6 +271,7 @@ impl StorageSize {
                 let (v, t, _) = patch_capacity(baked, &bp, settings);
                 size.vertices += v;
                 size.triangles += t;
+                size.scratch = size.scratch.max(v + 3 * t);
             }
         }
         size.triangle_states = size.triangles;
@@ -274,14 +281,18 @@ impl StorageSize {
     }
 
     /// The least storage a [`Tessellator`](super::Tessellator) works with: a pool of four
-    /// vertex and two triangle slots per patch, no triangle states and no caches. Frames then
+    /// vertex and two triangle slots per patch, no triangle states, no caches, and the
+    /// scratch of building it (three per patch: enough to stream its frames, not to
+    /// [write](super::Tessellator::write_mesh) them; see [`StorageSize::scratch`]). Frames then
     /// cut their prefixes of baked steps to what the pool holds (see
     /// [`FrameStats::prefix_scale`](super::FrameStats::prefix_scale)); refinement takes over,
     /// within the same error bound, in the patches the triangle-state arena holds, and the
     /// others report their bound (see
     /// [`FrameStats::patches_without_states`](super::FrameStats::patches_without_states)).
     pub fn minimum(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
-        let mut size = StorageSize {
+        // The least storage does not depend on the settings (what a frame holds does).
+        let _ = settings;
+        StorageSize {
             patches: baked.patch_count(),
             curves: baked.curve_count(),
             curve_order: baked.curve_sample_count(),
@@ -290,15 +301,8 @@ impl StorageSize {
             triangle_states: 0,
             bounds: 0,
             vertex_points: 0,
-            scratch: 0,
-        };
-        for k in 0..baked.patch_count() {
-            if let Some(bp) = baked.patch(k) {
-                let (v, t, _) = patch_capacity(baked, &bp, settings);
-                size.scratch = size.scratch.max(v + 3 * t);
-            }
+            scratch: 3 * baked.patch_count(),
         }
-        size
     }
 
     /// This size with a pool of `pool`'s slots, and a triangle state for each of its triangle
@@ -361,7 +365,7 @@ pub struct TessellatorStorage<'s> {
     pub bounds: &'s mut [BoundSlot],
     /// The vertex cache, for the pool's first vertex slots: any length, none included.
     pub vertex_points: &'s mut [PointSlot],
-    /// Output scratch.
+    /// Scratch: see [`StorageSize::scratch`].
     pub scratch: &'s mut [u32],
 }
 
