@@ -34,7 +34,8 @@ pub const TRIANGLES: usize = 2 * VERTICES;
 pub const BOUNDS: usize = 1024;
 /// Vertex-cache entries.
 pub const POINTS: usize = VERTICES;
-/// Output scratch.
+/// Scratch for `write_mesh`'s index tables: the largest patch's vertex slots plus three per
+/// triangle slot.
 pub const SCRATCH: usize = 4 * (4 + 4 * 16 + 48) * 3;
 /// Output vertices.
 pub const OUT_VERTICES: usize = 6000;

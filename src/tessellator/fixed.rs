@@ -9,7 +9,8 @@ use crate::domain::{MeshTriangle, MeshVertex};
 /// [`TessellatorStorage`] in arrays: `PATCHES` patch slots, `CURVES` curve slots, `ORDER`
 /// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, `STATES`
 /// triangle states, a bound cache of `BOUNDS` entries, a vertex cache of `POINTS` entries,
-/// and `SCRATCH` output scratch. [`FixedStorage::covers`] checks it against what a bake needs
+/// and `SCRATCH` scratch ([`StorageSize::scratch`]: three per patch, or a writer's index
+/// tables). [`FixedStorage::covers`] checks it against what a bake needs
 /// ([`StorageSize::minimum`]); a pool larger than that lets frames keep more baked steps.
 ///
 /// ```
@@ -24,7 +25,7 @@ use crate::domain::{MeshTriangle, MeshVertex};
 /// assert_eq!((slices.vertices.len(), slices.triangles.len()), (192, 320));
 /// let least = StorageSize { patches: 4, curves: 12, curve_order: 200, vertices: 16,
 ///                           triangles: 8, triangle_states: 0, bounds: 0, vertex_points: 0,
-///                           scratch: 900 };
+///                           scratch: 12 };
 /// assert!(Storage::covers(&least));
 /// ```
 #[derive(Debug)]
