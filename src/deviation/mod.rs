@@ -183,8 +183,30 @@ impl Lattice {
         corners: [GridPoint; 3],
         points: [[f32; 3]; 3],
     ) -> Lattice {
+        let mut lattice = Lattice::UNSAMPLED;
+        lattice.sample_coarse(patch, corners, points);
+        lattice
+    }
+
+    /// A lattice with no samples, to [sample](Self::sample_coarse) in place (one lattice on
+    /// the stack where a caller may need it several ways).
+    pub(crate) const UNSAMPLED: Lattice = Lattice {
+        s: [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1],
+        worst: [0.0; 4],
+        at: (1, 1),
+        corners: [GridPoint { u: 0, v: 0 }; 3],
+        complete: false,
+    };
+
+    /// Makes this the [`coarse_with`](Self::coarse_with) lattice of `corners`, in place.
+    pub(crate) fn sample_coarse(
+        &mut self,
+        patch: &BezierPatch<'_>,
+        corners: [GridPoint; 3],
+        points: [[f32; 3]; 3],
+    ) {
         let n = LATTICE as usize;
-        let mut s = [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1];
+        let s = &mut self.s;
         for i in (0..=n).step_by(2) {
             for j in (0..=n - i).step_by(2) {
                 s[i][j] = match (i, j) {
@@ -198,13 +220,10 @@ impl Lattice {
                 };
             }
         }
-        Lattice {
-            s,
-            worst: [0.0; 4],
-            at: (1, 1),
-            corners,
-            complete: false,
-        }
+        self.worst = [0.0; 4];
+        self.at = (1, 1);
+        self.corners = corners;
+        self.complete = false;
     }
 
     /// The bound from the coarse points: the largest deviation at them and `½ ρ² / 9`.

@@ -243,13 +243,15 @@ impl Tessellator<'_, '_> {
         if at_hand <= c {
             return (1, at_hand, c, None);
         }
-        // 2. The coarse lattice.
-        let mut lattice: Option<Lattice> = None;
+        // 2. The coarse lattice. One lattice, sampled in place once (and completed) where a
+        // step needs it: steps 3 and 4 build on the samples of step 2.
+        let mut lattice = Lattice::UNSAMPLED;
+        let mut sampled = false;
         if state.known & KNOW_COARSE == 0 {
-            let l = Lattice::coarse_with(patch, corners, points);
-            state.coarse = l.coarse_bound(whole, uv).bound();
+            lattice.sample_coarse(patch, corners, points);
+            sampled = true;
+            state.coarse = lattice.coarse_bound(whole, uv).bound();
             state.known |= KNOW_COARSE;
-            lattice = Some(l);
             stats.estimated += 1;
         }
         let c = own_threshold(state.coarse);
@@ -258,9 +260,12 @@ impl Tessellator<'_, '_> {
         }
         // 3. The full lattice, with the whole patch's remainder.
         if state.known & KNOW_WHOLE == 0 {
-            let l = lattice.get_or_insert_with(|| Lattice::coarse_with(patch, corners, points));
-            l.complete(patch);
-            state.whole = l.bound(whole, uv, false).bound();
+            if !sampled {
+                lattice.sample_coarse(patch, corners, points);
+                sampled = true;
+            }
+            lattice.complete(patch);
+            state.whole = lattice.bound(whole, uv, false).bound();
             state.known |= KNOW_WHOLE;
         }
         let c = own_threshold(state.whole);
@@ -271,11 +276,13 @@ impl Tessellator<'_, '_> {
         let (b, local) = match state.cached() {
             Some(b) => (b, None),
             None => {
-                let l = lattice.get_or_insert_with(|| Lattice::coarse_with(patch, corners, points));
-                l.complete(patch);
-                l.pieces();
+                if !sampled {
+                    lattice.sample_coarse(patch, corners, points);
+                }
+                lattice.complete(patch);
+                lattice.pieces();
                 let local = PatchBounds::around(patch, uv);
-                let b = l.bound(&local, uv, true);
+                let b = lattice.bound(&local, uv, true);
                 state.keep_own(&b);
                 (b, Some(local))
             }
