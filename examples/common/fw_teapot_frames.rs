@@ -23,11 +23,12 @@ pub const HEIGHT: u32 = 240;
 pub const BAND_ROWS: u32 = 8;
 /// Pixels of one band (depth values, and colours).
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
-/// Slots of the triangle list (8 bytes each: a group header per patch, one slot per triangle
-/// and one per distinct corner). Frames 0 and 1 take 2,094 and 2,135; the near frames keep
-/// their first patches there and stream the rest band by band. `--cfg fw_no_list` builds the
-/// demo without a list, to measure the streaming path on every frame.
-pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2176 };
+/// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
+/// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner). Frames 0 and 1
+/// take 1,493 and 1,541; the near frames keep their first patches there and stream the rest
+/// band by band. `--cfg fw_no_list` builds the demo without a list, to measure the streaming
+/// path on every frame.
+pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 1600 };
 
 /// Patch slots: the teapot's 32 patches.
 pub const PATCHES: usize = 32;

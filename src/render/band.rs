@@ -10,7 +10,7 @@ use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
 use super::clip::ClipVertex;
-use super::list::{listed_triangles, ListSlot, SubpixelRows};
+use super::list::{for_each_listed, ListSlot, SubpixelRows};
 use super::project::{shade_level, CornerCache, Setup};
 use super::raster::{Span, Triangle};
 use super::{RenderStats, Style};
@@ -297,13 +297,13 @@ impl<O: BandOutput> Band<'_, '_, O> {
     /// that reach the band, in order.
     pub fn draw_list(&mut self, list: &[ListSlot], front: usize) {
         let rows = SubpixelRows::new(&self.rows());
-        for t in listed_triangles(list, front, &rows) {
+        for_each_listed(list, front, &rows, |t| {
             if t.meets(&rows) {
                 if let Some(tri) = t.triangle() {
                     self.rasterise(&tri);
                 }
             }
-        }
+        });
     }
 
     fn rows(&self) -> Range<i32> {

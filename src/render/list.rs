@@ -1,15 +1,18 @@
 //! The frame's triangle list: every screen triangle of a frame, projected once and kept in
 //! 8-byte slots, so that the bands rasterise from it instead of asking the source again.
 //!
-//! A triangle takes one slot at the front of the list: the slots of its three corners, its
-//! wireframe edges and, with flat shading, its shade. A corner takes one slot at the back:
-//! its position at 1/16 pixel in `i16`, its depth key and its shade. Triangles that share a
-//! corner share its slot: a corner is looked up by value in a small hash table before it is
-//! added. At the front, triangles come in groups of at most [`GROUP`] of one patch, each
-//! after a header slot with their count and the subpixel rows they span, so that a band skips
-//! the groups that miss it without looking at their corners. On a tessellated mesh a frame of
-//! `T` triangles takes about `1.8 T` slots (about 14 bytes a triangle), where three corners
-//! of its own would take 28.
+//! A corner takes one slot at the back of the list: its position at 1/16 pixel in `i16`, its
+//! depth key and its shade. Triangles that share a corner share its slot: a corner is looked
+//! up by value in a small hash table before it is added. At the front, triangles come in
+//! groups of at most [`GROUP`] of one patch, each after a header slot with the number of half
+//! slots its triangles take, the subpixel rows they span (so that a band skips the groups that
+//! miss it without looking at their corners) and its corner *base*. A triangle takes half a
+//! slot (4 bytes): its three corners as offsets of one byte below the base, and its wireframe
+//! edges; with flat shading a second half holds its shade. A group's corners are the 256
+//! slots below its base: a corner found further away is added again, and a group whose new
+//! corners reach past the window ends there. On a tessellated mesh a Gouraud-shaded frame of
+//! `T` triangles takes about `1.25 T` slots (about 10 bytes a triangle), where three corners of
+//! its own would take 28.
 
 use super::clip::ClipVertex;
 use super::project::{
@@ -28,15 +31,25 @@ use crate::sink::{TriangleSink, Vertex};
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ListSlot([u16; 4]);
 
-/// A triangle slot's last word: wireframe edges in bits 0 to 2, [`FLAT`], the shade level in
-/// the high byte.
-const FLAT: u16 = 1 << 3;
+/// A triangle's flags (the high byte of its half slot's second word): wireframe edges in bits
+/// 0 to 2, and [`FLAT`].
+const FLAT: u8 = 1 << 3;
 
 /// Triangles in a group, at most.
 const GROUP: usize = 64;
 
+/// Slots below a group's base its triangles can reach (offsets are one byte).
+const WINDOW: usize = 256;
+
+/// Corner slots above the free ones that a new group's window keeps in reach (corners of the
+/// triangles just listed, which the next ones share).
+const REACH_BACK: usize = 128;
+
 /// Slots a list uses at most: corner numbers are `u16`.
 const MAX_SLOTS: usize = u16::MAX as usize;
+
+/// Half a slot: a triangle (corner offsets and flags), or a flat triangle's shade level.
+type Half = [u16; 2];
 
 impl ListSlot {
     /// A corner: `x`, `y` on the 1/16-pixel grid, its depth key and shade level.
@@ -60,30 +73,31 @@ impl ListSlot {
         )
     }
 
-    /// A triangle over corner slots `corners`, with wireframe edges `wire` and, when
-    /// `flat` holds a level, that one shade for the whole triangle.
-    fn triangle(corners: [u16; 3], wire: [bool; 3], flat: Option<u8>) -> ListSlot {
-        let mut meta = wire[0] as u16 | (wire[1] as u16) << 1 | (wire[2] as u16) << 2;
-        if let Some(level) = flat {
-            meta |= FLAT | (level as u16) << 8;
-        }
-        ListSlot([corners[0], corners[1], corners[2], meta])
+    /// Sets half `k` (0 or 1) of a triangle slot.
+    fn set_half(&mut self, k: usize, half: Half) {
+        [self.0[2 * k], self.0[2 * k + 1]] = half;
     }
 
-    /// A group header: no triangles yet, an empty span of rows.
-    fn empty_group() -> ListSlot {
-        ListSlot([0, i16::MAX as u16, i16::MIN as u16, 0])
+    /// A group header: no triangles yet, an empty span of rows, corners below slot `base`.
+    fn empty_group(base: u16) -> ListSlot {
+        ListSlot([0, i16::MAX as u16, i16::MIN as u16, base])
     }
 
-    /// A group header's triangle count.
-    fn group_len(&self) -> usize {
+    /// A group header's half slots.
+    fn group_halves(&self) -> usize {
         self.0[0] as usize
     }
 
-    /// Counts one more triangle, with corner rows `y`, in a group header.
-    fn group_add(&mut self, y: [i16; 3]) {
+    /// A group header's corner base.
+    fn group_base(&self) -> usize {
+        self.0[3] as usize
+    }
+
+    /// Counts one more triangle of `halves` half slots, with corner rows `y`, in a group
+    /// header.
+    fn group_add(&mut self, halves: usize, y: [i16; 3]) {
         let [count, top, bottom, _] = &mut self.0;
-        *count += 1;
+        *count += halves as u16;
         let (lo, hi) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
         *top = (*top as i16).min(lo) as u16;
         *bottom = (*bottom as i16).max(hi) as u16;
@@ -94,79 +108,90 @@ impl ListSlot {
     fn group_meets(&self, rows: &SubpixelRows) -> bool {
         rows.meet(self.0[1] as i16, self.0[2] as i16)
     }
+}
 
-    /// A triangle slot's corner slots in `list` (`None` past its end: never for a list this
-    /// module wrote).
-    fn corners_in<'l>(&self, list: &'l [ListSlot]) -> Option<[&'l ListSlot; 3]> {
-        let [a, b, c, _] = self.0;
-        Some([
-            list.get(a as usize)?,
-            list.get(b as usize)?,
-            list.get(c as usize)?,
-        ])
+/// A triangle's half slot: its corners' offsets below the group's base, its wireframe edges
+/// `wire`, and whether a half with its shade follows.
+fn triangle_half(offsets: [u8; 3], wire: [bool; 3], flat: bool) -> Half {
+    let flags = wire[0] as u8 | (wire[1] as u8) << 1 | (wire[2] as u8) << 2 | (flat as u8 * FLAT);
+    [
+        offsets[0] as u16 | (offsets[1] as u16) << 8,
+        offsets[2] as u16 | (flags as u16) << 8,
+    ]
+}
+
+/// Hands `f` the triangles in the first `front` slots of `list` (a list this module filled)
+/// whose group may meet `rows`, in order, each with its corners (a triangle naming a slot
+/// outside the list is left out: never in a list this module wrote).
+pub(super) fn for_each_listed<'l>(
+    list: &'l [ListSlot],
+    front: usize,
+    rows: &SubpixelRows,
+    mut f: impl FnMut(ListedTriangle<'l>),
+) {
+    let front = list.get(..front).unwrap_or(&[]);
+    let mut at = 0;
+    while let Some(header) = front.get(at) {
+        let halves = header.group_halves();
+        let group = front
+            .get(at + 1..at + 1 + halves.div_ceil(2))
+            .unwrap_or(&[]);
+        at += 1 + halves.div_ceil(2);
+        if !header.group_meets(rows) {
+            continue;
+        }
+        // Offsets are one byte: `base - 1 - offset` stays in the group's window.
+        let base = header.group_base();
+        let mut triangle = |ab: u16, c_flags: u16, flat: Option<u8>| {
+            let corner = |off: u16| list.get(base.wrapping_sub(1 + (off & 0xff) as usize));
+            if let (Some(a), Some(b), Some(c)) = (corner(ab), corner(ab >> 8), corner(c_flags)) {
+                f(ListedTriangle {
+                    corners: [a, b, c],
+                    flags: (c_flags >> 8) as u8,
+                    flat,
+                });
+            }
+        };
+        for (i, slot) in group.iter().enumerate() {
+            let [ab, c_flags, second_ab, second_c_flags] = slot.0;
+            if (c_flags >> 8) as u8 & FLAT != 0 {
+                triangle(ab, c_flags, Some(second_ab as u8));
+                continue;
+            }
+            triangle(ab, c_flags, None);
+            if 2 * i + 1 < halves {
+                triangle(second_ab, second_c_flags, None);
+            }
+        }
     }
+}
 
-    /// A triangle slot ready for scan conversion, with its corner slots `corners`; `None`
-    /// when it has no area.
-    fn raster_triangle(&self, corners: [&ListSlot; 3]) -> Option<Triangle> {
-        let meta = self.0[3];
-        let c = corners.map(ListSlot::unpack_corner);
-        let shade = if meta & FLAT != 0 {
-            [shade_from_u8((meta >> 8) as u8); 3]
-        } else {
-            c.map(|c| c.3)
+/// A triangle of the list with its corner slots.
+pub(super) struct ListedTriangle<'l> {
+    corners: [&'l ListSlot; 3],
+    /// Its wireframe edges (bits 0 to 2).
+    flags: u8,
+    /// Its shade level with flat shading.
+    flat: Option<u8>,
+}
+
+impl ListedTriangle<'_> {
+    /// The triangle ready for scan conversion (as [`Triangle::new`] sets up the same
+    /// corners); `None` when it has no area.
+    #[inline(always)]
+    pub fn triangle(&self) -> Option<Triangle> {
+        let c = self.corners.map(ListSlot::unpack_corner);
+        let shade = match self.flat {
+            Some(level) => [shade_from_u8(level); 3],
+            None => c.map(|c| c.3),
         };
         Triangle::from_snapped(
             c.map(|c| c.0),
             c.map(|c| c.1),
             c.map(|c| c.2),
             shade,
-            [0, 1, 2].map(|i| meta & (1 << i) != 0),
+            [0, 1, 2].map(|i| self.flags & (1 << i) != 0),
         )
-    }
-}
-
-/// The triangles in the first `front` slots of `list` (a list this module filled) whose
-/// group may meet `rows`, each with its corners.
-pub(super) fn listed_triangles<'l>(
-    list: &'l [ListSlot],
-    front: usize,
-    rows: &SubpixelRows,
-) -> impl Iterator<Item = ListedTriangle<'l>> + 'l {
-    let front = list.get(..front).unwrap_or(&[]);
-    let rows = *rows;
-    let mut at = 0;
-    core::iter::from_fn(move || {
-        let header = front.get(at)?;
-        let n = header.group_len();
-        let group = front.get(at + 1..at + 1 + n).unwrap_or(&[]);
-        at += 1 + n;
-        Some(if header.group_meets(&rows) {
-            group
-        } else {
-            &[]
-        })
-    })
-    .flatten()
-    .filter_map(move |t| {
-        Some(ListedTriangle {
-            slot: t,
-            corners: t.corners_in(list)?,
-        })
-    })
-}
-
-/// A triangle of the list with its corner slots.
-pub(super) struct ListedTriangle<'l> {
-    slot: &'l ListSlot,
-    corners: [&'l ListSlot; 3],
-}
-
-impl ListedTriangle<'_> {
-    /// The triangle ready for scan conversion (as [`Triangle::new`] sets up the same
-    /// corners); `None` when it has no area.
-    pub fn triangle(&self) -> Option<Triangle> {
-        self.slot.raster_triangle(self.corners)
     }
 
     /// Whether it may cover a pixel centre of the rows `rows` stands for.
@@ -203,6 +228,15 @@ impl SubpixelRows {
 
 /// Entries of the table that finds a corner already in the list by its value.
 const SHARED: usize = 256;
+
+/// Why a triangle did not go into the list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum NoRoom {
+    /// The list is full.
+    Full,
+    /// A new corner would fall out of the open group's window.
+    Window,
+}
 
 /// The sink that fills the list from one pass over the source.
 ///
@@ -282,23 +316,27 @@ impl ListSink<'_, '_, '_> {
         !self.overflow && self.resume.is_none()
     }
 
-    /// The slot of a corner with value `value`: one already in the list, or a new one
-    /// (`None`: no room left beside the triangle slot `self.len`).
-    fn corner_slot(&mut self, value: ListSlot) -> Option<u16> {
+    /// The offset below `base` of a corner with value `value`: a slot already in the list
+    /// within the window below `base`, or a new one.
+    fn corner_slot(&mut self, value: ListSlot, base: usize) -> Result<u8, NoRoom> {
         let [x, y, d, s] = value.0;
         let h = (x as u32 | (y as u32) << 16) ^ (d as u32 | (s as u32) << 16).rotate_left(7);
         let entry = (h.wrapping_mul(0x9e37_79b1) >> 24) as usize % SHARED;
         let known = self.shared[entry] as usize;
-        if known >= self.top && self.list.get(known) == Some(&value) {
-            return Some(known as u16);
+        let window = base.saturating_sub(WINDOW)..base;
+        if known >= self.top && window.contains(&known) && self.list.get(known) == Some(&value) {
+            return Ok((base - 1 - known) as u8);
         }
-        if self.top <= self.len + 1 {
-            return None;
+        if self.top <= self.len {
+            return Err(NoRoom::Full);
+        }
+        if self.top - 1 < window.start {
+            return Err(NoRoom::Window);
         }
         self.top -= 1;
         self.list[self.top] = value;
         self.shared[entry] = self.top as u16;
-        Some(self.top as u16)
+        Ok((base - 1 - self.top) as u8)
     }
 
     /// Adds one projected triangle; false when it does not fit (nothing is added then).
@@ -316,40 +354,83 @@ impl ListSink<'_, '_, '_> {
             *value = ListSlot::corner(x, row, depth_to_u16(v.depth), shade);
             *y = row;
         }
+        let level = flat.then(|| shade_to_u8(v[0].shade));
+        // A corner out of the open group's window closes it: the next group's window starts
+        // at the free slots.
+        match self.try_push(values, y, wire, level) {
+            Err(NoRoom::Window) => {
+                self.group = None;
+                self.try_push(values, y, wire, level).is_ok()
+            }
+            pushed => pushed.is_ok(),
+        }
+    }
+
+    /// [`push`](Self::push) into the open group (or a new one when there is none or it is
+    /// full); on an error nothing is added.
+    fn try_push(
+        &mut self,
+        values: [ListSlot; 3],
+        y: [i16; 3],
+        wire: [bool; 3],
+        level: Option<u8>,
+    ) -> Result<(), NoRoom> {
         let (len, top, group) = (self.len, self.top, self.group);
+        let restore = |sink: &mut Self| (sink.len, sink.top, sink.group) = (len, top, group);
+        let halves = 1 + level.is_some() as usize;
         let header = match self.group {
-            Some(g) if self.list[g].group_len() < GROUP => g,
+            Some(g) if self.list[g].group_halves() + halves <= 2 * GROUP => g,
             _ => {
                 if self.len >= self.top {
-                    return false;
+                    return Err(NoRoom::Full);
                 }
-                self.list[self.len] = ListSlot::empty_group();
+                let base = (self.top + REACH_BACK).min(self.list.len());
+                self.list[self.len] = ListSlot::empty_group(base as u16);
                 self.group = Some(self.len);
                 self.len += 1;
                 self.len - 1
             }
         };
-        let mut corners = [0u16; 3];
-        for (slot, value) in corners.iter_mut().zip(values) {
-            match self.corner_slot(value) {
-                Some(s) => *slot = s,
-                None => {
-                    (self.len, self.top, self.group) = (len, top, group);
-                    return false;
+        let base = self.list[header].group_base();
+        let mut offsets = [0u8; 3];
+        for (offset, value) in offsets.iter_mut().zip(values) {
+            match self.corner_slot(value, base) {
+                Ok(o) => *offset = o,
+                Err(e) => {
+                    restore(self);
+                    return Err(e);
                 }
             }
         }
+        // The triangle goes in the group's next half slot; a flat one in a slot of its own,
+        // its shade in the second half (after an odd number of halves, which a list of one
+        // shading never has, the half before it is left empty: a triangle of one corner,
+        // which draws nothing).
+        let used = self.list[header].group_halves();
+        let (slot, second) = match level {
+            Some(_) => (header + 1 + used.div_ceil(2), false),
+            None => (header + 1 + used / 2, used % 2 == 1),
+        };
+        let end = slot + 1;
         // (Corners all found in the list take no room: the triangle's slot may still not.)
-        if self.len >= self.top {
-            (self.len, self.top, self.group) = (len, top, group);
-            return false;
+        if end > self.top {
+            restore(self);
+            return Err(NoRoom::Full);
         }
-        let level = flat.then(|| shade_to_u8(v[0].shade));
-        self.list[self.len] = ListSlot::triangle(corners, wire, level);
-        self.len += 1;
+        let [ab, c_flags] = triangle_half(offsets, wire, level.is_some());
+        if second {
+            self.list[slot].set_half(1, [ab, c_flags]);
+        } else {
+            self.list[slot] = ListSlot([ab, c_flags, level.unwrap_or(0) as u16, 0]);
+        }
+        let total = match level {
+            Some(_) => 2 * used.div_ceil(2) + 2,
+            None => used + 1,
+        };
+        self.len = end;
         self.listed += 1;
-        self.list[header].group_add(y);
-        true
+        self.list[header].group_add(total - used, y);
+        Ok(())
     }
 
     /// Lists one admitted triangle, its corners in view space (`inside`: all inside the clip
@@ -474,21 +555,82 @@ mod tests {
             shade: super::super::project::quantize_shade(0.2),
         };
         let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
-        // A group header, two triangles and their three shared corners.
-        let mut list = [ListSlot::default(); 6];
+        // A group header, one slot of two triangles and their three shared corners.
+        let mut list = [ListSlot::default(); 5];
         let mut sink = ListSink::new(&setup, &mut list, &mut corners);
         assert!(sink.push(&t, [false; 3]));
         assert!(sink.push(&t, [false; 3]));
-        assert_eq!((sink.len, sink.used()), (3, 6));
+        assert_eq!((sink.len, sink.used()), (2, 5));
         assert!(!sink.push(&t, [false; 3]), "no slot left for a third");
-        assert_eq!((sink.len, sink.used(), sink.listed), (3, 6, 2));
-        let kept: [_; 3] = core::array::from_fn(|k| list[3 + k].unpack_corner());
+        assert_eq!((sink.len, sink.used(), sink.listed), (2, 5, 2));
+        let kept: [_; 3] = core::array::from_fn(|k| list[2 + k].unpack_corner());
         for (k, c) in kept.iter().enumerate() {
             assert!(t.iter().any(|s| snap_checked(s.xy[1]) == Some(c.1)), "{k}");
         }
         let all = SubpixelRows::new(&(-100..100));
-        let drawn = listed_triangles(&list, 3, &all).filter_map(|l| l.triangle());
-        assert_eq!(drawn.count(), 2);
+        let mut drawn = 0;
+        for_each_listed(&list, 2, &all, |l| drawn += l.triangle().is_some() as usize);
+        assert_eq!(drawn, 2);
+    }
+
+    /// A group reaches the 256 corner slots below its base: a triangle with a corner further
+    /// away starts a new group, whose window starts at the free slots, and every triangle
+    /// keeps its own corners.
+    #[test]
+    fn a_corner_out_of_the_window_starts_a_group() {
+        use crate::view::{Camera, Projection};
+        use glam::Vec3;
+        let camera = Camera::new(
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Orthographic { height: 4.0 },
+            0.1,
+            [32, 32],
+        )
+        .unwrap();
+        let style = super::super::Style::default();
+        let setup = Setup::new(&camera, None, &style);
+        let mut corners = CornerCache::new();
+        let v = |x: f32, y: f32| ScreenVertex {
+            xy: [x, y],
+            depth: 300.0,
+            shade: super::super::project::quantize_shade(0.2),
+        };
+        // A fan around one centre: 200 triangles of new corners, the centre shared by all
+        // of them until it falls out of the window.
+        let fan = |k: usize| {
+            let a = k as f32 * 0.125;
+            [v(16.0, 16.0), v(a, 1.0), v(a + 0.0625, 30.0)]
+        };
+        let mut list = [ListSlot::default(); 1024];
+        let mut sink = ListSink::new(&setup, &mut list, &mut corners);
+        for k in 0..200 {
+            assert!(sink.push(&fan(k), [false; 3]), "{k}");
+        }
+        let (len, listed) = (sink.len, sink.listed);
+        assert_eq!(listed, 200);
+        let all = SubpixelRows::new(&(-100..100));
+        let mut k = 0;
+        for_each_listed(&list, len, &all, |t| {
+            let want = fan(k).map(|c| (snap_checked(c.xy[0]), snap_checked(c.xy[1])));
+            let got = t.corners.map(|c| {
+                let (x, y, ..) = c.unpack_corner();
+                (Some(x), Some(y))
+            });
+            assert_eq!(got, want, "triangle {k}");
+            k += 1;
+        });
+        assert_eq!(k, 200);
+        // More than one group, and more than one copy of the centre.
+        let centres = list[len..]
+            .iter()
+            .filter(|c| {
+                let (x, y, ..) = c.unpack_corner();
+                Some(x) == snap_checked(16.0) && Some(y) == snap_checked(16.0)
+            })
+            .count();
+        assert!(centres > 1, "{centres}");
     }
 
     #[test]
@@ -509,11 +651,23 @@ mod tests {
             list[2 + k] = ListSlot::corner(fit(c.xy[0]), y[k], 300, level);
         }
         let wire = [true, false, true];
-        list[0] = ListSlot::empty_group();
-        list[0].group_add(y);
-        list[1] = ListSlot::triangle([2, 3, 4], wire, None);
+        // Corners 2, 3, 4 below base 5: offsets 2, 1, 0.
+        list[0] = ListSlot::empty_group(5);
+        list[0].group_add(1, y);
+        list[1].set_half(0, triangle_half([2, 1, 0], wire, false));
         fn first_of(list: &[ListSlot]) -> Option<ListedTriangle<'_>> {
-            listed_triangles(list, 2, &SubpixelRows::new(&(-100..100))).next()
+            let mut first = None;
+            for_each_listed(list, 2, &SubpixelRows::new(&(-100..100)), |t| {
+                if first.is_none() {
+                    first = Some(t);
+                }
+            });
+            first
+        }
+        fn count(list: &[ListSlot], rows: &SubpixelRows) -> usize {
+            let mut n = 0;
+            for_each_listed(list, 2, rows, |_| n += 1);
+            n
         }
         let listed = first_of(&list).unwrap();
         let sub = 1.0 / SUBPIXELS as f32;
@@ -538,7 +692,7 @@ mod tests {
             assert_eq!(listed.meets(&one), inside, "row {r}");
             // The group spans the same rows as its one triangle.
             assert_eq!(list[0].group_meets(&one), inside, "row {r}");
-            assert_eq!(listed_triangles(&list, 2, &one).count(), inside as usize);
+            assert_eq!(count(&list, &one), inside as usize);
             for end in r + 1..r + 4 {
                 let meets = first < end && last >= r;
                 assert_eq!(
@@ -553,8 +707,10 @@ mod tests {
         for r in first..=last {
             assert_eq!(direct.span(r, -50..50), tri.span(r, -50..50));
         }
-        // A flat triangle takes its shade from its own slot.
-        list[1] = ListSlot::triangle([2, 3, 4], wire, Some(200));
+        // A flat triangle takes its shade from the half after its own.
+        list[0].group_add(1, y);
+        list[1].set_half(0, triangle_half([2, 1, 0], wire, true));
+        list[1].set_half(1, [200, 0]);
         let flat = first_of(&list).unwrap().triangle().unwrap();
         let mut shaded = back;
         for c in &mut shaded {
@@ -564,8 +720,8 @@ mod tests {
         for r in first..=last {
             assert_eq!(flat.span(r, -50..50), expected.span(r, -50..50));
         }
-        // A corner slot past the list's end: the triangle is left out, not a panic.
-        list[1] = ListSlot::triangle([2, 3, 9], wire, None);
+        // A corner offset below the list's start: the triangle is left out, not a panic.
+        list[1].set_half(0, triangle_half([2, 1, 9], wire, true));
         assert!(first_of(&list).is_none());
     }
 }

@@ -15,8 +15,9 @@
 //!
 //! Triangles come from a [`TriangleSource`]. With a caller triangle list
 //! ([`Renderer::with_triangle_list`]), the source is asked once per frame and every triangle is
-//! projected once and kept in 8-byte [`ListSlot`]s (one for the triangle, one for each corner
-//! not shared with a triangle before it); each band rasterises from the list. Without one (or when the frame does not fit it), each band asks the source for the
+//! projected once and kept in 8-byte [`ListSlot`]s (half a slot for a Gouraud-shaded
+//! triangle, a slot for a flat-shaded one, and one for each corner not shared with a triangle
+//! before it); each band rasterises from the list. Without one (or when the frame does not fit it), each band asks the source for the
 //! triangles that may reach it: a [`Tessellator`](crate::Tessellator) streams them straight
 //! from its domain meshes, evaluating their vertices again, so no mesh buffer is needed. An
 //! [`IndexedMesh`] draws what [`write_mesh`](crate::Tessellator::write_mesh) wrote. Both ways
@@ -259,8 +260,9 @@ pub struct RenderStats {
 /// Without a triangle list, every band asks its source again for the triangles that may reach
 /// it (a [`Tessellator`](crate::Tessellator) evaluates their vertices again). With one
 /// ([`with_triangle_list`](Self::with_triangle_list)), the source is asked once per frame:
-/// each triangle is projected once, kept in 8 bytes plus 8 for each corner it does not share
-/// with a triangle before it, and every band rasterises from the list.
+/// each triangle is projected once, kept in 4 bytes (8 with flat shading) plus 8 for each
+/// corner it does not share with a triangle before it, and every band rasterises from the
+/// list.
 /// When the frame has more triangles than the list holds, the list keeps the whole patches that
 /// fit and every band streams the rest from the source (a source that does not hand its
 /// patches in increasing order is then streamed whole, band by band, and
@@ -290,10 +292,11 @@ impl<'d> Renderer<'d> {
     }
 
     /// A renderer over `depth` that keeps each frame's projected triangles in `list` (see
-    /// the type's docs): a slot per triangle and one per distinct corner, about 1.8 slots a
-    /// triangle on a tessellated mesh, and one per patch. The teapot at 240x240 and 1 px
-    /// (1,230 triangles) takes about 2,100 slots. At most 65,535 slots are used (a corner's
-    /// slot number is a `u16`).
+    /// the type's docs): a slot per two Gouraud-shaded triangles or per flat-shaded one, one
+    /// per distinct corner, and a header per patch and per 64 triangles; about 1.25 slots a
+    /// Gouraud-shaded triangle on a tessellated mesh. The teapot at 240x240 and 1 px (1,230
+    /// triangles) takes about 1,500 slots. At most 65,535 slots are used (a corner's slot
+    /// number is a `u16`).
     ///
     /// ```
     /// use spline_tess::render::{ListSlot, Renderer};
