@@ -189,11 +189,12 @@ impl Lattice {
     }
 
     /// A lattice with no samples, to [sample](Self::sample_coarse) in place (one lattice on
-    /// the stack where a caller may need it several ways).
+    /// the stack where a caller may need it several ways). All zeros, so that it is cleared
+    /// in place rather than copied from flash.
     pub(crate) const UNSAMPLED: Lattice = Lattice {
         s: [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1],
         worst: [0.0; 4],
-        at: (1, 1),
+        at: (0, 0),
         corners: [GridPoint { u: 0, v: 0 }; 3],
         complete: false,
     };
