@@ -39,7 +39,7 @@ PARTS = [
                                                "normalize"]),
     ("clip test, projection, packing into the list", ["ListSink4take", "ListSink8try_push",
                                                       "contains", "keyed_triangle"]),
-    ("list scan: decoding a band's listed triangles", ["ListedTriangle"]),
+    ("list scan: decoding a band's listed triangles", ["for_each_listed", "ListedTriangle"]),
     ("Delaunay insertion and removal", ["domain6insert", "domain6remove", "in_circle",
                                         "predicates"]),
     ("selection, bounds and refinement", ["Tessellator5apply", "select", "refine",
