@@ -308,13 +308,12 @@ impl<S: TriangleSink> TriangleSink for Remaining<'_, S> {
 mod tests {
     use super::super::{for_each_listed, SubpixelRows};
     use super::*;
+    use crate::render::Style;
+    use crate::view::{Camera, Projection};
+    use glam::Vec3;
 
-    /// A triangle whose corners are all in the list already still needs its own slot: a full
-    /// list refuses it and keeps its corners (it once wrote over the lowest corner slot).
-    #[test]
-    fn a_full_list_refuses_a_triangle_of_shared_corners() {
-        use crate::view::{Camera, Projection};
-        use glam::Vec3;
+    /// A 32x32 orthographic view and the default style.
+    fn view() -> (Camera, Style) {
         let camera = Camera::new(
             Vec3::new(0.0, 0.0, 4.0),
             Vec3::ZERO,
@@ -324,14 +323,25 @@ mod tests {
             [32, 32],
         )
         .unwrap();
-        let style = crate::render::Style::default();
-        let setup = Setup::new(&camera, None, &style);
-        let mut corners = CornerCache::new();
-        let v = |x: f32, y: f32| ScreenVertex {
+        (camera, Style::default())
+    }
+
+    /// A screen corner at `(x, y)`, depth 300, one shade.
+    fn v(x: f32, y: f32) -> ScreenVertex {
+        ScreenVertex {
             xy: [x, y],
             depth: 300.0,
             shade: crate::render::project::quantize_shade(0.2),
-        };
+        }
+    }
+
+    /// A triangle whose corners are all in the list already still needs its own slot: a full
+    /// list refuses it and keeps its corners (it once wrote over the lowest corner slot).
+    #[test]
+    fn a_full_list_refuses_a_triangle_of_shared_corners() {
+        let (camera, style) = view();
+        let setup = Setup::new(&camera, None, &style);
+        let mut corners = CornerCache::new();
         let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
         // A group header, one slot of two triangles and their three shared corners.
         let mut list = [ListSlot::default(); 5];
@@ -356,25 +366,9 @@ mod tests {
     /// keeps its own corners.
     #[test]
     fn a_corner_out_of_the_window_starts_a_group() {
-        use crate::view::{Camera, Projection};
-        use glam::Vec3;
-        let camera = Camera::new(
-            Vec3::new(0.0, 0.0, 4.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            Projection::Orthographic { height: 4.0 },
-            0.1,
-            [32, 32],
-        )
-        .unwrap();
-        let style = crate::render::Style::default();
+        let (camera, style) = view();
         let setup = Setup::new(&camera, None, &style);
         let mut corners = CornerCache::new();
-        let v = |x: f32, y: f32| ScreenVertex {
-            xy: [x, y],
-            depth: 300.0,
-            shade: crate::render::project::quantize_shade(0.2),
-        };
         // A fan around one centre: 200 triangles of new corners, the centre shared by all
         // of them until it falls out of the window.
         let fan = |k: usize| {
