@@ -103,7 +103,7 @@ struct Buffers {
 /// measured apart from the buffers.
 #[inline(never)]
 fn frame(
-    tess: &mut spline_tess::Tessellator<'_, '_>,
+    tess: &mut teapot::Tessellator<'_, '_>,
     k: usize,
     buffers: &mut Buffers,
     display: &mut SpiDisplay,
@@ -155,7 +155,7 @@ fn run(
         return false;
     };
     let mut storage = teapot::Storage::new();
-    let Ok(mut tess) = Tessellator::new(patches, baked, frames::SETTINGS, storage.as_storage())
+    let Ok(mut tess) = Tessellator::indexed(patches, baked, frames::SETTINGS, storage.as_storage())
     else {
         return false;
     };

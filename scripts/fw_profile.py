@@ -10,7 +10,7 @@ QEMU logs every translated block once (`-d in_asm`: its guest instructions) and 
 executes (`-d exec,nochain`: its address and symbol). Each execution is charged the block's
 instruction count, so the total is the frame's guest instructions, as `-icount` counts them,
 to within the blocks QEMU translates more than once. The window of a frame's update runs from
-its call of `Tessellator::apply` to the renderer's `Setup::new`; its render from there to the
+its call of `Tessellator::apply` (the one function named `apply`) to the renderer's `Setup::new`; its render from there to the
 next `apply` (the last frame's render to the end of the program). Needs `qemu-system-arm`,
 `arm-none-eabi-nm` and Python 3; reads about 100 MB of log per million instructions through a pipe, nothing on disk.
 """
@@ -42,7 +42,7 @@ PARTS = [
     ("list scan: decoding a band's listed triangles", ["for_each_listed", "ListedTriangle"]),
     ("Delaunay insertion and removal", ["domain6insert", "domain6remove", "in_circle",
                                         "predicates"]),
-    ("selection, bounds and refinement", ["Tessellator5apply", "select", "refine",
+    ("selection, bounds and refinement", ["5apply17h", "select", "refine",
                                           "deviation", "bound_cache", "triangle_scale"]),
     ("memcpy, memclr", ["memcpy", "memclr", "memmove", "memset"]),
 ]
@@ -65,8 +65,8 @@ def main():
     what, frame = sys.argv[1], int(sys.argv[2])
     blocks_of = sys.argv[3] if len(sys.argv) == 4 else None
     by_block = collections.Counter()
-    start, stop = ("Tessellator5apply", "Setup3new") if what == "update" else (
-        "Setup3new", "Tessellator5apply")
+    start, stop = ("5apply17h", "Setup3new") if what == "update" else (
+        "Setup3new", "5apply17h")
     stops = function_addresses(stop)
     qemu = subprocess.Popen(QEMU + [ELF], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True, errors="replace")

@@ -107,8 +107,8 @@ mod view;
 
 pub use bound::{Aabb, BoundingSphere};
 pub use domain::{
-    DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex, Metric,
-    RemoveError, Star,
+    DomainIndex, DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex,
+    Metric, RemoveError, Star,
 };
 pub use facing::NormalCone;
 pub use frame::SurfacePoint;

@@ -8,7 +8,7 @@
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use spline_tess::render::{ListSlot, RenderStats, Renderer, Shading, Style, Wireframe};
 use spline_tess::tessellator::FixedStorage;
-use spline_tess::{Camera, FrameStats, Projection, Tessellator, Vec3, View};
+use spline_tess::{Camera, FrameStats, Projection, Vec3, View};
 
 use super::spi_display::SpiDisplay;
 
@@ -59,9 +59,16 @@ pub const BOUNDS: usize = 0;
 /// spare frame 1 about 0.5M of its 9.2M instructions (measured 2026-11-24); the demo keeps the
 /// RAM instead.
 pub const POINTS: usize = 0;
+/// The pool's slot numbers: the fw bake's patches hold at most 116 vertices (4 corners, 16
+/// curve samples a side, 48 interior samples), within the 130 a `u8`-indexed mesh numbers,
+/// so one-byte indices lose no sample and halve the triangle slots (6 bytes instead of 12).
+pub type Index = u8;
 /// Scratch: three per patch, to build the tessellator. The demo only streams its frames to
 /// the renderer; writing them as an indexed mesh would need 542 (`StorageSize::scratch`).
 pub const SCRATCH: usize = 3 * PATCHES;
+
+/// fw_teapot's tessellator.
+pub type Tessellator<'m, 's> = spline_tess::Tessellator<'m, 's, Index>;
 
 /// fw_teapot's tessellator storage.
 pub type Storage = FixedStorage<
@@ -74,6 +81,7 @@ pub type Storage = FixedStorage<
     BOUNDS,
     POINTS,
     SCRATCH,
+    Index,
 >;
 
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.

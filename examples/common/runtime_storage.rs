@@ -4,17 +4,17 @@
 use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::{
     BoundSlot, CurveSlot, PatchSlot, PointSlot, Settings, StorageSize, Tessellator,
-    TessellatorStorage, TriangleSlot,
+    TessellatorError, TessellatorStorage, TriangleSlot,
 };
-use spline_tess::{MeshTriangle, MeshVertex, PatchSet};
+use spline_tess::{DomainIndex, MeshTriangle, MeshVertex, PatchSet};
 
-/// Heap storage for a [`Tessellator`].
-pub struct RuntimeStorage {
+/// Heap storage for a [`Tessellator`], its pool's slots indexed by `Ix`.
+pub struct RuntimeStorage<Ix: DomainIndex = u16> {
     patches: Vec<PatchSlot>,
     curves: Vec<CurveSlot>,
     order: Vec<u16>,
-    vertices: Vec<MeshVertex>,
-    triangles: Vec<MeshTriangle>,
+    vertices: Vec<MeshVertex<Ix>>,
+    triangles: Vec<MeshTriangle<Ix>>,
     states: Vec<TriangleSlot>,
     bounds: Vec<BoundSlot>,
     points: Vec<PointSlot>,
@@ -29,6 +29,13 @@ impl RuntimeStorage {
 
     /// Storage of `size`.
     pub fn with_size(s: &StorageSize) -> Self {
+        Self::indexed(s)
+    }
+}
+
+impl<Ix: DomainIndex> RuntimeStorage<Ix> {
+    /// Storage of `size`, its pool's slots indexed by `Ix`.
+    pub fn indexed(s: &StorageSize) -> Self {
         RuntimeStorage {
             patches: vec![PatchSlot::default(); s.patches],
             curves: vec![CurveSlot::default(); s.curves],
@@ -48,7 +55,18 @@ impl RuntimeStorage {
         patches: PatchSet<'m>,
         baked: BakedModel<'m>,
         settings: Settings,
-    ) -> Tessellator<'m, '_> {
+    ) -> Tessellator<'m, '_, Ix> {
+        self.try_tessellator(patches, baked, settings)
+            .expect("storage sized by StorageSize")
+    }
+
+    /// A tessellator over this storage, or why there is none.
+    pub fn try_tessellator<'m>(
+        &mut self,
+        patches: PatchSet<'m>,
+        baked: BakedModel<'m>,
+        settings: Settings,
+    ) -> Result<Tessellator<'m, '_, Ix>, TessellatorError> {
         let storage = TessellatorStorage {
             patches: &mut self.patches,
             curves: &mut self.curves,
@@ -60,6 +78,6 @@ impl RuntimeStorage {
             vertex_points: &mut self.points,
             scratch: &mut self.scratch,
         };
-        Tessellator::new(patches, baked, settings, storage).expect("storage sized by StorageSize")
+        Tessellator::indexed(patches, baked, settings, storage)
     }
 }

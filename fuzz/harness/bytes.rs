@@ -2,6 +2,7 @@
 //! input, however short, is a complete case.
 
 /// A cursor over the fuzz input.
+#[derive(Clone)]
 pub struct Bytes<'a> {
     data: &'a [u8],
 }

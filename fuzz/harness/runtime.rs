@@ -10,9 +10,10 @@
 use std::sync::OnceLock;
 
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
-use spline_tess::tessellator::{Settings, Tessellator};
+use spline_tess::tessellator::{Settings, StorageSize, Tessellator, TessellatorError};
 use spline_tess::{
-    Camera, FrameStats, MeshIndex, Projection, TriangleSink, Vec3, Vertex, View, WriteError,
+    Camera, DomainIndex, FrameStats, MeshIndex, Projection, TriangleSink, Vec3, Vertex, View,
+    WriteError,
 };
 
 use super::bytes::Bytes;
@@ -147,8 +148,8 @@ impl TriangleSink for Stream {
 }
 
 /// Writes into buffers of the given lengths, checking the promises of `write_mesh`.
-fn write_small<I: MeshIndex + PartialEq>(
-    tess: &mut Tessellator<'_, '_>,
+fn write_small<I: MeshIndex + PartialEq, Ix: DomainIndex>(
+    tess: &mut Tessellator<'_, '_, Ix>,
     vertices: usize,
     triangles: usize,
 ) {
@@ -189,7 +190,11 @@ fn write_small<I: MeshIndex + PartialEq>(
 }
 
 /// Checks the current frame: sizes, small and full writes, the stream, repeatability.
-fn check_frame(tess: &mut Tessellator<'_, '_>, stats: &FrameStats, r: &mut Bytes<'_>) {
+fn check_frame<Ix: DomainIndex>(
+    tess: &mut Tessellator<'_, '_, Ix>,
+    stats: &FrameStats,
+    r: &mut Bytes<'_>,
+) {
     let need = tess.mesh_size();
     assert_eq!(
         (need.vertices, need.triangles),
@@ -197,9 +202,9 @@ fn check_frame(tess: &mut Tessellator<'_, '_>, stats: &FrameStats, r: &mut Bytes
     );
     let (sv, st) = (r.u16() as usize, r.u16() as usize);
     if r.u8().is_multiple_of(2) {
-        write_small::<u16>(tess, sv.min(need.vertices + 1), st.min(need.triangles + 1));
+        write_small::<u16, Ix>(tess, sv.min(need.vertices + 1), st.min(need.triangles + 1));
     } else {
-        write_small::<u32>(tess, sv.min(need.vertices + 1), st.min(need.triangles + 1));
+        write_small::<u32, Ix>(tess, sv.min(need.vertices + 1), st.min(need.triangles + 1));
     }
     if need.triangles > FULL_WRITE {
         return;
@@ -259,8 +264,23 @@ pub fn runtime(data: &[u8]) {
         max_factor,
         ..Settings::default()
     };
+    // The same frames over a pool of `u16` slot numbers, then of `u8` ones (where the bake's
+    // curve samples fit a one-byte mesh).
+    let frames = r.clone();
     let mut storage = RuntimeStorage::new(&baked, &settings);
-    let mut tess = storage.tessellator(b.file.patches(), baked, settings);
+    let tess = storage.tessellator(b.file.patches(), baked, settings);
+    run_frames(tess, b, r);
+    let size = StorageSize::of_indexed::<u8>(&baked, &settings);
+    let mut storage = RuntimeStorage::<u8>::indexed(&size);
+    match storage.try_tessellator(b.file.patches(), baked, settings) {
+        Ok(tess) => run_frames(tess, b, frames),
+        Err(TessellatorError::PatchTooLarge { .. }) => {}
+        Err(e) => panic!("storage sized by StorageSize::of_indexed: {e}"),
+    }
+}
+
+/// Up to six frames of `r`'s views, each checked.
+fn run_frames<Ix: DomainIndex>(mut tess: Tessellator<'_, '_, Ix>, b: &Baked, mut r: Bytes<'_>) {
     for _ in 0..6 {
         if r.is_empty() {
             break;

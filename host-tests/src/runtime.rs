@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use spline_tess::tessellator::Tessellator;
-use spline_tess::Vertex;
+use spline_tess::{DomainIndex, Vertex};
 
 pub use crate::runtime_storage::RuntimeStorage;
 
@@ -18,7 +18,7 @@ pub struct Mesh {
 }
 
 /// The current frame as an indexed mesh.
-pub fn indexed(tess: &mut Tessellator<'_, '_>) -> Mesh {
+pub fn indexed<Ix: DomainIndex>(tess: &mut Tessellator<'_, '_, Ix>) -> Mesh {
     let size = tess.mesh_size();
     let mut mesh = Mesh {
         vertices: vec![Vertex::default(); size.vertices],
@@ -43,7 +43,7 @@ pub struct Streamed {
 }
 
 /// The current frame as streamed triangles.
-pub fn streamed(tess: &Tessellator<'_, '_>) -> Vec<Streamed> {
+pub fn streamed<Ix: DomainIndex>(tess: &Tessellator<'_, '_, Ix>) -> Vec<Streamed> {
     let mut out = Vec::new();
     tess.stream_with_info(|info, c| {
         out.push(Streamed {

@@ -5,7 +5,10 @@
 use std::collections::BTreeSet;
 
 use host_tests::Rng;
-use spline_tess::{DomainMesh, GridPoint, InsertError, MeshTriangle, MeshVertex, RemoveError};
+use spline_tess::{
+    DomainIndex, DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex,
+    Metric, RemoveError,
+};
 
 const M: i128 = GridPoint::MAX as i128;
 
@@ -34,7 +37,7 @@ fn in_circle_det(a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> i128
 }
 
 /// Checks every structural invariant; returns the triangles as canonical coordinate triples.
-fn check(mesh: &DomainMesh<'_>) -> BTreeSet<Tri> {
+fn check<Ix: DomainIndex>(mesh: &DomainMesh<'_, Ix>) -> BTreeSet<Tri> {
     let point = |v: u16| mesh.point(v).expect("triangle vertex is live");
     let tris: Vec<(u16, [u16; 3], [Option<u16>; 3])> = mesh.triangles_with_neighbors().collect();
     assert_eq!(tris.len(), mesh.triangle_count());
@@ -165,13 +168,24 @@ fn random_histories_give_the_fresh_triangulation() {
         let pool = candidates(&mut rng);
         let (mut vs, mut ts) = storage(pool.len() + 4);
         let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
+        // The same history in one-byte slots: the same slots, step by step.
+        let mut vs8 = vec![MeshVertex::<u8>::default(); pool.len() + 4];
+        let mut ts8 =
+            vec![MeshTriangle::<u8>::default(); DomainMesh::triangles_for(pool.len() + 4)];
+        let mut narrow = DomainMesh::indexed(&mut vs8, &mut ts8, Metric::ISOTROPIC).unwrap();
         let mut live: Vec<(GridPoint, u16)> = Vec::new();
         for step in 0..300 {
             let insert = live.is_empty() || (rng.unit() < 0.6 && live.len() < pool.len());
             if insert {
                 let p = pool[(rng.unit() * pool.len() as f64) as usize];
                 let before: BTreeSet<[u16; 3]> = mesh.triangles().collect();
-                match mesh.insert(p) {
+                let inserted = mesh.insert(p);
+                assert_eq!(
+                    narrow.insert(p),
+                    inserted,
+                    "seed {seed} step {step}: u8 insert"
+                );
+                match inserted {
                     Ok(id) => {
                         live.push((p, id));
                         let created: BTreeSet<[u16; 3]> =
@@ -196,8 +210,18 @@ fn random_histories_give_the_fresh_triangulation() {
                 let (_, id) = live.swap_remove(k);
                 mesh.remove(id)
                     .unwrap_or_else(|e| panic!("seed {seed} step {step}: remove: {e}"));
+                narrow
+                    .remove(id)
+                    .unwrap_or_else(|e| panic!("seed {seed} step {step}: u8 remove: {e}"));
             }
             let now = check(&mesh);
+            assert_eq!(check(&narrow), now, "seed {seed} step {step}: u8 triangles");
+            assert!(
+                narrow
+                    .triangles_with_neighbors()
+                    .eq(mesh.triangles_with_neighbors()),
+                "seed {seed} step {step}: u8 slots differ"
+            );
             if step % 25 == 24 {
                 let mut points: Vec<GridPoint> = live.iter().map(|&(p, _)| p).collect();
                 points.sort();
@@ -249,6 +273,45 @@ fn capacities_and_bad_requests_leave_the_mesh_unchanged() {
     let edge = small.insert(GridPoint::from_unit(0.5, 0.0)).unwrap();
     assert_eq!(small.triangle_count(), 3);
     assert_eq!(small.find(GridPoint::from_unit(0.5, 0.0)), Some(edge));
+}
+
+/// One-byte slots: a mesh of 255 slots of each kind is the largest, and it fills to its 130
+/// vertices (254 triangles) with "no slot" (255) never taken for a slot number.
+#[test]
+fn one_byte_meshes_fill_to_their_last_slot() {
+    let mut vs = vec![MeshVertex::<u8>::default(); 256];
+    let mut ts = vec![MeshTriangle::<u8>::default(); 255];
+    assert_eq!(
+        DomainMesh::indexed(&mut vs, &mut ts, Metric::ISOTROPIC).err(),
+        Some(MeshStorageError::TooLarge)
+    );
+    let mut vs = vec![MeshVertex::<u8>::default(); 130];
+    let mut ts = vec![MeshTriangle::<u8>::default(); DomainMesh::triangles_for(130)];
+    assert_eq!(ts.len(), 254);
+    let mut mesh = DomainMesh::indexed(&mut vs, &mut ts, Metric::ISOTROPIC).unwrap();
+    let mut rng = Rng::for_test(7);
+    let mut ids = Vec::new();
+    while mesh.vertex_count() < 130 {
+        let p = GridPoint::new(
+            1 + (rng.unit() * 65533.0) as u16,
+            1 + (rng.unit() * 65533.0) as u16,
+        );
+        if let Ok(id) = mesh.insert(p) {
+            ids.push(id);
+        }
+    }
+    assert_eq!(mesh.triangle_count(), 254);
+    assert_eq!(
+        mesh.insert(GridPoint::from_unit(0.5, 0.5)),
+        Err(InsertError::VerticesFull)
+    );
+    check(&mesh);
+    // Removing in any order gives the two triangles back.
+    for &id in ids.iter().rev().step_by(2).chain(ids.iter().step_by(2)) {
+        mesh.remove(id).unwrap();
+        check(&mesh);
+    }
+    assert_eq!(mesh.triangle_count(), 2);
 }
 
 /// Hundreds of boundary points and a few interior ones: vertices of degree in the hundreds,

@@ -267,13 +267,13 @@ mod fw_teapot;
 mod spi_display;
 
 /// Runs `f` on a tessellator over the firmware's bake of the teapot, in fw_teapot's storage.
-fn with_fw_teapot_tessellator<R>(f: impl FnOnce(&mut spline_tess::Tessellator<'_, '_>) -> R) -> R {
+fn with_fw_teapot_tessellator<R>(f: impl FnOnce(&mut fw_teapot::Tessellator<'_, '_>) -> R) -> R {
     with_firmware_bake(|patches, baked| {
         assert!(fw_teapot::Storage::covers(
             &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
         ));
         let mut storage = Box::new(fw_teapot::Storage::new());
-        let mut tess = spline_tess::Tessellator::new(
+        let mut tess = spline_tess::Tessellator::indexed(
             patches,
             baked,
             fw_tessellate::SETTINGS,

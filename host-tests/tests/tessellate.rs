@@ -22,7 +22,7 @@ use host_tests::screen::{triangle_deviation, Measure, Meter};
 use host_tests::{bpt_models, name, nurbs_fixtures, widen};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::{PoolSize, Settings, StorageSize};
-use spline_tess::{Camera, EdgeLink, FrameStats, Projection, Vec3, View};
+use spline_tess::{Camera, DomainIndex, EdgeLink, FrameStats, Projection, Vec3, View};
 
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
@@ -262,9 +262,12 @@ enum Pool {
     Part(f64),
     /// [`Pool::Full`]'s slots and caches, and this fraction of its triangle states.
     States(f64),
+    /// Every baked step a mesh of `u8` slot numbers holds (at most 130 vertices a patch; the
+    /// patches baked with more refine from there).
+    Narrow,
 }
 
-fn run_model(path: &std::path::Path, pool: Pool) {
+fn run_model<Ix: DomainIndex>(path: &std::path::Path, pool: Pool) {
     let label = format!(
         "{}{}",
         name(path),
@@ -272,6 +275,7 @@ fn run_model(path: &std::path::Path, pool: Pool) {
             Pool::Full => String::new(),
             Pool::Part(f) => format!(" (pool {f})"),
             Pool::States(f) => format!(" (triangle states {f})"),
+            Pool::Narrow => " (u8 pool)".to_string(),
         }
     );
     let file = ModelFile::read(path.to_str().unwrap()).unwrap();
@@ -308,10 +312,11 @@ fn run_model(path: &std::path::Path, pool: Pool) {
                 ..full
             }
         }
+        Pool::Narrow => StorageSize::of_indexed::<u8>(&baked, &settings),
     };
     // Frames whose patches found the triangle states short.
     let mut short_frames = 0;
-    let mut storage = RuntimeStorage::with_size(&size);
+    let mut storage = RuntimeStorage::<Ix>::indexed(&size);
     let mut tess = storage.tessellator(patches, baked, settings);
     let mut cut = 0;
     let mut users: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -427,7 +432,7 @@ fn run_model(path: &std::path::Path, pool: Pool) {
             "{what}: deviation {worst} > {allowed}"
         );
         // History independence.
-        let mut fresh_storage = RuntimeStorage::with_size(&size);
+        let mut fresh_storage = RuntimeStorage::<Ix>::indexed(&size);
         let mut fresh = fresh_storage.tessellator(patches, baked, settings);
         fresh.update(&step.view).unwrap();
         let a: HashSet<_> = triangle_set(&tris).into_iter().collect();
@@ -507,14 +512,14 @@ fn run_model(path: &std::path::Path, pool: Pool) {
 #[test]
 fn bpt_models_along_a_camera_path() {
     for path in bpt_models() {
-        run_model(&path, Pool::Full);
+        run_model::<u16>(&path, Pool::Full);
     }
 }
 
 #[test]
 fn nurbs_fixtures_along_a_camera_path() {
     for path in nurbs_fixtures() {
-        run_model(&path, Pool::Full);
+        run_model::<u16>(&path, Pool::Full);
     }
 }
 
@@ -524,22 +529,31 @@ fn nurbs_fixtures_along_a_camera_path() {
 #[test]
 fn bpt_models_with_few_triangle_states() {
     for path in bpt_models() {
-        run_model(&path, Pool::States(0.02));
-        run_model(&path, Pool::States(0.0));
+        run_model::<u16>(&path, Pool::States(0.02));
+        run_model::<u16>(&path, Pool::States(0.0));
+    }
+}
+
+/// Pools of one-byte slot numbers: the patches baked with more than a mesh of them holds
+/// stop there and refine, and every frame keeps every property of a full pool's.
+#[test]
+fn bpt_models_in_one_byte_pools() {
+    for path in bpt_models() {
+        run_model::<u8>(&path, Pool::Narrow);
     }
 }
 
 #[test]
 fn bpt_models_in_short_pools() {
     for path in bpt_models() {
-        run_model(&path, Pool::Part(0.25));
-        run_model(&path, Pool::Part(0.0));
+        run_model::<u16>(&path, Pool::Part(0.25));
+        run_model::<u16>(&path, Pool::Part(0.0));
     }
 }
 
 #[test]
 fn nurbs_fixtures_in_short_pools() {
     for path in nurbs_fixtures() {
-        run_model(&path, Pool::Part(0.25));
+        run_model::<u16>(&path, Pool::Part(0.25));
     }
 }

@@ -7,9 +7,9 @@
 //! corners) never move. The work is one pass over the slots plus, per moved vertex, a walk
 //! around it.
 
-use super::{after, index_of, DomainMesh, MeshHeader, MeshTriangle, MeshVertex, NONE};
+use super::{after, index_of, DomainIndex, DomainMesh, MeshHeader, MeshTriangle, MeshVertex};
 
-impl<'a> DomainMesh<'a> {
+impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
     /// Moves the live triangles to slots `0..triangle_count()` and the live vertices to
     /// `0..vertex_count()`, calling `moved(from, to)` for every triangle moved (so data kept
     /// per triangle slot can follow). The free slots after them are chained again.
@@ -56,8 +56,8 @@ impl<'a> DomainMesh<'a> {
     /// The mesh of `header` (saved from a mesh after [`DomainMesh::compact`]) over new
     /// storage that starts with its live slots: the slots after them are chained as free.
     pub(crate) fn resume_compacted(
-        vertices: &'a mut [MeshVertex],
-        triangles: &'a mut [MeshTriangle],
+        vertices: &'a mut [MeshVertex<Ix>],
+        triangles: &'a mut [MeshTriangle<Ix>],
         header: MeshHeader,
     ) -> Self {
         let mut mesh = DomainMesh::resume(vertices, triangles, header);
@@ -70,8 +70,9 @@ impl<'a> DomainMesh<'a> {
         let tri = self.triangles[from as usize];
         self.triangles[to as usize] = tri;
         self.triangles[from as usize] = MeshTriangle::default();
+        let (from, to) = (Ix::narrow(from), Ix::narrow(to));
         for n in tri.n {
-            if let Some(other) = self.triangles.get_mut(n as usize) {
+            if let Some(other) = self.triangles.get_mut(n.widen() as usize) {
                 for m in other.n.iter_mut() {
                     if *m == from {
                         *m = to;
@@ -80,7 +81,7 @@ impl<'a> DomainMesh<'a> {
             }
         }
         for v in tri.v {
-            if let Some(vertex) = self.vertices.get_mut(v as usize) {
+            if let Some(vertex) = self.vertices.get_mut(v.widen() as usize) {
                 if vertex.link == from {
                     vertex.link = to;
                 }
@@ -94,12 +95,13 @@ impl<'a> DomainMesh<'a> {
         let mut t = start;
         // The step bound only guards against a corrupted mesh turning into a hang.
         for _ in 0..=self.triangles.len() {
-            let tri = &mut self.triangles[t as usize];
+            let mut tri = self.tri(t);
             let i = index_of(&tri.v, from);
             tri.v[i] = to;
+            self.put(t, tri);
             // Counter-clockwise: across the edge (v[i+2], from), opposite v[i+1].
             let ccw = tri.n[after(i)];
-            if ccw == NONE || ccw == start {
+            if ccw == Ix::NO_SLOT || ccw == start {
                 break;
             }
             t = ccw;

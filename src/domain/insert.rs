@@ -2,11 +2,11 @@
 //! they are Delaunay (Lawson).
 
 use super::{
-    after, before, in_circle, index_of, orient, DomainMesh, GridPoint, InsertError, MeshTriangle,
-    NONE,
+    after, before, in_circle, index_of, orient, DomainIndex, DomainMesh, GridPoint, InsertError,
+    MeshTriangle,
 };
 
-impl DomainMesh<'_> {
+impl<Ix: DomainIndex> DomainMesh<'_, Ix> {
     /// A live triangle containing `p` (inside or on its boundary).
     pub(super) fn locate(&self, p: GridPoint) -> u16 {
         let mut t = self.hint;
@@ -17,7 +17,7 @@ impl DomainMesh<'_> {
         // against a bug turning into a hang, with a scan as the fallback.
         for _ in 0..self.triangles.len() + 4 {
             let [a, b, c] = self.tri_points(t);
-            let n = self.triangles[t as usize].n;
+            let n = self.tri(t).n;
             let next = if orient(b, c, p) < 0 {
                 n[0]
             } else if orient(c, a, p) < 0 {
@@ -27,7 +27,7 @@ impl DomainMesh<'_> {
             } else {
                 return t;
             };
-            if next == NONE {
+            if next == Ix::NO_SLOT {
                 break;
             }
             t = next;
@@ -58,11 +58,11 @@ impl DomainMesh<'_> {
     /// that change.
     pub fn insert(&mut self, p: GridPoint) -> Result<u16, InsertError> {
         let t = self.locate(p);
-        let tri = self.triangles[t as usize];
+        let tri = self.tri(t);
         if let Some(vertex) = tri.v.into_iter().find(|&v| self.pt(v) == p) {
             return Err(InsertError::Duplicate { vertex });
         }
-        if self.free_vertex == NONE {
+        if self.free_vertex == Ix::NO_SLOT {
             return Err(InsertError::VerticesFull);
         }
         let [a, b, c] = tri.v.map(|v| self.pt(v));
@@ -71,7 +71,7 @@ impl DomainMesh<'_> {
             .iter()
             .position(|&o| o == 0);
         let needed = match on_edge {
-            Some(i) if tri.n[i] == NONE => 1,
+            Some(i) if tri.n[i] == Ix::NO_SLOT => 1,
             _ => 2,
         };
         if self.triangles.len() - self.triangle_count < needed {
@@ -83,7 +83,7 @@ impl DomainMesh<'_> {
             Some(i) => self.split_edge(t, i, id),
         };
         self.legalize(id, start, degree);
-        self.hint = self.vertices[id as usize].link;
+        self.hint = self.link(id);
         Ok(id)
     }
 
@@ -92,7 +92,7 @@ impl DomainMesh<'_> {
     fn split_triangle(&mut self, t: u16, id: u16) -> (u16, usize) {
         let MeshTriangle {
             v: [a, b, c], n, ..
-        } = self.triangles[t as usize];
+        } = self.tri(t);
         let (t1, t2) = (self.take_triangle(), self.take_triangle());
         // t: (id, b, c), t1: (id, c, a), t2: (id, a, b).
         self.set(t, [id, b, c], [n[0], t1, t2]);
@@ -101,7 +101,7 @@ impl DomainMesh<'_> {
         self.replace_neighbor(n[1], t, t1);
         self.replace_neighbor(n[2], t, t2);
         for (v, tri) in [(id, t), (a, t1), (b, t), (c, t)] {
-            self.vertices[v as usize].link = tri;
+            self.set_link(v, tri);
         }
         (t, 3)
     }
@@ -110,22 +110,22 @@ impl DomainMesh<'_> {
     /// the triangle across it (if any); returns the first triangle of `id`'s star and the
     /// star's size, as [`DomainMesh::split_triangle`] does.
     fn split_edge(&mut self, t: u16, i: usize, id: u16) -> (u16, usize) {
-        let tri = self.triangles[t as usize];
+        let tri = self.tri(t);
         let (c, a, b) = (tri.v[i], tri.v[after(i)], tri.v[before(i)]);
         let (na, nb, o) = (tri.n[after(i)], tri.n[before(i)], tri.n[i]);
         // t: (c, a, id), t1: (c, id, b).
         let t1 = self.take_triangle();
-        if o == NONE {
-            self.set(t, [c, a, id], [NONE, t1, nb]);
-            self.set(t1, [c, id, b], [NONE, na, t]);
+        if o == Ix::NO_SLOT {
+            self.set(t, [c, a, id], [Ix::NO_SLOT, t1, nb]);
+            self.set(t1, [c, id, b], [Ix::NO_SLOT, na, t]);
             self.replace_neighbor(na, t, t1);
             for (v, tri) in [(id, t), (a, t), (b, t1), (c, t)] {
-                self.vertices[v as usize].link = tri;
+                self.set_link(v, tri);
             }
             // On the boundary: the star is (c, id, b) then (c, a, id), counter-clockwise.
             return (t1, 2);
         }
-        let ot = self.triangles[o as usize];
+        let ot = self.tri(o);
         let j = index_of(&ot.n, t);
         // o is (d, b, a); it becomes o: (d, b, id) and o1: (d, id, a).
         let d = ot.v[j];
@@ -138,7 +138,7 @@ impl DomainMesh<'_> {
         self.replace_neighbor(na, t, t1);
         self.replace_neighbor(ob, o, o1);
         for (v, tri) in [(id, t), (a, t), (b, t1), (c, t), (d, o)] {
-            self.vertices[v as usize].link = tri;
+            self.set_link(v, tri);
         }
         (t, 4)
     }
@@ -161,11 +161,11 @@ impl DomainMesh<'_> {
         let mut budget = 8 * self.triangles.len() + 16;
         while budget > 0 {
             budget -= 1;
-            let tri = self.triangles[t as usize];
+            let tri = self.tri(t);
             let i = index_of(&tri.v, id);
             let o = tri.n[i];
-            if o != NONE {
-                let ot = self.triangles[o as usize];
+            if o != Ix::NO_SLOT {
+                let ot = self.tri(o);
                 let j = index_of(&ot.n, t);
                 let (a, b) = (tri.v[after(i)], tri.v[before(i)]);
                 if in_circle(self.metric, p, self.pt(a), self.pt(b), self.pt(ot.v[j])) {
@@ -179,7 +179,7 @@ impl DomainMesh<'_> {
                 break;
             }
             let ccw = tri.n[after(i)];
-            t = if ccw == NONE {
+            t = if ccw == Ix::NO_SLOT {
                 self.star_start(id)
             } else {
                 ccw
@@ -190,8 +190,8 @@ impl DomainMesh<'_> {
     /// Flips the edge of `t` opposite its vertex `i`: `t = (p, a, b)` and the triangle across,
     /// `(d, b, a)`, become `(p, a, d)` (in slot `t`) and `(p, d, b)`.
     pub(super) fn flip(&mut self, t: u16, i: usize) {
-        let tri = self.triangles[t as usize];
-        let ot = self.triangles[tri.n[i] as usize];
+        let tri = self.tri(t);
+        let ot = self.tri(tri.n[i]);
         self.flip_across(t, i, &tri, index_of(&ot.n, t), &ot);
     }
 
@@ -209,7 +209,7 @@ impl DomainMesh<'_> {
         self.replace_neighbor(across_ad, o, t);
         self.replace_neighbor(across_bp, t, o);
         for (v, tri) in [(p, t), (a, t), (d, t), (b, o)] {
-            self.vertices[v as usize].link = tri;
+            self.set_link(v, tri);
         }
     }
 
@@ -231,16 +231,15 @@ impl DomainMesh<'_> {
         } else {
             (v, n)
         };
-        let slot = &mut self.triangles[t as usize];
-        slot.v = v;
-        slot.n = n;
+        self.put(t, MeshTriangle { v, n });
     }
 
     /// In triangle `t` (if any), the neighbour `old` becomes `new`.
     pub(super) fn replace_neighbor(&mut self, t: u16, old: u16, new: u16) {
+        let old = Ix::narrow(old);
         if let Some(tri) = self.triangles.get_mut(t as usize) {
             if let Some(k) = tri.n.iter().position(|&x| x == old) {
-                tri.n[k] = new;
+                tri.n[k] = Ix::narrow(new);
             }
         }
     }

@@ -23,40 +23,39 @@ use core::fmt;
 
 mod compact;
 mod grid;
+mod index;
 mod insert;
 mod predicates;
 mod remove;
 
 pub use grid::GridPoint;
+pub use index::DomainIndex;
 use predicates::in_circle;
 pub(crate) use predicates::orient;
 pub use predicates::Metric;
 
-/// "No vertex / no triangle" in index fields.
-const NONE: u16 = u16::MAX;
-
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 /// One vertex slot of a [`DomainMesh`] (6 bytes).
-pub struct MeshVertex {
+pub struct MeshVertex<Ix: DomainIndex = u16> {
     /// Its point; for a free slot, `u` is the next free slot.
     point: GridPoint,
-    /// An incident triangle; `NONE` marks a free slot (a live vertex always has one).
-    link: u16,
+    /// An incident triangle; "none" marks a free slot (a live vertex always has one).
+    link: Ix,
 }
 
-impl MeshVertex {
-    /// A free slot, chained to free slot `next` (`NONE`: the last).
+impl<Ix: DomainIndex> MeshVertex<Ix> {
+    /// A free slot, chained to free slot `next` (`Ix::NO_SLOT`: the last).
     fn free(next: u16) -> Self {
         MeshVertex {
             point: GridPoint { u: next, v: 0 },
-            link: NONE,
+            link: Ix::NONE,
         }
     }
 
     /// Whether the slot holds a vertex.
     fn is_live(&self) -> bool {
-        self.link != NONE
+        self.link != Ix::NONE
     }
 
     /// The point of a live slot.
@@ -71,49 +70,71 @@ impl MeshVertex {
     }
 }
 
-impl Default for MeshVertex {
+impl<Ix: DomainIndex> Default for MeshVertex<Ix> {
     fn default() -> Self {
-        MeshVertex::free(NONE)
+        MeshVertex::free(Ix::NO_SLOT)
     }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-/// One triangle slot of a [`DomainMesh`] (12 bytes).
-pub struct MeshTriangle {
-    /// Vertices, counter-clockwise; `NONE` in a free slot (a vertex slot number is always
-    /// below `NONE`).
-    v: [u16; 3],
+/// One triangle slot of a [`DomainMesh`] (12 bytes with `u16` indices, 6 with `u8`: see
+/// [`DomainIndex`]).
+pub struct MeshTriangle<Ix: DomainIndex = u16> {
+    /// Vertices, counter-clockwise; "none" in a free slot (a vertex slot number is always
+    /// below it).
+    v: [Ix; 3],
     /// `n[i]`: the triangle across the edge opposite `v[i]`; for a free slot `n[0]` is the
     /// next free slot.
-    n: [u16; 3],
+    n: [Ix; 3],
 }
 
-impl MeshTriangle {
-    /// A free slot, chained to free slot `next` (`NONE`: the last).
+impl<Ix: DomainIndex> MeshTriangle<Ix> {
+    /// A free slot, chained to free slot `next` (`Ix::NO_SLOT`: the last).
     fn free(next: u16) -> Self {
         MeshTriangle {
-            v: [NONE; 3],
-            n: [next, NONE, NONE],
+            v: [Ix::NONE; 3],
+            n: [Ix::narrow(next), Ix::NONE, Ix::NONE],
         }
     }
 
     /// Whether the slot holds a triangle.
     fn is_live(&self) -> bool {
-        self.v[0] != NONE
+        self.v[0] != Ix::NONE
+    }
+
+    /// The slot with `u16` slot numbers, as the mesh works on it.
+    #[inline(always)]
+    fn widen(self) -> MeshTriangle {
+        MeshTriangle {
+            v: self.v.map(Ix::widen),
+            n: self.n.map(Ix::widen),
+        }
+    }
+
+    /// The slot `wide` (slot numbers below [`DomainIndex::MAX_SLOTS`], or `Ix::NO_SLOT`) in this
+    /// index type.
+    #[inline(always)]
+    fn narrow(wide: MeshTriangle) -> Self {
+        MeshTriangle {
+            v: wide.v.map(Ix::narrow),
+            n: wide.n.map(Ix::narrow),
+        }
     }
 
     /// Vertices (counter-clockwise) and neighbours (`n[i]` across the edge opposite `v[i]`,
     /// `None` on the square's boundary) of a live slot.
     pub(crate) fn live_parts(&self) -> Option<([u16; 3], [Option<u16>; 3])> {
-        self.is_live()
-            .then(|| (self.v, self.n.map(|n| (n != NONE).then_some(n))))
+        self.is_live().then(|| {
+            let w = self.widen();
+            (w.v, w.n.map(|n| (n != Ix::NO_SLOT).then_some(n)))
+        })
     }
 }
 
-impl Default for MeshTriangle {
+impl<Ix: DomainIndex> Default for MeshTriangle<Ix> {
     fn default() -> Self {
-        MeshTriangle::free(NONE)
+        MeshTriangle::free(Ix::NO_SLOT)
     }
 }
 
@@ -123,7 +144,7 @@ impl Default for MeshTriangle {
 pub enum MeshStorageError {
     /// Fewer than 4 vertex slots or 2 triangle slots.
     TooSmall,
-    /// More than 65535 slots of either kind (indices are `u16`).
+    /// More slots of either kind than the index type numbers ([`DomainIndex::MAX_SLOTS`]).
     TooLarge,
 }
 
@@ -162,7 +183,7 @@ impl fmt::Display for MeshStorageError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             MeshStorageError::TooSmall => "mesh storage needs 4 vertex and 2 triangle slots",
-            MeshStorageError::TooLarge => "mesh storage is limited to 65535 slots of each kind",
+            MeshStorageError::TooLarge => "mesh storage has more slots than its index type numbers",
         })
     }
 }
@@ -194,7 +215,7 @@ impl core::error::Error for InsertError {}
 impl core::error::Error for RemoveError {}
 
 /// An edge on the rim of a hole: `(from, to)` counter-clockwise around it, and
-/// the triangle outside it (or `NONE` on the square's boundary).
+/// the triangle outside it (or `Ix::NO_SLOT` on the square's boundary).
 type RimEdge = (u16, u16, u16);
 
 /// The state of a [`DomainMesh`] besides its slots (the run time keeps one per patch).
@@ -244,9 +265,9 @@ impl MeshHeader {
 /// assert_eq!(mesh.triangle_count(), 2);
 /// ```
 #[derive(Debug)]
-pub struct DomainMesh<'a> {
-    vertices: &'a mut [MeshVertex],
-    triangles: &'a mut [MeshTriangle],
+pub struct DomainMesh<'a, Ix: DomainIndex = u16> {
+    vertices: &'a mut [MeshVertex<Ix>],
+    triangles: &'a mut [MeshTriangle<Ix>],
     free_vertex: u16,
     free_triangle: u16,
     vertex_count: usize,
@@ -256,6 +277,37 @@ pub struct DomainMesh<'a> {
 }
 
 impl<'a> DomainMesh<'a> {
+    /// The two triangles of the square, in the given storage (its contents are overwritten),
+    /// with the [`Metric::ISOTROPIC`] Delaunay test.
+    pub fn new(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+    ) -> Result<Self, MeshStorageError> {
+        Self::with_metric(vertices, triangles, Metric::ISOTROPIC)
+    }
+
+    /// Like [`DomainMesh::new`], with circles taken in `metric`'s coordinates. (For slots
+    /// of another index type, see [`DomainMesh::indexed`].)
+    pub fn with_metric(
+        vertices: &'a mut [MeshVertex],
+        triangles: &'a mut [MeshTriangle],
+        metric: Metric,
+    ) -> Result<Self, MeshStorageError> {
+        Self::indexed(vertices, triangles, metric)
+    }
+
+    /// Triangle slots enough for `vertices` vertex slots: `2 * vertices - 6` (at least 2),
+    /// whatever the index type.
+    pub const fn triangles_for(vertices: usize) -> usize {
+        if vertices < 4 {
+            2
+        } else {
+            2 * vertices - 6
+        }
+    }
+}
+
+impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
     /// The mesh's own state besides its slots, to rebuild it later over the same storage.
     pub(crate) fn header(&self) -> MeshHeader {
         MeshHeader {
@@ -271,8 +323,8 @@ impl<'a> DomainMesh<'a> {
     /// The mesh whose slots are `vertices` and `triangles` and whose state is `header` (as
     /// saved by [`DomainMesh::header`] over the same slots).
     pub(crate) fn resume(
-        vertices: &'a mut [MeshVertex],
-        triangles: &'a mut [MeshTriangle],
+        vertices: &'a mut [MeshVertex<Ix>],
+        triangles: &'a mut [MeshTriangle<Ix>],
         header: MeshHeader,
     ) -> Self {
         DomainMesh {
@@ -287,34 +339,17 @@ impl<'a> DomainMesh<'a> {
         }
     }
 
-    /// Triangle slots enough for `vertices` vertex slots: `2 * vertices - 6` (at least 2).
-    pub const fn triangles_for(vertices: usize) -> usize {
-        if vertices < 4 {
-            2
-        } else {
-            2 * vertices - 6
-        }
-    }
-
-    /// The two triangles of the square, in the given storage (its contents are overwritten),
-    /// with the [`Metric::ISOTROPIC`] Delaunay test.
-    pub fn new(
-        vertices: &'a mut [MeshVertex],
-        triangles: &'a mut [MeshTriangle],
-    ) -> Result<Self, MeshStorageError> {
-        Self::with_metric(vertices, triangles, Metric::ISOTROPIC)
-    }
-
-    /// Like [`DomainMesh::new`], with circles taken in `metric`'s coordinates.
-    pub fn with_metric(
-        vertices: &'a mut [MeshVertex],
-        triangles: &'a mut [MeshTriangle],
+    /// Like [`DomainMesh::with_metric`], over slots indexed by any [`DomainIndex`] (`u8`
+    /// slots take half the bytes per triangle, for at most 255 slots of each kind).
+    pub fn indexed(
+        vertices: &'a mut [MeshVertex<Ix>],
+        triangles: &'a mut [MeshTriangle<Ix>],
         metric: Metric,
     ) -> Result<Self, MeshStorageError> {
         if vertices.len() < 4 || triangles.len() < 2 {
             return Err(MeshStorageError::TooSmall);
         }
-        if vertices.len() > NONE as usize || triangles.len() > NONE as usize {
+        if vertices.len() > Ix::MAX_SLOTS || triangles.len() > Ix::MAX_SLOTS {
             return Err(MeshStorageError::TooLarge);
         }
         let m = GridPoint::MAX;
@@ -343,14 +378,31 @@ impl<'a> DomainMesh<'a> {
         // starts at its smallest point, as `set` writes them.)
         let [a, b, c, d] = corners;
         let (t0, t1) = (mesh.take_triangle(), mesh.take_triangle());
-        if in_circle(mesh.metric, a, b, c, d) {
-            mesh.triangles[t0 as usize].v = [0, 1, 3];
-            mesh.triangles[t1 as usize].v = [3, 1, 2];
+        let (v0, v1) = if in_circle(mesh.metric, a, b, c, d) {
+            ([0, 1, 3], [3, 1, 2])
         } else {
-            mesh.triangles[t0 as usize].v = [0, 1, 2];
-            mesh.triangles[t1 as usize].v = [0, 2, 3];
-        }
-        let rim: [RimEdge; 4] = [(0, 1, NONE), (1, 2, NONE), (2, 3, NONE), (3, 0, NONE)];
+            ([0, 1, 2], [0, 2, 3])
+        };
+        mesh.put(
+            t0,
+            MeshTriangle {
+                v: v0,
+                n: [Ix::NO_SLOT; 3],
+            },
+        );
+        mesh.put(
+            t1,
+            MeshTriangle {
+                v: v1,
+                n: [Ix::NO_SLOT; 3],
+            },
+        );
+        let rim: [RimEdge; 4] = [
+            (0, 1, Ix::NO_SLOT),
+            (1, 2, Ix::NO_SLOT),
+            (2, 3, Ix::NO_SLOT),
+            (3, 0, Ix::NO_SLOT),
+        ];
         mesh.stitch(&[t0, t1], &rim);
         Ok(mesh)
     }
@@ -389,7 +441,10 @@ impl<'a> DomainMesh<'a> {
     /// in `(u, v)` order: a triangle's corner order depends on its points alone, not on the
     /// history of the mesh.
     pub fn triangles(&self) -> impl Iterator<Item = [u16; 3]> + '_ {
-        self.triangles.iter().filter(|t| t.is_live()).map(|t| t.v)
+        self.triangles
+            .iter()
+            .filter(|t| t.is_live())
+            .map(|t| t.widen().v)
     }
 
     /// Live triangles with, for each, the triangle across the edge opposite each vertex
@@ -401,7 +456,10 @@ impl<'a> DomainMesh<'a> {
             .iter()
             .enumerate()
             .filter(|(_, t)| t.is_live())
-            .map(|(k, t)| (k as u16, t.v, t.n.map(|n| (n != NONE).then_some(n))))
+            .map(|(k, t)| {
+                let t = t.widen();
+                (k as u16, t.v, t.n.map(|n| (n != Ix::NO_SLOT).then_some(n)))
+            })
     }
 
     /// Vertex slots, live or free.
@@ -418,15 +476,15 @@ impl<'a> DomainMesh<'a> {
     /// The counter-clockwise vertices of the triangle in slot `slot`, or `None` if it is free.
     pub fn triangle(&self, slot: u16) -> Option<[u16; 3]> {
         let t = self.triangles.get(slot as usize)?;
-        t.is_live().then_some(t.v)
+        t.is_live().then(|| t.widen().v)
     }
 
     /// The slots of the triangles around vertex `id`, counter-clockwise (empty if `id` is not
     /// live). After an insertion these are exactly the triangles it created.
-    pub fn star(&self, id: u16) -> Star<'_, 'a> {
+    pub fn star(&self, id: u16) -> Star<'_, 'a, Ix> {
         let start = match self.vertices.get(id as usize) {
             Some(v) if v.is_live() => self.star_start(id),
-            _ => NONE,
+            _ => Ix::NO_SLOT,
         };
         Star {
             mesh: self,
@@ -440,14 +498,14 @@ impl<'a> DomainMesh<'a> {
     /// The first triangle of `id`'s star in counter-clockwise order: for a boundary vertex the
     /// one whose clockwise neighbour is outside the square, else the incident triangle.
     fn star_start(&self, id: u16) -> u16 {
-        let first = self.vertices[id as usize].link;
+        let first = self.link(id);
         let mut t = first;
         for _ in 0..=self.triangles.len() {
-            let tri = self.triangles[t as usize];
+            let tri = self.tri(t);
             let i = index_of(&tri.v, id);
             // Clockwise: across the edge (id, v[i+1]), opposite v[i+2].
             let cw = tri.n[before(i)];
-            if cw == NONE || cw == first {
+            if cw == Ix::NO_SLOT || cw == first {
                 break;
             }
             t = cw;
@@ -458,7 +516,7 @@ impl<'a> DomainMesh<'a> {
     /// The vertex at `p`, if any.
     pub fn find(&self, p: GridPoint) -> Option<u16> {
         let t = self.locate(p);
-        self.triangles[t as usize]
+        self.tri(t)
             .v
             .into_iter()
             .find(|&v| self.vertices[v as usize].point == p)
@@ -469,7 +527,31 @@ impl<'a> DomainMesh<'a> {
     }
 
     fn tri_points(&self, t: u16) -> [GridPoint; 3] {
-        self.triangles[t as usize].v.map(|v| self.pt(v))
+        self.tri(t).v.map(|v| self.pt(v))
+    }
+
+    /// Triangle slot `t`, with `u16` slot numbers.
+    #[inline(always)]
+    fn tri(&self, t: u16) -> MeshTriangle {
+        self.triangles[t as usize].widen()
+    }
+
+    /// Writes triangle slot `t`.
+    #[inline(always)]
+    fn put(&mut self, t: u16, tri: MeshTriangle) {
+        self.triangles[t as usize] = MeshTriangle::narrow(tri);
+    }
+
+    /// The triangle live vertex `v` links to.
+    #[inline(always)]
+    fn link(&self, v: u16) -> u16 {
+        self.vertices[v as usize].link.widen()
+    }
+
+    /// Links live vertex `v` to its triangle `t`.
+    #[inline(always)]
+    fn set_link(&mut self, v: u16, t: u16) {
+        self.vertices[v as usize].link = Ix::narrow(t);
     }
 
     /// Chains the slots after the live counts as the free lists (the live ones come first).
@@ -477,14 +559,22 @@ impl<'a> DomainMesh<'a> {
         let (nv, nt) = (self.vertex_count, self.triangle_count);
         let last = self.vertices.len();
         for (k, slot) in self.vertices.iter_mut().enumerate().skip(nv) {
-            *slot = MeshVertex::free(if k + 1 < last { k as u16 + 1 } else { NONE });
+            *slot = MeshVertex::free(if k + 1 < last {
+                k as u16 + 1
+            } else {
+                Ix::NO_SLOT
+            });
         }
-        self.free_vertex = if nv < last { nv as u16 } else { NONE };
+        self.free_vertex = if nv < last { nv as u16 } else { Ix::NO_SLOT };
         let last = self.triangles.len();
         for (k, slot) in self.triangles.iter_mut().enumerate().skip(nt) {
-            *slot = MeshTriangle::free(if k + 1 < last { k as u16 + 1 } else { NONE });
+            *slot = MeshTriangle::free(if k + 1 < last {
+                k as u16 + 1
+            } else {
+                Ix::NO_SLOT
+            });
         }
-        self.free_triangle = if nt < last { nt as u16 } else { NONE };
+        self.free_triangle = if nt < last { nt as u16 } else { Ix::NO_SLOT };
         self.hint = 0;
     }
 
@@ -493,7 +583,10 @@ impl<'a> DomainMesh<'a> {
         let slot = &mut self.vertices[id as usize];
         self.free_vertex = slot.point.u;
         // Live from here; the split that follows links it to a triangle of its own.
-        *slot = MeshVertex { point: p, link: 0 };
+        *slot = MeshVertex {
+            point: p,
+            link: Ix::narrow(0),
+        };
         self.vertex_count += 1;
         id
     }
@@ -501,8 +594,8 @@ impl<'a> DomainMesh<'a> {
     fn take_triangle(&mut self) -> u16 {
         let id = self.free_triangle;
         let slot = &mut self.triangles[id as usize];
-        self.free_triangle = slot.n[0];
-        // Free (its vertices `NONE`) until the caller sets them, right after.
+        self.free_triangle = slot.n[0].widen();
+        // Free (its vertices `Ix::NO_SLOT`) until the caller sets them, right after.
         *slot = MeshTriangle::default();
         self.triangle_count += 1;
         id
@@ -517,28 +610,28 @@ impl<'a> DomainMesh<'a> {
 
 /// The triangles around a vertex, counter-clockwise: see [`DomainMesh::star`].
 #[derive(Debug)]
-pub struct Star<'m, 'a> {
-    mesh: &'m DomainMesh<'a>,
+pub struct Star<'m, 'a, Ix: DomainIndex = u16> {
+    mesh: &'m DomainMesh<'a, Ix>,
     id: u16,
     start: u16,
     next: u16,
     steps: usize,
 }
 
-impl Iterator for Star<'_, '_> {
+impl<Ix: DomainIndex> Iterator for Star<'_, '_, Ix> {
     type Item = u16;
 
     fn next(&mut self) -> Option<u16> {
         // The step bound only guards against a corrupted mesh turning into a hang.
-        if self.next == NONE || self.steps > self.mesh.triangles.len() {
+        if self.next == Ix::NO_SLOT || self.steps > self.mesh.triangles.len() {
             return None;
         }
         let t = self.next;
-        let tri = self.mesh.triangles[t as usize];
+        let tri = self.mesh.tri(t);
         let i = index_of(&tri.v, self.id);
         // Counter-clockwise: across the edge (v[i+2], id), opposite v[i+1].
         let ccw = tri.n[after(i)];
-        self.next = if ccw == self.start { NONE } else { ccw };
+        self.next = if ccw == self.start { Ix::NO_SLOT } else { ccw };
         self.steps += 1;
         Some(t)
     }

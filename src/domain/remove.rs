@@ -2,10 +2,11 @@
 //! (two on the boundary), which merge into one (Devillers).
 
 use super::{
-    after, before, in_circle, index_of, orient, DomainMesh, MeshVertex, RemoveError, RimEdge, NONE,
+    after, before, in_circle, index_of, orient, DomainIndex, DomainMesh, MeshVertex, RemoveError,
+    RimEdge,
 };
 
-impl DomainMesh<'_> {
+impl<Ix: DomainIndex> DomainMesh<'_, Ix> {
     /// Removes vertex `id` and re-triangulates the hole.
     ///
     /// Delaunay ears of the vertex's link are flipped off one at a time (each is a triangle of
@@ -46,7 +47,7 @@ impl DomainMesh<'_> {
             return false;
         }
         self.star(id).all(|t| {
-            let tri = self.triangles[t as usize].v;
+            let tri = self.tri(t).v;
             let i = index_of(&tri, id);
             [tri[after(i)], tri[before(i)]].into_iter().all(|x| {
                 x == a || x == b || x == c || !in_circle(self.metric, pa, pb, pc, self.pt(x))
@@ -61,7 +62,7 @@ impl DomainMesh<'_> {
         let mut first: Option<(u16, u16, u16)> = None;
         let mut prev: Option<(u16, u16, u16)> = None;
         for t in self.star(id) {
-            let tri = self.triangles[t as usize].v;
+            let tri = self.tri(t).v;
             let i = index_of(&tri, id);
             let (x, y) = (tri[after(i)], tri[before(i)]);
             if let Some((pt, a, b)) = prev {
@@ -85,7 +86,7 @@ impl DomainMesh<'_> {
             return false;
         };
         // Flipping the edge (b, id) of (id, a, b), opposite a, cuts the ear off.
-        let i = index_of(&self.triangles[t as usize].v, a);
+        let i = index_of(&self.tri(t).v, a);
         self.flip(t, i);
         true
     }
@@ -93,16 +94,16 @@ impl DomainMesh<'_> {
     /// The last step of a removal: the triangles left around `id` (three around an interior
     /// vertex, two around a boundary one) become one.
     fn merge(&mut self, id: u16, boundary: bool) {
-        let mut star = [NONE; 3];
+        let mut star = [Ix::NO_SLOT; 3];
         for (slot, t) in star.iter_mut().zip(self.star(id)) {
             *slot = t;
         }
         let count = if boundary { 2 } else { 3 };
         // The outer neighbours and the link vertices, counter-clockwise.
-        let mut link = [NONE; 4];
-        let mut outer = [NONE; 3];
+        let mut link = [Ix::NO_SLOT; 4];
+        let mut outer = [Ix::NO_SLOT; 3];
         for k in 0..count {
-            let tri = self.triangles[star[k] as usize];
+            let tri = self.tri(star[k]);
             let i = index_of(&tri.v, id);
             link[k] = tri.v[after(i)];
             link[k + 1] = tri.v[before(i)];
@@ -111,7 +112,10 @@ impl DomainMesh<'_> {
         let keep = star[0];
         let (v, n) = if boundary {
             // (q0, q1, q2), q0 and q2 on the boundary with id between them.
-            ([link[0], link[1], link[2]], [outer[1], NONE, outer[0]])
+            (
+                [link[0], link[1], link[2]],
+                [outer[1], Ix::NO_SLOT, outer[0]],
+            )
         } else {
             ([link[0], link[1], link[2]], [outer[1], outer[2], outer[0]])
         };
@@ -123,7 +127,7 @@ impl DomainMesh<'_> {
             self.replace_neighbor(outer[k], star[k], keep);
         }
         for x in v {
-            self.vertices[x as usize].link = keep;
+            self.set_link(x, keep);
         }
         self.free_vertex_slot(id);
         self.hint = keep;
@@ -132,14 +136,14 @@ impl DomainMesh<'_> {
     /// Removal of an interior vertex of degree four lying on the diagonal its hole's Delaunay
     /// triangulation uses: the four triangles become two.
     fn merge_four(&mut self, id: u16) {
-        let mut star = [NONE; 4];
+        let mut star = [Ix::NO_SLOT; 4];
         for (slot, t) in star.iter_mut().zip(self.star(id)) {
             *slot = t;
         }
-        let mut q = [NONE; 4];
-        let mut outer = [NONE; 4];
+        let mut q = [Ix::NO_SLOT; 4];
+        let mut outer = [Ix::NO_SLOT; 4];
         for k in 0..4 {
-            let tri = self.triangles[star[k] as usize];
+            let tri = self.tri(star[k]);
             let i = index_of(&tri.v, id);
             q[k] = tri.v[after(i)];
             outer[k] = tri.n[i];
@@ -173,7 +177,7 @@ impl DomainMesh<'_> {
             } else {
                 [t1, t0, t0, t0][k]
             };
-            self.vertices[q[k] as usize].link = t;
+            self.set_link(q[k], t);
         }
         self.free_vertex_slot(id);
         self.hint = t0;
@@ -190,12 +194,12 @@ impl DomainMesh<'_> {
     /// incident-triangle link of every vertex of `new`.
     pub(super) fn stitch(&mut self, new: &[u16], rim: &[RimEdge]) {
         for &t in new {
-            let v = self.triangles[t as usize].v;
+            let v = self.tri(t).v;
             for i in 0..3 {
                 let (a, b) = (v[after(i)], v[before(i)]);
                 let inner = new.iter().copied().find(|&s| {
                     s != t && {
-                        let w = self.triangles[s as usize].v;
+                        let w = self.tri(s).v;
                         (0..3).any(|j| w[j] == b && w[after(j)] == a)
                     }
                 });
@@ -205,20 +209,21 @@ impl DomainMesh<'_> {
                         let outside = rim
                             .iter()
                             .find(|&&(x, y, _)| x == a && y == b)
-                            .map_or(NONE, |&(_, _, o)| o);
-                        if outside != NONE {
-                            let o = &mut self.triangles[outside as usize];
+                            .map_or(Ix::NO_SLOT, |&(_, _, o)| o);
+                        if outside != Ix::NO_SLOT {
+                            let mut o = self.tri(outside);
                             for j in 0..3 {
                                 if o.v[after(j)] == b && o.v[before(j)] == a {
                                     o.n[j] = t;
                                 }
                             }
+                            self.put(outside, o);
                         }
                         outside
                     }
                 };
-                self.triangles[t as usize].n[i] = across;
-                self.vertices[v[i] as usize].link = t;
+                self.triangles[t as usize].n[i] = Ix::narrow(across);
+                self.set_link(v[i], t);
             }
         }
     }

@@ -6,6 +6,7 @@ use core::ops::Range;
 use glam::Vec3;
 
 use crate::bound::{Aabb, BoundingSphere};
+use crate::domain::DomainIndex;
 use crate::math::{max, min};
 use crate::sink::{MeshIndex, TriangleSink, Vertex};
 use crate::tessellator::Tessellator;
@@ -27,7 +28,7 @@ pub trait TriangleSource {
 /// The current frame of a tessellator, streamed without a mesh buffer: each band streams only
 /// the patches that may reach its rows (by their projected control points, or their bounding
 /// sphere when a control point is behind the near plane), and evaluates their vertices again.
-impl TriangleSource for Tessellator<'_, '_> {
+impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
     fn bound(&self) -> Option<BoundingSphere> {
         sphere_around(self.model_box()?)
     }

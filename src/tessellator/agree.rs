@@ -18,6 +18,7 @@
 use super::refine::{own_threshold, piece_bound, refined_bound, threshold};
 use super::{FrameStats, Tessellator};
 use crate::deviation::PatchBounds;
+use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::math::{self, sqrt};
 use crate::model::EdgeLink;
@@ -26,7 +27,7 @@ use crate::view::View;
 /// Rounds of agreeing edges and checking non-uniform patterns, at most.
 const AGREE_ROUNDS: usize = 32;
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Agrees on edges and bounds the pieces of non-uniform patterns, until nothing changes
     /// (raising factors only while `refine`); the last round leaves every patch's largest
     /// bound over threshold.

@@ -27,6 +27,7 @@
 
 use super::Tessellator;
 use crate::bound::BoundingSphere;
+use crate::domain::DomainIndex;
 use crate::facing::{signed_volume, NormalCone};
 use crate::model::EdgeLink;
 use crate::patch::Side;
@@ -39,7 +40,7 @@ fn loop_sign(side: Side, reversed: bool) -> bool {
     forward != reversed
 }
 
-impl<'m, 's> Tessellator<'m, 's> {
+impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
     /// Finds each patch's outward normal cone when the model is closed, its normals agree and
     /// their side is known (conditions 1 to 3); returns the model's bounding sphere then.
     pub(super) fn orient_patches(&mut self) -> Option<BoundingSphere> {

@@ -11,6 +11,7 @@
 //! recomputes every bound a frame needs.
 
 use crate::deviation::{corner_points, TriangleBound};
+use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::patch::BezierPatch;
 
@@ -120,7 +121,7 @@ impl BoundSlot {
     }
 }
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// The cache entry for triangle `corners` of patch `p`, made about it (the tessellator's
     /// spare entry when the caller's cache is empty).
     pub(super) fn bound_entry(&mut self, p: usize, corners: [GridPoint; 3]) -> &mut BoundSlot {

@@ -15,6 +15,7 @@
 //! stops short, a step cap, or curve samples that a neighbour asked for), it is the larger,
 //! true bound, and the tolerance is not claimed.
 
+use crate::domain::DomainIndex;
 use core::fmt;
 
 use super::select::{move_requests, prefix};
@@ -71,7 +72,7 @@ impl core::error::Error for BudgetError {}
 /// The domain corners at the ends of each side, in [`Side::ALL`](crate::Side::ALL) order.
 const SIDE_CORNERS: [(usize, usize); 4] = [(0, 1), (1, 2), (3, 2), (0, 3)];
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Triangles of the unrefined mesh for `view`, predicted from prefix lengths alone.
     pub fn predict_triangles(&mut self, view: &View) -> usize {
         let baked = self.baked;

@@ -10,6 +10,7 @@
 
 use super::patch_view::{Point, MAX};
 use super::Tessellator;
+use crate::domain::DomainIndex;
 use crate::patch::Side;
 use crate::sink::{MeshIndex, MeshSize, Vertex, WriteError};
 
@@ -20,7 +21,7 @@ pub(crate) struct MeshCounts {
     pub(crate) triangles: u32,
 }
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Counts the frame's mesh and each patch's range of its triangles, as
     /// [`write_mesh`](Self::write_mesh) would write them (without the scratch).
     pub(crate) fn count(&mut self) -> MeshCounts {

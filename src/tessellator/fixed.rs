@@ -4,7 +4,7 @@
 use super::storage::{CurveSlot, PatchSlot, TessellatorStorage, TriangleSlot};
 use super::StorageSize;
 use super::{BoundSlot, PointSlot};
-use crate::domain::{MeshTriangle, MeshVertex};
+use crate::domain::{DomainIndex, MeshTriangle, MeshVertex};
 
 /// [`TessellatorStorage`] in arrays: `PATCHES` patch slots, `CURVES` curve slots, `ORDER`
 /// curve-order slots, a pool of `VERTICES` vertex and `TRIANGLES` triangle slots, `STATES`
@@ -39,12 +39,13 @@ pub struct FixedStorage<
     const BOUNDS: usize,
     const POINTS: usize,
     const SCRATCH: usize,
+    Ix: DomainIndex = u16,
 > {
     patches: [PatchSlot; PATCHES],
     curves: [CurveSlot; CURVES],
     order: [u16; ORDER],
-    vertices: [MeshVertex; VERTICES],
-    triangles: [MeshTriangle; TRIANGLES],
+    vertices: [MeshVertex<Ix>; VERTICES],
+    triangles: [MeshTriangle<Ix>; TRIANGLES],
     states: [TriangleSlot; STATES],
     bounds: [BoundSlot; BOUNDS],
     points: [PointSlot; POINTS],
@@ -61,7 +62,9 @@ impl<
         const BOUNDS: usize,
         const POINTS: usize,
         const SCRATCH: usize,
-    > FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, STATES, BOUNDS, POINTS, SCRATCH>
+        Ix: DomainIndex,
+    >
+    FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, STATES, BOUNDS, POINTS, SCRATCH, Ix>
 {
     /// Empty storage.
     pub fn new() -> Self {
@@ -106,7 +109,7 @@ impl<
     }
 
     /// The slices a [`Tessellator`](super::Tessellator) takes.
-    pub fn as_storage(&mut self) -> TessellatorStorage<'_> {
+    pub fn as_storage(&mut self) -> TessellatorStorage<'_, Ix> {
         TessellatorStorage {
             patches: &mut self.patches,
             curves: &mut self.curves,
@@ -131,8 +134,20 @@ impl<
         const BOUNDS: usize,
         const POINTS: usize,
         const SCRATCH: usize,
+        Ix: DomainIndex,
     > Default
-    for FixedStorage<PATCHES, CURVES, ORDER, VERTICES, TRIANGLES, STATES, BOUNDS, POINTS, SCRATCH>
+    for FixedStorage<
+        PATCHES,
+        CURVES,
+        ORDER,
+        VERTICES,
+        TRIANGLES,
+        STATES,
+        BOUNDS,
+        POINTS,
+        SCRATCH,
+        Ix,
+    >
 {
     fn default() -> Self {
         Self::new()

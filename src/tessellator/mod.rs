@@ -60,6 +60,7 @@ pub use storage::{
 };
 pub use vertex_cache::PointSlot;
 
+use crate::domain::DomainIndex;
 use core::fmt;
 
 use glam::Vec3;
@@ -75,7 +76,7 @@ use crate::patch::Side;
 use crate::view::View;
 
 use emit::MeshCounts;
-use storage::patch_capacity;
+use storage::{max_patch_vertices, patch_capacity};
 
 /// Largest frame, in triangles, that refinement may produce: comfortably inside the `u32`
 /// indices and counts of the output. A frame whose refinement could exceed it is not refined
@@ -191,13 +192,28 @@ impl core::error::Error for UpdateError {}
 /// assert_eq!(cut.patches_without_states, 0);
 /// // What this view needs for every baked step it asks for:
 /// assert_eq!(cut.pool_needed.vertices, fine.mesh_vertices);
+/// drop(small);
+///
+/// // A pool of `u8`-indexed slots (`DomainIndex`) takes 6 bytes per triangle slot instead
+/// // of 12. A patch's mesh then holds at most 130 vertices; a patch baked with more samples
+/// // stops there and refines, within the same bound.
+/// let narrow = StorageSize::of_indexed::<u8>(&baked, &settings);
+/// assert!(narrow.vertices <= size.vertices);
+/// let mut mv = vec![MeshVertex::<u8>::default(); narrow.vertices];
+/// let mut mt = vec![MeshTriangle::<u8>::default(); narrow.triangles];
+/// let mut ts = vec![TriangleSlot::default(); narrow.triangle_states];
+/// let storage = TessellatorStorage { patches: &mut ps, curves: &mut cv, curve_order: &mut order,
+///     vertices: &mut mv, triangles: &mut mt, triangle_states: &mut ts, bounds: &mut [],
+///     vertex_points: &mut [], scratch: &mut scratch };
+/// let mut compact = Tessellator::indexed(patches, baked, settings, storage).unwrap();
+/// assert!(compact.update(&View::Object { tolerance: 0.002 }).unwrap().max_predicted_error <= 0.002);
 /// ```
 #[derive(Debug)]
-pub struct Tessellator<'m, 's> {
+pub struct Tessellator<'m, 's, Ix: DomainIndex = u16> {
     patches: PatchSet<'m>,
     baked: BakedModel<'m>,
     settings: Settings,
-    storage: TessellatorStorage<'s>,
+    storage: TessellatorStorage<'s, Ix>,
     nodes: u32,
     view: Option<View>,
     refine: bool,
@@ -216,7 +232,7 @@ pub struct Tessellator<'m, 's> {
 }
 
 #[cfg(feature = "embedded-graphics")]
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// The box around every patch of the model.
     pub(crate) fn model_box(&self) -> Option<Aabb> {
         self.model_box
@@ -248,12 +264,28 @@ pub(crate) fn along(side: Side, p: GridPoint) -> u16 {
 }
 
 impl<'m, 's> Tessellator<'m, 's> {
-    /// A tessellator for `patches` baked as `baked`, holding no samples yet.
+    /// A tessellator for `patches` baked as `baked`, holding no samples yet. (For a pool of
+    /// another index type, see [`Tessellator::indexed`].)
     pub fn new(
         patches: PatchSet<'m>,
         baked: BakedModel<'m>,
         settings: Settings,
         storage: TessellatorStorage<'s>,
+    ) -> Result<Self, TessellatorError> {
+        Self::indexed(patches, baked, settings, storage)
+    }
+}
+
+impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
+    /// Like [`Tessellator::new`], over a pool of slots indexed by any [`DomainIndex`]:
+    /// `u8` slots take half the bytes per triangle, and hold at most 130 vertices per patch
+    /// (a patch baked with more samples stops there and refines, within the same bound;
+    /// [`StorageSize::of_indexed`] sizes such a pool).
+    pub fn indexed(
+        patches: PatchSet<'m>,
+        baked: BakedModel<'m>,
+        settings: Settings,
+        storage: TessellatorStorage<'s, Ix>,
     ) -> Result<Self, TessellatorError> {
         if !baked.matches(&patches) {
             return Err(TessellatorError::ModelMismatch);
@@ -316,12 +348,12 @@ impl<'m, 's> Tessellator<'m, 's> {
             let (Some(bp), Some(patch)) = (baked.patch(p), self.patches.patch(p)) else {
                 return Err(TessellatorError::ModelMismatch);
             };
-            let (vc, tc, cap) = patch_capacity(&baked, &bp, &self.settings);
-            if vc > u16::MAX as usize {
+            let (vc, tc, cap) = patch_capacity::<Ix>(&baked, &bp, &self.settings);
+            if vc > max_patch_vertices::<Ix>() {
                 return Err(TessellatorError::PatchTooLarge { patch: p });
             }
             let (vo, to) = (4 * p, 2 * p);
-            let mesh = DomainMesh::with_metric(
+            let mesh = DomainMesh::indexed(
                 &mut self.storage.vertices[vo..vo + 4],
                 &mut self.storage.triangles[to..to + 2],
                 bp.metric,

@@ -28,6 +28,7 @@
 use super::pattern::{self, Local};
 use super::storage::TriangleSlot;
 use super::{along, common_side, Tessellator, CORNER_UV};
+use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::model::EdgeLink;
 use crate::patch::Side;
@@ -64,7 +65,7 @@ pub(super) enum Point {
 pub(super) const MAX: u32 = GridPoint::MAX as u32;
 
 /// One visible patch's view for the traversal.
-pub(super) struct PatchView<'t, 'm, 's> {
+pub(super) struct PatchView<'t, 'm, 's, Ix: DomainIndex = u16> {
     /// The patch.
     p: usize,
     pub(super) vo: usize,
@@ -72,7 +73,7 @@ pub(super) struct PatchView<'t, 'm, 's> {
     pub(super) tc: usize,
     edges: [EdgeLink; 4],
     nodes: [u32; 4],
-    tess: &'t Tessellator<'m, 's>,
+    tess: &'t Tessellator<'m, 's, Ix>,
     /// The view whose hidden pieces [`refine`](Self::refine) leaves out (none: every piece).
     hide: Option<View>,
     /// Where its triangles' states start in the arena and how many there are (0: it has
@@ -82,7 +83,7 @@ pub(super) struct PatchView<'t, 'm, 's> {
     plain: TriangleSlot,
 }
 
-impl PatchView<'_, '_, '_> {
+impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
     pub(super) fn point_of(&self, id: u16) -> GridPoint {
         self.tess.storage.vertices[self.vo + id as usize].corner_point()
     }
@@ -420,8 +421,8 @@ impl PatchView<'_, '_, '_> {
     }
 }
 
-impl<'m, 's> Tessellator<'m, 's> {
-    pub(super) fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's>> {
+impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
+    pub(super) fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's, Ix>> {
         let slot = self.storage.patches.get(p)?;
         if slot.culled {
             return None;
@@ -443,7 +444,7 @@ impl<'m, 's> Tessellator<'m, 's> {
 
     /// [`patch_view`](Self::patch_view) for output: in a refined frame of a patch not wholly
     /// inside the view, its pieces off the view are left out.
-    pub(super) fn output_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's>> {
+    pub(super) fn output_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's, Ix>> {
         let mut view = self.patch_view(p)?;
         if self.refine && !self.storage.patches[p].inside {
             view.hide = self.view;

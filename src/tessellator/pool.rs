@@ -43,6 +43,7 @@ use super::storage::PatchSlot;
 #[cfg(doc)]
 use super::storage::TriangleSlot;
 use super::Tessellator;
+use crate::domain::DomainIndex;
 use crate::domain::DomainMesh;
 #[cfg(doc)]
 use crate::domain::{MeshTriangle, MeshVertex};
@@ -93,7 +94,7 @@ pub(super) struct PoolFit {
 /// Bisection steps on `log2 k` once a fitting power of two is found.
 const BISECTIONS: usize = 10;
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// The pool the caller's storage gives.
     pub fn pool_size(&self) -> PoolSize {
         PoolSize {
@@ -170,7 +171,7 @@ impl Tessellator<'_, '_> {
             if !slot.culled || (slot.steps == 0 && slot.sides == [0; 4]) {
                 continue;
             }
-            let Ok(mesh) = DomainMesh::with_metric(
+            let Ok(mesh) = DomainMesh::indexed(
                 &mut self.storage.vertices[slot.vertex_range()],
                 &mut self.storage.triangles[slot.triangle_range()],
                 slot.mesh.metric(),

@@ -54,6 +54,7 @@ use super::select::recorded;
 use super::storage::TriangleSlot;
 use super::{common_side, FrameStats, Tessellator};
 use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
+use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::math::{self, length};
 use crate::model::EdgeLink;
@@ -193,7 +194,7 @@ pub(super) fn piece_bound(
     math::min(worst + curvature * (1.0 / 9.0) + local.slack, general)
 }
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// The own bound of triangle `corners` of patch `patch` (index `p`), computed when the
     /// cache does not hold it.
     pub(super) fn bound_of(

@@ -9,6 +9,7 @@
 //! the same points. Each frame deletes first (so a mesh never needs more than its capacity),
 //! then inserts, and touches only what changed.
 
+use crate::domain::DomainIndex;
 use glam::Vec3;
 
 use super::{FrameStats, Tessellator, TessellatorStorage};
@@ -87,7 +88,7 @@ pub(super) fn move_requests(bp: &BakedPatch<'_>, requests: &mut [u16; 4], from: 
     }
 }
 
-impl<'m, 's> Tessellator<'m, 's> {
+impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
     /// The patch's sphere.
     pub(super) fn sphere(slot: &PatchSlot) -> BoundingSphere {
         BoundingSphere {
@@ -231,9 +232,9 @@ impl<'m, 's> Tessellator<'m, 's> {
 
     /// The mesh of patch `p`, over its storage.
     pub(super) fn mesh<'b>(
-        storage: &'b mut TessellatorStorage<'s>,
+        storage: &'b mut TessellatorStorage<'s, Ix>,
         slot: &PatchSlot,
-    ) -> DomainMesh<'b> {
+    ) -> DomainMesh<'b, Ix> {
         DomainMesh::resume(
             &mut storage.vertices[slot.vertex_range()],
             &mut storage.triangles[slot.triangle_range()],

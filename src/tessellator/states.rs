@@ -28,6 +28,7 @@
 
 use super::storage::TriangleSlot;
 use super::Tessellator;
+use crate::domain::DomainIndex;
 use crate::domain::DomainMesh;
 
 impl TriangleSlot {
@@ -43,7 +44,7 @@ impl TriangleSlot {
     }
 }
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Empties the arena for a new frame: no patch has states.
     pub(super) fn clear_states(&mut self) {
         self.states_taken = 0;

@@ -5,7 +5,7 @@ use core::fmt;
 
 use crate::bake::{BakedModel, BakedPatch};
 use crate::deviation::PatchBounds;
-use crate::domain::{DomainMesh, MeshHeader, MeshTriangle, MeshVertex};
+use crate::domain::{DomainIndex, DomainMesh, MeshHeader, MeshTriangle, MeshVertex};
 use crate::facing::NormalCone;
 use crate::model::EdgeLink;
 use crate::patch::Side;
@@ -261,14 +261,23 @@ impl StorageSize {
     /// cache of one per vertex slot, and the scratch of
     /// [`write_mesh`](super::Tessellator::write_mesh) for any frame. (A smaller pool and
     /// cache work, and a frame that is only streamed needs less scratch: see
-    /// [`StorageSize::minimum`].)
+    /// [`StorageSize::minimum`].) For a pool of `u16`-indexed slots, the default; see
+    /// [`StorageSize::of_indexed`] for others.
     pub fn of(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
+        StorageSize::of_indexed::<u16>(baked, settings)
+    }
+
+    /// [`StorageSize::of`] for a pool whose slots are indexed by `Ix`: a patch's mesh holds
+    /// no more than `Ix` numbers (see [`DomainIndex`]), so with `u8` a patch of many baked
+    /// samples needs fewer slots, and its frames refine where the samples stop. (The
+    /// [`Tessellator`](super::Tessellator) docs show one.)
+    pub fn of_indexed<Ix: DomainIndex>(baked: &BakedModel<'_>, settings: &Settings) -> StorageSize {
         let mut size = StorageSize::minimum(baked, settings);
         size.vertices = 0;
         size.triangles = 0;
         for k in 0..baked.patch_count() {
             if let Some(bp) = baked.patch(k) {
-                let (v, t, _) = patch_capacity(baked, &bp, settings);
+                let (v, t, _) = patch_capacity::<Ix>(baked, &bp, settings);
                 size.vertices += v;
                 size.triangles += t;
                 size.scratch = size.scratch.max(v + 3 * t);
@@ -317,8 +326,15 @@ impl StorageSize {
     }
 }
 
-/// Vertex and triangle slots of one patch, and its step cap.
-pub(super) fn patch_capacity(
+/// The most vertex slots one mesh indexed by `Ix` takes: its triangle slots
+/// ([`DomainMesh::triangles_for`]) must be numbered by `Ix` too.
+pub(super) fn max_patch_vertices<Ix: DomainIndex>() -> usize {
+    Ix::MAX_SLOTS.min((Ix::MAX_SLOTS + 6) / 2)
+}
+
+/// Vertex and triangle slots of one patch, and its step cap, in a pool indexed by `Ix`. The
+/// vertices are more than [`max_patch_vertices`] when its curve samples alone are.
+pub(super) fn patch_capacity<Ix: DomainIndex>(
     baked: &BakedModel<'_>,
     bp: &BakedPatch<'_>,
     settings: &Settings,
@@ -329,7 +345,7 @@ pub(super) fn patch_capacity(
             v += baked.curve(curve as usize).map_or(0, |c| c.samples.len());
         }
     }
-    let room = (u16::MAX as usize - 1).saturating_sub(v);
+    let room = max_patch_vertices::<Ix>().saturating_sub(v);
     let cap = bp
         .samples
         .len()
@@ -345,7 +361,7 @@ pub(super) fn patch_capacity(
 /// the arena of the frame's judged and cut triangles, and `bounds` and `vertex_points` are
 /// caches: all three of any length.
 #[derive(Debug)]
-pub struct TessellatorStorage<'s> {
+pub struct TessellatorStorage<'s, Ix: DomainIndex = u16> {
     /// Per patch.
     pub patches: &'s mut [PatchSlot],
     /// Per curve.
@@ -353,9 +369,9 @@ pub struct TessellatorStorage<'s> {
     /// Per curve sample.
     pub curve_order: &'s mut [u16],
     /// The pool's domain-mesh vertices.
-    pub vertices: &'s mut [MeshVertex],
+    pub vertices: &'s mut [MeshVertex<Ix>],
     /// The pool's domain-mesh triangles.
-    pub triangles: &'s mut [MeshTriangle],
+    pub triangles: &'s mut [MeshTriangle<Ix>],
     /// The frame's states of the triangles of the patches that judge their triangles on
     /// their own or cut them, one per triangle slot of each such patch: any length, none
     /// included. A patch that finds it full is left uncut this frame, within a bound it
@@ -380,7 +396,8 @@ pub enum TessellatorError {
         /// What is needed.
         needed: StorageSize,
     },
-    /// A patch's curve samples alone exceed a domain mesh's capacity (65 535 vertices).
+    /// A patch's curve samples alone exceed what one domain mesh numbers (32,770 vertices
+    /// with `u16` indices, 130 with `u8`: see [`DomainIndex`]).
     PatchTooLarge {
         /// The patch.
         patch: usize,

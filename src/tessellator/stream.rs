@@ -4,6 +4,7 @@
 
 use super::patch_view::Point;
 use super::Tessellator;
+use crate::domain::DomainIndex;
 use crate::sink::{TriangleInfo, TriangleSink, Vertex};
 
 /// Entries of the evaluated-point cache of [`Tessellator::stream_patch`].
@@ -24,7 +25,7 @@ fn point_hash(q: &Point) -> u32 {
         ^ (words[1] >> 7)
 }
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Hands every triangle of the frame, with its vertices, to `sink`, in the order of
     /// [`write_mesh`](Self::write_mesh)'s triangles (patch by patch, leaving out the patches
     /// the sink does not [want](TriangleSink::wants_patch)).

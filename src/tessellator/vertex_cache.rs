@@ -13,6 +13,7 @@
 //! when the pool is laid out again: the keys no longer match, and the vertices are evaluated
 //! again. Boundary vertices are shared with the neighbouring patches and are not cached here.
 
+use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::sink::Vertex;
 
@@ -40,7 +41,7 @@ impl Default for PointSlot {
     }
 }
 
-impl Tessellator<'_, '_> {
+impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Evaluates the live interior vertices of the visible patches that the cache does not
     /// hold.
     pub(super) fn fill_vertex_points(&mut self) {
