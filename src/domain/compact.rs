@@ -82,7 +82,8 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
         }
         for v in tri.v {
             if let Some(vertex) = self.vertices.get_mut(v.widen() as usize) {
-                if vertex.link == from {
+                let link = vertex.link;
+                if link == from {
                     vertex.link = to;
                 }
             }

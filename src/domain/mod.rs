@@ -35,38 +35,76 @@ pub(crate) use predicates::orient;
 pub use predicates::Metric;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-/// One vertex slot of a [`DomainMesh`] (6 bytes).
+/// One vertex slot of a [`DomainMesh`] (6 bytes with `u16` slot numbers, 5 with `u8`: see
+/// [`DomainIndex`]).
+#[repr(C, packed)]
 pub struct MeshVertex<Ix: DomainIndex = u16> {
-    /// Its point; for a free slot, `u` is the next free slot.
-    point: GridPoint,
+    /// Its point's `u` (packed, so that a `u8`-indexed slot takes 5 bytes); for a free slot,
+    /// the next free slot.
+    u: u16,
+    /// Its point's `v`.
+    v: u16,
     /// An incident triangle; "none" marks a free slot (a live vertex always has one).
     link: Ix,
 }
 
 impl<Ix: DomainIndex> MeshVertex<Ix> {
+    /// A slot holding `point`, linked to triangle `link`.
+    #[inline(always)]
+    fn new(point: GridPoint, link: u16) -> Self {
+        MeshVertex {
+            u: point.u,
+            v: point.v,
+            link: Ix::narrow(link),
+        }
+    }
+
     /// A free slot, chained to free slot `next` (`Ix::NO_SLOT`: the last).
     fn free(next: u16) -> Self {
         MeshVertex {
-            point: GridPoint { u: next, v: 0 },
+            u: next,
+            v: 0,
             link: Ix::NONE,
         }
     }
 
     /// Whether the slot holds a vertex.
     fn is_live(&self) -> bool {
-        self.link != Ix::NONE
+        let link = self.link;
+        link != Ix::NONE
+    }
+
+    /// The point the slot holds (for a free slot, the next free slot as `u`).
+    #[inline(always)]
+    fn point(&self) -> GridPoint {
+        // Copies (a packed field is read by value, never by reference).
+        let (u, v) = (self.u, self.v);
+        GridPoint { u, v }
     }
 
     /// The point of a live slot.
     pub(crate) fn live_point(&self) -> Option<GridPoint> {
-        self.is_live().then_some(self.point)
+        self.is_live().then(|| self.point())
     }
 
     /// The point of a slot known to be live (a corner of a live triangle); meaningless for a
     /// free slot.
     pub(crate) fn corner_point(&self) -> GridPoint {
-        self.point
+        self.point()
+    }
+}
+
+// By hand: the derive would take references to the packed fields.
+#[cfg(feature = "defmt")]
+impl<Ix: DomainIndex> defmt::Format for MeshVertex<Ix> {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        let link = self.link;
+        defmt::write!(
+            f,
+            "MeshVertex {{ point: {}, link: {} }}",
+            self.point(),
+            link.widen()
+        )
     }
 }
 
@@ -434,7 +472,7 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
             .iter()
             .enumerate()
             .filter(|(_, v)| v.is_live())
-            .map(|(k, v)| (k as u16, v.point))
+            .map(|(k, v)| (k as u16, v.point()))
     }
 
     /// Live triangles as counter-clockwise vertex triples, each starting at its smallest point
@@ -519,11 +557,11 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
         self.tri(t)
             .v
             .into_iter()
-            .find(|&v| self.vertices[v as usize].point == p)
+            .find(|&v| self.vertices[v as usize].point() == p)
     }
 
     fn pt(&self, v: u16) -> GridPoint {
-        self.vertices[v as usize].point
+        self.vertices[v as usize].point()
     }
 
     fn tri_points(&self, t: u16) -> [GridPoint; 3] {
@@ -545,7 +583,8 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
     /// The triangle live vertex `v` links to.
     #[inline(always)]
     fn link(&self, v: u16) -> u16 {
-        self.vertices[v as usize].link.widen()
+        let link = self.vertices[v as usize].link;
+        link.widen()
     }
 
     /// Links live vertex `v` to its triangle `t`.
@@ -581,12 +620,9 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
     fn take_vertex(&mut self, p: GridPoint) -> u16 {
         let id = self.free_vertex;
         let slot = &mut self.vertices[id as usize];
-        self.free_vertex = slot.point.u;
+        self.free_vertex = slot.point().u;
         // Live from here; the split that follows links it to a triangle of its own.
-        *slot = MeshVertex {
-            point: p,
-            link: Ix::narrow(0),
-        };
+        *slot = MeshVertex::new(p, 0);
         self.vertex_count += 1;
         id
     }

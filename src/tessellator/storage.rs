@@ -442,6 +442,8 @@ mod tests {
     fn pool_slots_are_as_small_as_documented() {
         assert_eq!(size_of::<MeshVertex>(), 6);
         assert_eq!(size_of::<MeshTriangle>(), 12);
+        assert_eq!(size_of::<MeshVertex<u8>>(), 5);
+        assert_eq!(size_of::<MeshTriangle<u8>>(), 6);
         assert_eq!(size_of::<TriangleSlot>(), 20);
     }
 
