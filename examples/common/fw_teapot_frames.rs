@@ -135,7 +135,9 @@ pub fn update(tess: &mut Tessellator<'_, '_>, k: usize) -> Option<FrameStats> {
 }
 
 /// Draws `tess`'s current frame as frame `k` onto `display`, band by band: `depth` and
-/// `colors` (`BAND` each) hold one band, `list` (may be empty) the frame's triangles.
+/// `colors` (`BAND` each) hold one band, `list` (may be empty) the frame's triangles. Not
+/// inlined: the renderer's locals then take the stack after the update's, not beside them.
+#[inline(never)]
 pub fn render(
     tess: &Tessellator<'_, '_>,
     k: usize,

@@ -10,6 +10,10 @@ use crate::sink::{TriangleInfo, TriangleSink, Vertex};
 /// Entries of the evaluated-point cache of [`Tessellator::stream_patch`].
 const STREAM_CACHE: usize = 32;
 
+/// No point's key ([`PatchView::key`](super::patch_view::PatchView::key) tags are below 5):
+/// an empty entry of the stream cache.
+const NO_KEY: u64 = u64::MAX;
+
 /// A hash of a point's identity for the stream cache.
 fn point_hash(q: &Point) -> u32 {
     let words = match *q {
@@ -73,20 +77,23 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             return;
         };
         // Neighbouring triangles share corners: a small direct-mapped cache of evaluated
-        // points saves most evaluations (the data depends on the point alone).
-        let mut cache = [(None::<Point>, Vertex::default()); STREAM_CACHE];
+        // points saves most evaluations. Entries are named by the points' keys (equal keys,
+        // equal data: see `PatchView::key`), kept apart from the data so that no entry pads.
+        let mut keys = [NO_KEY; STREAM_CACHE];
+        let mut data = [Vertex::default(); STREAM_CACHE];
         let vo = view.vo;
-        let mut vertex = |q: Point| -> Vertex {
+        let mut vertex = |q: Point, key: u64| -> Vertex {
             if let Point::Vertex { id, p: g } = q {
                 if let Some(v) = self.cached_vertex(p, vo + id as usize, g) {
                     return v;
                 }
             }
-            let slot = &mut cache[point_hash(&q) as usize % STREAM_CACHE];
-            if slot.0 != Some(q) {
-                *slot = (Some(q), self.vertex_data(q, p));
+            let k = point_hash(&q) as usize % STREAM_CACHE;
+            if keys[k] != key {
+                keys[k] = key;
+                data[k] = self.vertex_data(q, p);
             }
-            slot.1
+            data[k]
         };
         for t in 0..view.tc {
             if view.hidden(t) {
@@ -100,7 +107,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     bound,
                 };
                 let keys = tri.map(|q| view.key(t, q));
-                f(&info, keys, &mut |i| vertex(tri[i % 3]));
+                f(&info, keys, &mut |i| vertex(tri[i % 3], keys[i % 3]));
             });
         }
     }
