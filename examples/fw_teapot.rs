@@ -55,6 +55,12 @@ mod spi_display;
 #[path = "common/fw_teapot_frames.rs"]
 mod teapot;
 
+// (Shared with the other host programs, which use the rest of it.)
+#[cfg(not(target_os = "none"))]
+#[allow(dead_code)]
+#[path = "common/runtime_storage.rs"]
+mod runtime_storage;
+
 use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::RgbColor;
 use spi_display::SpiDisplay;
@@ -281,7 +287,8 @@ fn main() -> std::process::ExitCode {
         || 0,
         || {},
     );
-    // The storage with a pool for every baked step, and the least storage.
+    // The storage with a pool for every baked step, and the least storage (with the demo's
+    // slot numbers).
     if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
         use core::mem::size_of;
         use spline_tess::tessellator::{
@@ -292,15 +299,15 @@ fn main() -> std::process::ExitCode {
             n.patches * size_of::<PatchSlot>()
                 + n.curves * size_of::<CurveSlot>()
                 + n.curve_order * 2
-                + n.vertices * size_of::<MeshVertex>()
-                + n.triangles * size_of::<MeshTriangle>()
+                + n.vertices * size_of::<MeshVertex<teapot::Index>>()
+                + n.triangles * size_of::<MeshTriangle<teapot::Index>>()
                 + n.triangle_states * size_of::<TriangleSlot>()
                 + n.bounds * size_of::<BoundSlot>()
                 + n.vertex_points * size_of::<PointSlot>()
                 + n.scratch * 4
         };
         let (all, least) = (
-            StorageSize::of(&baked, &frames::SETTINGS),
+            StorageSize::of_indexed::<teapot::Index>(&baked, &frames::SETTINGS),
             StorageSize::minimum(&baked, &frames::SETTINGS),
         );
         println!(
@@ -308,6 +315,19 @@ fn main() -> std::process::ExitCode {
             bytes(&all),
             bytes(&least)
         );
+        // The same frames in that storage: every baked step, a state for every triangle.
+        if let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) {
+            let mut storage = runtime_storage::RuntimeStorage::<teapot::Index>::indexed(&all);
+            let mut tess = storage.tessellator(patches, baked, frames::SETTINGS);
+            for k in 0..teapot::FRAMES.len() {
+                if let Some(s) = teapot::update(&mut tess, k) {
+                    println!(
+                        "fw_teapot (host): storage_all frame {k} triangles {} bound_px {:.3}",
+                        s.triangles, s.max_predicted_error
+                    );
+                }
+            }
+        }
     }
     println!(
         "fw_teapot (host): storage {STORAGE_BYTES} bands {BAND_BYTES} list {LIST_BYTES} \

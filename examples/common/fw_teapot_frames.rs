@@ -17,18 +17,20 @@ pub const WIDTH: u32 = 240;
 /// Display size.
 pub const HEIGHT: u32 = 240;
 /// Rows per band: the depth and colour band buffers hold `WIDTH * BAND_ROWS` values each.
-/// Measured 2026-11-24 under QEMU: 8 rows instead of 16 save 7,680 bytes for 0.28M more
-/// render instructions in frame 0 (9.69M in all) and 0.34M in frame 1 (a triangle is set up
-/// once per band it meets).
-pub const BAND_ROWS: u32 = 8;
+/// Measured 2026-11-24 under QEMU: 8 rows instead of 16 saved 7,680 bytes for 0.28M more
+/// render instructions in frame 0 and 0.34M in frame 1; 4 rows instead of 8 save 3,840 more
+/// for 0.46M more in frame 0 (9.46M in all) and 0.55M in frame 1 (a triangle is set up once
+/// per band it meets). The near frames, which stream most patches band by band, pay more:
+/// frame 3's render went from 27.6M to 39.8M.
+pub const BAND_ROWS: u32 = 4;
 /// Pixels of one band (depth values, and colours).
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
 /// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner). Frames 0 and 1
-/// take 1,493 and 1,541; the near frames keep their first patches there and stream the rest
-/// band by band. `--cfg fw_no_list` builds the demo without a list, to measure the streaming
-/// path on every frame.
-pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 1600 };
+/// take 1,493 and 1,541 (the host run prints `list_slots`); the near frames keep their first
+/// patches there and stream the rest band by band. `--cfg fw_no_list` builds the demo without
+/// a list, to measure the streaming path on every frame.
+pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 1552 };
 
 /// Patch slots: the teapot's 32 patches.
 pub const PATCHES: usize = 32;
@@ -36,19 +38,20 @@ pub const PATCHES: usize = 32;
 pub const CURVES: usize = 68;
 /// Curve-order slots: one per baked curve sample.
 pub const ORDER: usize = 364;
-/// The pool's vertex slots: frames 0 and 1 hold every baked step they ask for (about 890
-/// vertices and 1240 triangles); the near frames cut their prefixes to fit and refine more
+/// The pool's vertex slots (5 bytes each): frames 0 and 1 hold every baked step they ask for
+/// (888 vertices and 1,239 triangles: the host run prints `pool_vertices` and
+/// `pool_triangles`); the near frames cut their prefixes to fit and refine more
 /// (`FrameStats::prefix_scale`).
-pub const POOL_VERTICES: usize = 1024;
-/// The pool's triangle slots.
-pub const POOL_TRIANGLES: usize = 1536;
+pub const POOL_VERTICES: usize = 896;
+/// The pool's triangle slots (6 bytes each).
+pub const POOL_TRIANGLES: usize = 1248;
 /// Triangle states (20 bytes each), one per live triangle of the patches whose triangles a
 /// frame judges on their own or cuts. Frames 0 and 1 judge those of four patches, along
 /// sides holding curve samples their neighbours asked for: 196 states (the host run prints
 /// `states_needed`, from `FrameStats::triangle_states_needed`). The near frames judge every
 /// patch's, and the patches that find no room stay uncut, within the bound the frame reports
 /// (`FrameStats::patches_without_states`).
-pub const STATES: usize = 224;
+pub const STATES: usize = 200;
 /// Bound-cache entries (88 bytes each): the bounds the frames compute, kept for the next
 /// frames. Measured 2026-11-24 under QEMU (frames that judge only the triangles along extra
 /// curve samples), frame 1's update takes 0.73M instructions with 64 entries, 0.76M with 32
