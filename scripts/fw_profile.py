@@ -10,7 +10,8 @@ QEMU logs every translated block once (`-d in_asm`: its guest instructions) and 
 executes (`-d exec,nochain`: its address and symbol). Each execution is charged the block's
 instruction count, so the total is the frame's guest instructions, as `-icount` counts them,
 to within the blocks QEMU translates more than once. The window of a frame's update runs from
-its call of `Tessellator::apply` (the one function named `apply`) to the renderer's `Setup::new`; its render from there to the
+its call of `Tessellator::apply` (the one function named `apply`) to the demo's call of its
+`render` (`teapot::render` in `examples/common/fw_teapot_frames.rs`, never inlined); its render from there to the
 next `apply` (the last frame's render to the end of the program). Needs `qemu-system-arm`,
 `arm-none-eabi-nm` and Python 3; reads about 100 MB of log per million instructions through a pipe, nothing on disk.
 """
@@ -30,11 +31,13 @@ QEMU = [
 PARTS = [
     ("rasterising (spans, depth test, colours)", ["rasterise"]),
     ("triangle set-up, per band it meets", ["from_snapped"]),
-    ("band loop: fill, push, display model, list scan", ["fw_teapot5frame"]),
+    ("band loop: fill, push, display model, list scan", ["fw_teapot5frame",
+                                                          "6teapot6render"]),
     ("surface evaluation", ["frame_at", "8evaluate", "pole_at", "sqrtf", "is_collapsed",
                             "fmaxf", "fminf"]),
     ("domain mesh traversal and corner keys", ["stream_patch", "edge_factor", "curve_point",
-                                               "BakedModel5patch"]),
+                                               "BakedModel5patch", "PatchView$LT$Ix$GT$6refine",
+                                               "vertex_data"]),
     ("corner cache, view transform, shading", ["CornerCache", "Setup6corner", "Setup5shade",
                                                "normalize"]),
     ("clip test, projection, packing into the list", ["ListSink4take", "ListSink8try_push",
@@ -65,8 +68,8 @@ def main():
     what, frame = sys.argv[1], int(sys.argv[2])
     blocks_of = sys.argv[3] if len(sys.argv) == 4 else None
     by_block = collections.Counter()
-    start, stop = ("5apply17h", "Setup3new") if what == "update" else (
-        "Setup3new", "5apply17h")
+    start, stop = ("5apply17h", "6teapot6render17h") if what == "update" else (
+        "6teapot6render17h", "5apply17h")
     stops = function_addresses(stop)
     qemu = subprocess.Popen(QEMU + [ELF], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True, errors="replace")
