@@ -376,3 +376,52 @@ fn high_degree_vertices_insert_and_remove_in_place() {
     assert_eq!(mesh.triangle_count(), 2);
     check(&mesh);
 }
+
+/// Lattice points removed in random orders: a vertex may lie on the segment between two of its
+/// link's vertices (here everywhere), where no ear of its link can be flipped without a flat
+/// triangle. Every removal succeeds and leaves the fresh triangulation of the rest.
+#[test]
+fn lattice_points_remove_in_any_order() {
+    for spacing in [8000u16, 6000, 4000] {
+        let n = (GridPoint::MAX / spacing) as usize;
+        for seed in 0..24 {
+            let mut rng = Rng::for_test(seed);
+            let mut points: Vec<GridPoint> = (0..=n)
+                .flat_map(|i| (0..=n).map(move |j| (i, j)))
+                .map(|(i, j)| GridPoint::new(i as u16 * spacing, j as u16 * spacing))
+                .filter(|p| p.u != 0 || p.v != 0)
+                .collect();
+            let (mut vs, mut ts) = storage(points.len() + 8);
+            let mut mesh = DomainMesh::new(&mut vs, &mut ts).unwrap();
+            let mut live: Vec<(GridPoint, u16)> = Vec::new();
+            for &p in &points {
+                match mesh.insert(p) {
+                    Ok(id) => live.push((p, id)),
+                    Err(InsertError::Duplicate { .. }) => {}
+                    Err(e) => panic!("insert {p:?}: {e}"),
+                }
+            }
+            check(&mesh);
+            let mut step = 0;
+            while !live.is_empty() {
+                let k = (rng.unit() * live.len() as f64) as usize;
+                let (p, id) = live.swap_remove(k);
+                mesh.remove(id).unwrap_or_else(|e| {
+                    panic!("spacing {spacing} seed {seed} step {step}: remove {p:?}: {e}")
+                });
+                step += 1;
+                let now = check(&mesh);
+                if step % 7 == 0 || live.is_empty() {
+                    points = live.iter().map(|&(p, _)| p).collect();
+                    points.sort();
+                    assert_eq!(
+                        now,
+                        fresh(&points),
+                        "spacing {spacing} seed {seed} step {step}"
+                    );
+                }
+            }
+            assert_eq!(mesh.triangle_count(), 2);
+        }
+    }
+}

@@ -157,28 +157,18 @@ impl<Ix: DomainIndex> DomainMesh<'_, Ix> {
         let (t0, t1) = (star[0], star[1]);
         self.free_triangle(star[2]);
         self.free_triangle(star[3]);
+        let none = [Ix::NO_SLOT; 3];
         if use_02 {
-            self.set(t0, [q[0], q[1], q[2]], [outer[1], t1, outer[0]]);
-            self.set(t1, [q[0], q[2], q[3]], [outer[2], outer[3], t0]);
-            self.replace_neighbor(outer[1], star[1], t0);
-            self.replace_neighbor(outer[2], star[2], t1);
-            self.replace_neighbor(outer[3], star[3], t1);
+            self.set(t0, [q[0], q[1], q[2]], none);
+            self.set(t1, [q[0], q[2], q[3]], none);
         } else {
-            self.set(t0, [q[1], q[2], q[3]], [outer[2], t1, outer[1]]);
-            self.set(t1, [q[1], q[3], q[0]], [outer[3], outer[0], t0]);
-            self.replace_neighbor(outer[0], star[0], t1);
-            self.replace_neighbor(outer[1], star[1], t0);
-            self.replace_neighbor(outer[2], star[2], t0);
-            self.replace_neighbor(outer[3], star[3], t1);
+            self.set(t0, [q[1], q[2], q[3]], none);
+            self.set(t1, [q[1], q[3], q[0]], none);
         }
-        for k in 0..4 {
-            let t = if use_02 {
-                [t0, t0, t0, t1][k]
-            } else {
-                [t1, t0, t0, t0][k]
-            };
-            self.set_link(q[k], t);
-        }
+        // Neighbours by edge, not by the old pointers: where the hole is not convex, one
+        // triangle outside borders two of its sides, and holds two of the old pointers.
+        let rim: [RimEdge; 4] = core::array::from_fn(|k| (q[k], q[(k + 1) % 4], outer[k]));
+        self.stitch(&[t0, t1], &rim);
         self.free_vertex_slot(id);
         self.hint = t0;
     }
