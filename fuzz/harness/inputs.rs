@@ -3,7 +3,7 @@
 use spline_tess::bake::BakedModel;
 use spline_tess::parse::{self, NurbsJsonBuffers};
 use spline_tess::{BezierPatch, BoundaryCurve, EdgeLink, ParamRect, PatchHeader, Topology};
-use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
+use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex, Metric, RemoveError};
 
 /// Any text: the BPT parser returns a typed error or patches whose topology builds and whose
 /// evaluation is finite.
@@ -94,6 +94,12 @@ pub fn domain_mesh(data: &[u8]) {
     let Ok(mut mesh) = DomainMesh::new(&mut vs, &mut ts) else {
         return;
     };
+    // The same operations in one-byte slots: the same answers and the same slots.
+    let mut vs8 = [MeshVertex::<u8>::default(); 24];
+    let mut ts8 = [MeshTriangle::<u8>::default(); 42];
+    let Ok(mut narrow) = DomainMesh::indexed(&mut vs8, &mut ts8, Metric::ISOTROPIC) else {
+        return;
+    };
     for op in data.chunks_exact(5) {
         if op[0] & 1 == 0 {
             // Coarse coordinates now and then, so cocircular ties are common.
@@ -105,13 +111,48 @@ pub fn domain_mesh(data: &[u8]) {
                     u16::from_le_bytes([a, b])
                 }
             };
-            let _ = mesh.insert(GridPoint::new(q(op[1], op[2]), q(op[3], op[4])));
+            let p = GridPoint::new(q(op[1], op[2]), q(op[3], op[4]));
+            assert_eq!(mesh.insert(p), narrow.insert(p));
         } else {
-            let _ = mesh.remove(u16::from(op[1]) % 24);
+            let id = u16::from(op[1]) % 24;
+            let removed = mesh.remove(id);
+            assert_eq!(removed, narrow.remove(id));
+            // A live vertex besides the corners always goes.
+            assert!(
+                !matches!(removed, Err(RemoveError::NoEar)),
+                "no ear removing {id}"
+            );
         }
         let boundary = mesh.vertices().filter(|(_, p)| p.on_boundary()).count();
         let interior = mesh.vertex_count() - boundary;
         assert_eq!(mesh.triangle_count(), 2 * interior + boundary - 2);
+        check_neighbours(&mesh);
+        assert!(mesh
+            .triangles_with_neighbors()
+            .eq(narrow.triangles_with_neighbors()));
+    }
+}
+
+/// Every neighbour shares its edge, reversed, and points back.
+fn check_neighbours(mesh: &DomainMesh<'_>) {
+    for (t, v, n) in mesh.triangles_with_neighbors() {
+        for i in 0..3 {
+            let Some(s) = n[i] else { continue };
+            let (a, b) = (v[(i + 1) % 3], v[(i + 2) % 3]);
+            let w = mesh.triangle(s).expect("a neighbour is live");
+            let j = (0..3)
+                .find(|&j| w[(j + 1) % 3] == b && w[(j + 2) % 3] == a)
+                .expect("a neighbour shares the edge, reversed");
+            let back = mesh
+                .triangles_with_neighbors()
+                .find(|e| e.0 == s)
+                .map(|e| e.2[j]);
+            assert_eq!(
+                back,
+                Some(Some(t)),
+                "triangle {s} does not point back to {t}"
+            );
+        }
     }
 }
 
