@@ -34,7 +34,10 @@
 //! baked step, and any pool down to
 //! [`StorageSize::minimum`](tessellator::StorageSize::minimum) works. A frame that needs more
 //! than the pool holds cuts its steps to fit and refines instead, within the same bound
-//! ([`FrameStats::prefix_scale`]); [`FrameStats::pool_needed`] tells what a view needs.
+//! ([`FrameStats::prefix_scale`]); [`FrameStats::pool_needed`] tells what a view needs. The
+//! pool's slots are numbered by `u16`, or by `u8` ([`DomainIndex`]) at half the bytes per
+//! triangle slot, for meshes of up to 130 vertices a patch ([`Tessellator::indexed`], and the
+//! last parameter of [`FixedStorage`](tessellator::FixedStorage), firmware's storage).
 //!
 //! ## Example
 //!

@@ -12,6 +12,9 @@ use crate::domain::{DomainIndex, MeshTriangle, MeshVertex};
 /// and `SCRATCH` scratch ([`StorageSize::scratch`]: three per patch, or a writer's index
 /// tables). [`FixedStorage::covers`] checks it against what a bake needs
 /// ([`StorageSize::minimum`]); a pool larger than that lets frames keep more baked steps.
+/// `Ix` numbers the pool's slots: `u16` (the default), or `u8` for half the bytes per
+/// triangle slot where a patch's mesh holds at most 130 vertices (see [`DomainIndex`]; such a
+/// storage goes to [`Tessellator::indexed`](super::Tessellator::indexed)).
 ///
 /// ```
 /// use spline_tess::tessellator::{FixedStorage, StorageSize};
@@ -27,6 +30,11 @@ use crate::domain::{DomainIndex, MeshTriangle, MeshVertex};
 ///                           triangles: 8, triangle_states: 0, bounds: 0, vertex_points: 0,
 ///                           scratch: 12 };
 /// assert!(Storage::covers(&least));
+///
+/// // With one-byte slot numbers: 6 bytes less per triangle slot and 1 per vertex slot.
+/// type Narrow = FixedStorage<4, 16, 256, 192, 320, 128, 64, 192, 1024, u8>;
+/// use core::mem::size_of;
+/// assert_eq!(size_of::<Storage>() - size_of::<Narrow>(), 320 * 6 + 192);
 /// ```
 #[derive(Debug)]
 pub struct FixedStorage<
