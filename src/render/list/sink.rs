@@ -148,6 +148,12 @@ impl ListSink<'_, '_, '_> {
         }
     }
 
+    /// Whether the group whose header is at `g` has room for one more triangle (flat or not).
+    fn group_takes(&self, g: usize, flat: bool) -> bool {
+        let used = self.list[g].group_halves();
+        used + halves_added(used, flat) <= 2 * GROUP
+    }
+
     /// [`push`](Self::push) into the open group (or a new one when there is none or it is
     /// full); on an error nothing is added.
     fn try_push(
@@ -159,9 +165,9 @@ impl ListSink<'_, '_, '_> {
     ) -> Result<(), NoRoom> {
         let (len, top, group) = (self.len, self.top, self.group);
         let restore = |sink: &mut Self| (sink.len, sink.top, sink.group) = (len, top, group);
-        let halves = 1 + level.is_some() as usize;
+        let flat = level.is_some();
         let header = match self.group {
-            Some(g) if self.list[g].group_halves() + halves <= 2 * GROUP => g,
+            Some(g) if self.group_takes(g, flat) => g,
             _ => {
                 if self.len >= self.top {
                     return Err(NoRoom::Full);
@@ -205,13 +211,9 @@ impl ListSink<'_, '_, '_> {
         } else {
             self.list[slot] = ListSlot([ab, c_flags, level.unwrap_or(0) as u16, 0]);
         }
-        let total = match level {
-            Some(_) => 2 * used.div_ceil(2) + 2,
-            None => used + 1,
-        };
         self.len = end;
         self.listed += 1;
-        self.list[header].group_add(total - used, y);
+        self.list[header].group_add(halves_added(used, flat), y);
         Ok(())
     }
 
@@ -301,6 +303,16 @@ impl<S: TriangleSink> TriangleSink for Remaining<'_, S> {
 
     fn wants_patch(&self, patch: u32) -> bool {
         patch >= self.first && self.sink.wants_patch(patch)
+    }
+}
+
+/// Half slots a triangle adds to a group that holds `used`: one for a Gouraud-shaded
+/// triangle, a whole slot for a flat one (and the half before it after an odd count).
+fn halves_added(used: usize, flat: bool) -> usize {
+    if flat {
+        2 * used.div_ceil(2) + 2 - used
+    } else {
+        1
     }
 }
 
