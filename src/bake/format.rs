@@ -13,16 +13,13 @@
 //! | 8 per patch step | `u` `u16`, `v` `u16`, deviation bound `f32`; a point on the boundary requests the next sample of that side's curve (and is that sample's point) |
 //!
 //! The checksum is 32-bit FNV-1a over every byte except its own four, so any change to a
-//! single byte is detected. [`BakedModel::from_bytes`] checks the length, magic, version and
-//! checksum, then the structure (indices in range, sample ranges contiguous, deviations finite
-//! and non-increasing, parameters on the curve or inside the boundary margin, each curve
-//! request the side's next curve sample), so every read afterwards is in bounds and no input
-//! makes it panic.
+//! single byte is detected. [`BakedModel::from_bytes`] (in `load`) checks every byte's place
+//! before any read, so every read here is in bounds and no input makes it panic.
 
 use core::fmt;
 
 use super::curve::{CurveSample, StopReason};
-use super::interior::{InteriorSample, BOUNDARY_MARGIN};
+use super::interior::InteriorSample;
 use crate::domain::{GridPoint, Metric};
 use crate::model::{EdgeLink, PatchSet};
 use crate::patch::Side;
@@ -37,84 +34,9 @@ pub(crate) const CURVE_RECORD: usize = 16;
 pub(crate) const PATCH_RECORD: usize = 28;
 pub(crate) const CURVE_SAMPLE: usize = 6;
 pub(crate) const INTERIOR_SAMPLE: usize = 8;
-const CHECKSUM_AT: usize = 36;
+pub(super) const CHECKSUM_AT: usize = 36;
 const COLLAPSED: u32 = u32::MAX;
 const REVERSED: u32 = 1 << 31;
-
-/// The part of a baked model a [`LoadError::Malformed`] is about.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Part {
-    /// The header.
-    Header,
-    /// The curve record with this index.
-    Curve(usize),
-    /// The patch record with this index.
-    Patch(usize),
-}
-
-/// Why bytes are not a baked model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum LoadError {
-    /// Fewer bytes than the header, or than the header says the model has.
-    Truncated {
-        /// Bytes needed.
-        needed: usize,
-        /// Bytes given.
-        found: usize,
-    },
-    /// More bytes than the header says the model has.
-    TrailingBytes {
-        /// Bytes the model has.
-        expected: usize,
-        /// Bytes given.
-        found: usize,
-    },
-    /// The bytes do not start with [`MAGIC`].
-    BadMagic,
-    /// A format version this crate does not read.
-    UnsupportedVersion {
-        /// The version in the bytes.
-        found: u16,
-    },
-    /// The checksum does not match: the bytes were changed.
-    ChecksumMismatch {
-        /// Checksum in the header.
-        stored: u32,
-        /// Checksum of the bytes.
-        computed: u32,
-    },
-    /// The checksum matches but a record breaks the format's rules.
-    Malformed(Part),
-}
-
-impl fmt::Display for LoadError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            LoadError::Truncated { needed, found } => {
-                write!(f, "baked model truncated: {found} of {needed} bytes")
-            }
-            LoadError::TrailingBytes { expected, found } => {
-                write!(f, "baked model has {found} bytes, expected {expected}")
-            }
-            LoadError::BadMagic => f.write_str("not a baked model (bad magic)"),
-            LoadError::UnsupportedVersion { found } => {
-                write!(
-                    f,
-                    "baked format version {found}, this crate reads {VERSION}"
-                )
-            }
-            LoadError::ChecksumMismatch { stored, computed } => write!(
-                f,
-                "baked model corrupted: checksum {computed:#010x}, header says {stored:#010x}"
-            ),
-            LoadError::Malformed(part) => write!(f, "baked model malformed at {part:?}"),
-        }
-    }
-}
-
-impl core::error::Error for LoadError {}
 
 /// 32-bit FNV-1a, continuing from `hash`.
 pub(crate) fn fnv1a(mut hash: u32, bytes: &[u8]) -> u32 {
@@ -181,7 +103,7 @@ pub(crate) fn stop_code(stop: StopReason) -> u8 {
     }
 }
 
-fn stop_from(code: u8) -> Option<StopReason> {
+pub(super) fn stop_from(code: u8) -> Option<StopReason> {
     match code {
         0 => Some(StopReason::Tolerance),
         1 => Some(StopReason::SampleCap),
@@ -205,7 +127,7 @@ pub(crate) fn link_code(link: EdgeLink) -> u32 {
     }
 }
 
-fn link_from(code: u32) -> EdgeLink {
+pub(super) fn link_from(code: u32) -> EdgeLink {
     if code == COLLAPSED {
         EdgeLink::Collapsed
     } else {
@@ -240,10 +162,10 @@ pub(crate) fn baked_len(
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BakedModel<'a> {
-    bytes: &'a [u8],
-    patches: usize,
-    curves: usize,
-    curve_samples: usize,
+    pub(super) bytes: &'a [u8],
+    pub(super) patches: usize,
+    pub(super) curves: usize,
+    pub(super) curve_samples: usize,
 }
 
 /// One baked boundary curve.
@@ -348,191 +270,12 @@ impl<'a> InteriorSamples<'a> {
     }
 }
 
-/// True when `d` is a usable deviation.
-fn good_deviation(d: f32) -> bool {
-    d.is_finite() && d >= 0.0
-}
-
-fn non_increasing(mut deviations: impl Iterator<Item = f32>) -> bool {
-    let Some(mut last) = deviations.next() else {
-        return true;
-    };
-    if !good_deviation(last) {
-        return false;
-    }
-    deviations.all(|d| {
-        let ok = good_deviation(d) && d <= last;
-        last = d;
-        ok
-    })
-}
-
 impl<'a> BakedModel<'a> {
-    /// Reads and validates a baked model.
-    pub fn from_bytes(bytes: &'a [u8]) -> Result<Self, LoadError> {
-        if bytes.len() < HEADER_LEN {
-            if bytes.len() >= 4 && bytes[..4] != MAGIC {
-                return Err(LoadError::BadMagic);
-            }
-            return Err(LoadError::Truncated {
-                needed: HEADER_LEN,
-                found: bytes.len(),
-            });
-        }
-        if bytes[..4] != MAGIC {
-            return Err(LoadError::BadMagic);
-        }
-        let version = u16_at(bytes, 4);
-        if version != VERSION {
-            return Err(LoadError::UnsupportedVersion { found: version });
-        }
-        if u16_at(bytes, 6) as usize != HEADER_LEN {
-            return Err(LoadError::Malformed(Part::Header));
-        }
-        let count = |at| u32_at(bytes, at) as usize;
-        let (patches, curves, curve_samples, interior_samples) =
-            (count(8), count(12), count(16), count(20));
-        let expected = baked_len(patches, curves, curve_samples, interior_samples)
-            .ok_or(LoadError::Malformed(Part::Header))?;
-        if bytes.len() < expected {
-            return Err(LoadError::Truncated {
-                needed: expected,
-                found: bytes.len(),
-            });
-        }
-        if bytes.len() > expected {
-            return Err(LoadError::TrailingBytes {
-                expected,
-                found: bytes.len(),
-            });
-        }
-        let stored = u32_at(bytes, CHECKSUM_AT);
-        let computed = checksum(bytes);
-        if stored != computed {
-            return Err(LoadError::ChecksumMismatch { stored, computed });
-        }
-        if !good_deviation(f32_at(bytes, 24)) || u32_at(bytes, 32) != 0 {
-            return Err(LoadError::Malformed(Part::Header));
-        }
-        let model = BakedModel {
-            bytes,
-            patches,
-            curves,
-            curve_samples,
-        };
-        model.check_curves()?;
-        model.check_patches(interior_samples)?;
-        Ok(model)
-    }
-
-    fn check_curves(&self) -> Result<(), LoadError> {
-        let mut next = 0usize;
-        for k in 0..self.curves {
-            let bad = Err(LoadError::Malformed(Part::Curve(k)));
-            let r = HEADER_LEN + k * CURVE_RECORD;
-            let b = self.bytes;
-            let (owner, side, stop) = (u32_at(b, r) as usize, b[r + 4], b[r + 5]);
-            let (count, first) = (u16_at(b, r + 6) as usize, u32_at(b, r + 8) as usize);
-            if owner >= self.patches
-                || side > 3
-                || stop_from(stop).is_none()
-                || first != next
-                || !good_deviation(f32_at(b, r + 12))
-            {
-                return bad;
-            }
-            next += count;
-            if next > self.curve_samples {
-                return bad;
-            }
-            // The owner's edge on that side is this curve, forwards.
-            let edge = self.patch_record(owner) + 4 * side as usize;
-            if u32_at(b, edge) != k as u32 {
-                return bad;
-            }
-            let samples = self.curve_samples_of(first, count);
-            let on_curve = samples.iter().all(|s| s.t > 0 && s.t < GridPoint::MAX);
-            if !on_curve || !non_increasing(samples.iter().map(|s| s.deviation)) {
-                return bad;
-            }
-        }
-        if next != self.curve_samples {
-            return Err(LoadError::Malformed(Part::Header));
-        }
-        Ok(())
-    }
-
-    fn check_patches(&self, interior_samples: usize) -> Result<(), LoadError> {
-        let mut next = 0usize;
-        let inside = BOUNDARY_MARGIN..=GridPoint::MAX - BOUNDARY_MARGIN;
-        for k in 0..self.patches {
-            let bad = Err(LoadError::Malformed(Part::Patch(k)));
-            let r = self.patch_record(k);
-            let b = self.bytes;
-            for side in 0..4 {
-                let code = u32_at(b, r + 4 * side);
-                if let EdgeLink::Curve { curve, .. } = link_from(code) {
-                    if curve as usize >= self.curves {
-                        return bad;
-                    }
-                }
-            }
-            let (first, count) = (u32_at(b, r + 16) as usize, u16_at(b, r + 20) as usize);
-            if first != next || stop_from(b[r + 22]).is_none() || !good_deviation(f32_at(b, r + 24))
-            {
-                return bad;
-            }
-            next += count;
-            if next > interior_samples {
-                return bad;
-            }
-            let samples = self.interior_samples_of(first, count);
-            if !non_increasing(samples.iter().map(|s| s.deviation)) {
-                return bad;
-            }
-            // Interior samples keep the margin; a boundary step is its side's next curve sample.
-            let mut requested = [0usize; 4];
-            for s in samples.iter() {
-                match s.requested_side() {
-                    None => {
-                        if !(inside.contains(&s.point.u) && inside.contains(&s.point.v)) {
-                            return bad;
-                        }
-                    }
-                    Some(side) => {
-                        let EdgeLink::Curve { curve, reversed } =
-                            link_from(u32_at(b, r + 4 * side.index()))
-                        else {
-                            return bad;
-                        };
-                        let c = HEADER_LEN + curve as usize * CURVE_RECORD;
-                        let curve_first = u32_at(b, c + 8) as usize;
-                        let curve_count = u16_at(b, c + 6) as usize;
-                        let j = requested[side.index()];
-                        if j >= curve_count {
-                            return bad;
-                        }
-                        let t = self.curve_samples_of(curve_first, curve_count).get(j);
-                        let expected = t.map(|t| super::model::boundary_point(side, t.t, reversed));
-                        if expected != Some(s.point) {
-                            return bad;
-                        }
-                        requested[side.index()] += 1;
-                    }
-                }
-            }
-        }
-        if next != interior_samples {
-            return Err(LoadError::Malformed(Part::Header));
-        }
-        Ok(())
-    }
-
-    fn patch_record(&self, k: usize) -> usize {
+    pub(super) fn patch_record(&self, k: usize) -> usize {
         HEADER_LEN + self.curves * CURVE_RECORD + k * PATCH_RECORD
     }
 
-    fn curve_samples_of(&self, first: usize, count: usize) -> CurveSamples<'a> {
+    pub(super) fn curve_samples_of(&self, first: usize, count: usize) -> CurveSamples<'a> {
         let start = self.patch_record(self.patches) + first * CURVE_SAMPLE;
         CurveSamples {
             bytes: self
@@ -542,7 +285,7 @@ impl<'a> BakedModel<'a> {
         }
     }
 
-    fn interior_samples_of(&self, first: usize, count: usize) -> InteriorSamples<'a> {
+    pub(super) fn interior_samples_of(&self, first: usize, count: usize) -> InteriorSamples<'a> {
         let start = self.patch_record(self.patches)
             + self.curve_samples * CURVE_SAMPLE
             + first * INTERIOR_SAMPLE;

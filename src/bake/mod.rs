@@ -14,6 +14,7 @@
 mod curve;
 mod format;
 mod interior;
+mod load;
 mod model;
 
 pub use crate::deviation::{
@@ -24,12 +25,13 @@ pub use curve::{
 };
 pub use format::{
     model_fingerprint, write_rust_source, BakedCurve, BakedModel, BakedPatch, CurveSamples,
-    InteriorSamples, LoadError, Part, MAGIC, VERSION,
+    InteriorSamples, MAGIC, VERSION,
 };
 pub use interior::{
     patch_metric, sample_patch, triangle_deviation, InteriorSample, InteriorSampleError,
     InteriorSampling, SideCurve, TriangleDeviation, BOUNDARY_MARGIN,
 };
+pub use load::{LoadError, Part};
 pub(crate) use model::boundary_point;
 pub use model::{
     bake_model, BakeError, BakeScratch, BakeScratchSize, BakeSettings, BakeSummary, Tolerance,
