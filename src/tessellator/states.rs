@@ -88,10 +88,13 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         loop {
             let mut best: Option<(f32, usize)> = None;
             for p in 0..count {
-                let slot = &self.storage.patches[p];
-                if slot.state_count > 0 || slot.short || !self.wants_states(p, refine) {
+                if self.has_states(p)
+                    || self.storage.patches[p].short
+                    || !self.wants_states(p, refine)
+                {
                     continue;
                 }
+                let slot = &self.storage.patches[p];
                 let over = slot.recorded / slot.c;
                 // (NaN, from a zero threshold and bound, counts as nothing over.)
                 let over = if over.is_nan() { 0.0 } else { over };
@@ -118,10 +121,10 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// (A live count, unlike the slots a mesh's history leaves its triangles in, depends on
     /// the frame alone: so do which patches find room, and the frame's triangles.)
     pub(super) fn give_states(&mut self, p: usize) -> bool {
-        let slot = self.storage.patches[p];
-        if slot.state_count > 0 {
+        if self.has_states(p) {
             return true;
         }
+        let slot = self.storage.patches[p];
         let (start, count) = (self.states_taken, slot.mesh.triangle_count());
         if !slot.short {
             self.states_wanted += count;
