@@ -227,6 +227,20 @@ impl Lattice {
         self.complete = false;
     }
 
+    /// [`sample_coarse`](Self::sample_coarse), unless this lattice holds the samples of
+    /// `corners` already. (A triangle's corners are distinct, so
+    /// [`UNSAMPLED`](Self::UNSAMPLED), whose corners are equal, holds none.)
+    pub(crate) fn sample_coarse_once(
+        &mut self,
+        patch: &BezierPatch<'_>,
+        corners: [GridPoint; 3],
+        points: [[f32; 3]; 3],
+    ) {
+        if self.corners != corners {
+            self.sample_coarse(patch, corners, points);
+        }
+    }
+
     /// The bound from the coarse points: the largest deviation at them and `½ ρ² / 9`.
     pub(crate) fn coarse_bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
         let n = LATTICE as usize;

@@ -247,10 +247,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         // 2. The coarse lattice. One lattice, sampled in place once (and completed) where a
         // step needs it: steps 3 and 4 build on the samples of step 2.
         let mut lattice = Lattice::UNSAMPLED;
-        let mut sampled = false;
         if state.known & KNOW_COARSE == 0 {
-            lattice.sample_coarse(patch, corners, points);
-            sampled = true;
+            lattice.sample_coarse_once(patch, corners, points);
             state.coarse = lattice.coarse_bound(whole, uv).bound();
             state.known |= KNOW_COARSE;
             stats.estimated += 1;
@@ -261,10 +259,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         }
         // 3. The full lattice, with the whole patch's remainder.
         if state.known & KNOW_WHOLE == 0 {
-            if !sampled {
-                lattice.sample_coarse(patch, corners, points);
-                sampled = true;
-            }
+            lattice.sample_coarse_once(patch, corners, points);
             lattice.complete(patch);
             state.whole = lattice.bound(whole, uv, false).bound();
             state.known |= KNOW_WHOLE;
@@ -277,9 +272,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         let (b, local) = match state.cached() {
             Some(b) => (b, None),
             None => {
-                if !sampled {
-                    lattice.sample_coarse(patch, corners, points);
-                }
+                lattice.sample_coarse_once(patch, corners, points);
                 lattice.complete(patch);
                 lattice.pieces();
                 let local = PatchBounds::around(patch, uv);
