@@ -46,7 +46,7 @@ pub(crate) struct MeshHeader {
     free_vertex: u16,
     free_triangle: u16,
     vertex_count: u16,
-    triangle_count: u32,
+    triangle_count: u16,
     hint: u16,
     metric: Metric,
 }
@@ -136,7 +136,7 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
             free_vertex: self.free_vertex,
             free_triangle: self.free_triangle,
             vertex_count: self.vertex_count as u16,
-            triangle_count: self.triangle_count as u32,
+            triangle_count: self.triangle_count as u16,
             hint: self.hint,
             metric: self.metric,
         }

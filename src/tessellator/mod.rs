@@ -369,8 +369,9 @@ impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
                 vertex_capacity: 4,
                 triangle_offset: to as u32,
                 triangle_capacity: 2,
-                vertex_limit: vc as u32,
-                triangle_limit: tc as u32,
+                // (Within `max_patch_vertices`, so both fit.)
+                vertex_limit: vc as u16,
+                triangle_limit: tc as u16,
                 mesh: header,
                 step_cap: cap,
                 center: sphere.center.to_array(),

@@ -226,7 +226,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         for p in 0..count {
             let (v, t) = self.wanted_slots(p);
             let slot = &mut self.storage.patches[p];
-            let share = |need: usize, spare: usize, total: usize, limit: u32| -> usize {
+            let share = |need: usize, spare: usize, total: usize, limit: u16| -> usize {
                 let extra = (spare as u64 * need as u64 / total.max(1) as u64) as usize;
                 (need + extra).min((limit as usize).max(need))
             };

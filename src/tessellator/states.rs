@@ -145,7 +145,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         let slot = &mut self.storage.patches[p];
         slot.mesh = header;
         slot.states = start as u32;
-        slot.state_count = count as u32;
+        // (A mesh's live triangles: at most `DomainIndex::MAX_SLOTS`.)
+        slot.state_count = count as u16;
         self.states_taken = start + count;
         true
     }

@@ -33,9 +33,9 @@ pub struct PatchSlot {
     /// Interior points among them.
     pub(super) target_interior: u16,
     /// Vertex slots the patch could ever need (its stretch of the pool is never longer).
-    pub(super) vertex_limit: u32,
+    pub(super) vertex_limit: u16,
     /// Triangle slots the patch could ever need.
-    pub(super) triangle_limit: u32,
+    pub(super) triangle_limit: u16,
     pub(super) center: [f32; 3],
     pub(super) radius: f32,
     pub(super) nodes: [u32; 4],
@@ -70,7 +70,7 @@ pub struct PatchSlot {
     pub(super) states: u32,
     /// How many states it has: its live triangles, in its first triangle slots (0: it has
     /// none, and every triangle has [`TriangleSlot::plain`] of `plain`).
-    pub(super) state_count: u32,
+    pub(super) state_count: u16,
     /// For a patch without states: a bound of every triangle's pieces this frame.
     pub(super) plain: f32,
     /// Whether it asked for states this frame and found the arena full.
@@ -445,6 +445,7 @@ mod tests {
         assert_eq!(size_of::<MeshVertex<u8>>(), 5);
         assert_eq!(size_of::<MeshTriangle<u8>>(), 6);
         assert_eq!(size_of::<TriangleSlot>(), 20);
+        assert_eq!(size_of::<PatchSlot>(), 172);
     }
 
     #[test]
