@@ -41,10 +41,12 @@ pub const ORDER: usize = 364;
 /// The pool's vertex slots (5 bytes each): frames 0 and 1 hold every baked step they ask for
 /// (888 vertices and 1,239 triangles: the host run prints `pool_vertices` and
 /// `pool_triangles`); the near frames cut their prefixes to fit and refine more
-/// (`FrameStats::prefix_scale`).
-pub const POOL_VERTICES: usize = 896;
+/// (`FrameStats::prefix_scale`). Measured 2026-11-24 under QEMU: with 896 and 1,248 slots,
+/// 272 bytes less, frame 1's patches find no spare room and the pool is laid out again, for
+/// 68k more instructions in its update.
+pub const POOL_VERTICES: usize = 912;
 /// The pool's triangle slots (6 bytes each).
-pub const POOL_TRIANGLES: usize = 1248;
+pub const POOL_TRIANGLES: usize = 1280;
 /// Triangle states (20 bytes each), one per live triangle of the patches whose triangles a
 /// frame judges on their own or cuts. Frames 0 and 1 judge those of four patches, along
 /// sides holding curve samples their neighbours asked for: 196 states (the host run prints
