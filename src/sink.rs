@@ -20,6 +20,10 @@ pub struct Vertex {
     pub patch: u32,
 }
 
+/// No corner's key ([`TriangleSink::keyed_triangle`]; a tessellator's tags stop at 4, see
+/// `PatchView::key`): the empty entry of a key-addressed corner cache.
+pub(crate) const NO_KEY: u64 = u64::MAX;
+
 /// An index type for triangle buffers: `u16` or `u32`.
 pub trait MeshIndex: Copy + fmt::Debug + Default + private::Sealed {
     /// Largest vertex count the type can index.

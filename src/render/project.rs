@@ -13,7 +13,7 @@ use super::raster::ScreenVertex;
 use super::{Shading, Style};
 use crate::bound::BoundingSphere;
 use crate::math::{max, normalize};
-use crate::sink::Vertex;
+use crate::sink::{Vertex, NO_KEY};
 use crate::view::{Camera, Projection};
 
 /// Per-frame constants.
@@ -167,14 +167,10 @@ pub(super) struct CornerCache {
 }
 
 impl CornerCache {
-    /// No key is `u64::MAX` (a tessellator's tags stop at 4, see `PatchView::key`); a stray
-    /// one would only be computed again.
-    const EMPTY: u64 = u64::MAX;
-
     #[inline(always)]
     pub fn new() -> Self {
         CornerCache {
-            entries: [(Self::EMPTY, ClipVertex::default()); CORNER_CACHE],
+            entries: [(NO_KEY, ClipVertex::default()); CORNER_CACHE],
             inside: [false; CORNER_CACHE],
         }
     }
@@ -195,7 +191,8 @@ impl CornerCache {
             let hash = folded.wrapping_mul(0x9e37_79b1) as u64;
             let slot = ((hash * CORNER_CACHE as u64) >> 32) as usize;
             let entry = &mut self.entries[slot];
-            if entry.0 != key || key == Self::EMPTY {
+            // (A stray key equal to `NO_KEY` is only computed again.)
+            if entry.0 != key || key == NO_KEY {
                 let c = setup.corner(&corner(i));
                 *entry = (key, c);
                 self.inside[slot] = setup.inside(&c);
