@@ -326,10 +326,10 @@ impl StorageSize {
     }
 }
 
-/// The most vertex slots one mesh indexed by `Ix` takes: its triangle slots
-/// ([`DomainMesh::triangles_for`]) must be numbered by `Ix` too.
+/// The most vertex slots one mesh indexed by `Ix` takes: its `2v - 6` triangle slots
+/// ([`DomainMesh::triangles_for`]) must be numbered by `Ix` too (and then so are its `v`).
 pub(super) fn max_patch_vertices<Ix: DomainIndex>() -> usize {
-    Ix::MAX_SLOTS.min((Ix::MAX_SLOTS + 6) / 2)
+    (Ix::MAX_SLOTS + 6) / 2
 }
 
 /// Vertex and triangle slots of one patch, and its step cap, in a pool indexed by `Ix`. The
