@@ -227,6 +227,12 @@ impl Lattice {
         self.complete = false;
     }
 
+    /// Forgets which triangle the samples are of (where the next triangle may be of another
+    /// patch): the next [`sample_coarse_once`](Self::sample_coarse_once) samples.
+    pub(crate) fn forget(&mut self) {
+        self.corners = Self::UNSAMPLED.corners;
+    }
+
     /// [`sample_coarse`](Self::sample_coarse), unless this lattice holds the samples of
     /// `corners` already. (A triangle's corners are distinct, so
     /// [`UNSAMPLED`](Self::UNSAMPLED), whose corners are equal, holds none.)
@@ -357,6 +363,28 @@ impl Lattice {
             }
             self.worst[f] = sqrt(w);
         }
+    }
+
+    /// The largest sampled deviation of a piece of the triangle whose corners are lattice
+    /// points at halves of its sides, `h[k] = (i, j)` in halves (weight `i / 2` on corner 1,
+    /// `j / 2` on corner 2), against the piece's own interpolant, at the 7 points of the
+    /// piece's lattice of step 1/3 besides its corners: those are points of this lattice (a
+    /// third of a half is a sixth), so no surface point is computed. Needs
+    /// [`complete`](Self::complete).
+    pub(crate) fn half_piece_worst(&self, h: [(usize, usize); 3]) -> f32 {
+        let s = &self.s;
+        let q = h.map(|(i, j)| s[3 * i][3 * j]);
+        let mut w = 0.0f32;
+        for (x, y) in [(1, 0), (2, 0), (0, 1), (0, 2), (1, 1), (2, 1), (1, 2)] {
+            let z = 3 - x - y;
+            // Weights z, x, y thirds on the piece's corners: in sixths of the triangle's.
+            let gi = h[0].0 * z + h[1].0 * x + h[2].0 * y;
+            let gj = h[0].1 * z + h[1].1 * x + h[2].1 * y;
+            let linear = (q[0] * z as f32 + q[1] * x as f32 + q[2] * y as f32) * (1.0 / 3.0);
+            let e = s[gi][gj] - linear;
+            w = max(w, e.dot(e));
+        }
+        sqrt(w)
     }
 
     /// The bounds, with the remainder from `bounds` (over a region containing the triangle

@@ -86,11 +86,12 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 continue;
             };
             // Nothing changed since the patch was last checked: its patterns and bounds stand.
-            let curve_factors = baked.patch(p).map_or([1; 4], |bp| {
-                bp.edges.map(|link| match link {
-                    EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].factor,
-                    EdgeLink::Collapsed => 1,
-                })
+            let Some(sides) = baked.patch(p).map(|bp| bp.edges) else {
+                continue;
+            };
+            let curve_factors = sides.map(|link| match link {
+                EdgeLink::Curve { curve, .. } => self.storage.curves[curve as usize].factor,
+                EdgeLink::Collapsed => 1,
             });
             let here = &self.storage.patches[p];
             if here.settled && here.checked_curves == curve_factors {
@@ -147,7 +148,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 }
                 let mut bound = self.bound_entry(p, corners).cached();
                 let edges = self
-                    .patch_view(p)
+                    .patch_view_with(p, sides)
                     .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
                 let uniform = edges.is_none_or(|e| e == [f; 3]);
                 if !uniform {
@@ -181,30 +182,24 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     ),
                     _ => None,
                 };
-                if let (Some(view_p), Some(edges)) = (self.patch_view(p), edges) {
+                if let (Some(view_p), Some(edges)) = (self.patch_view_with(p, sides), edges) {
                     let key = [f, edges[0], edges[1], edges[2]];
                     if edges != [f; 3] && state.pattern == key {
                         pieces = Some(state.pieces);
                     } else if edges != [f; 3] {
                         computed = Some(key);
-                        // First with the whole patch's remainder; cut to the triangle's box
-                        // only where that is over the threshold.
-                        let worst_with = |bounds: &PatchBounds| {
-                            let mut worst = 0.0f32;
-                            view_p.refine(t, &mut |_| {}, &mut |_, local_uv| {
-                                let piece = local_uv
-                                    .map(|[u, v, d]| (u as f32 / d as f32, v as f32 / d as f32));
-                                worst = math::max(worst, piece_bound(&patch, bounds, piece, c));
-                            });
-                            worst
-                        };
+                        // Each piece first with the whole patch's remainder, and where that
+                        // is over, with the triangle's box (cut once, where first needed).
                         let whole = whole.unwrap_or_else(|| PatchBounds::of(&patch));
-                        let mut worst = worst_with(&whole);
-                        if worst > c {
-                            let local =
-                                PatchBounds::around(&patch, corners.map(GridPoint::to_unit));
-                            worst = math::min(worst, worst_with(&local));
-                        }
+                        let tri = corners.map(GridPoint::to_unit);
+                        let mut local = None;
+                        let mut worst = 0.0f32;
+                        view_p.refine(t, &mut |_| {}, &mut |_, local_uv| {
+                            let piece = local_uv
+                                .map(|[u, v, d]| (u as f32 / d as f32, v as f32 / d as f32));
+                            let b = piece_bound(&patch, &whole, &mut local, tri, piece, c);
+                            worst = math::max(worst, b);
+                        });
                         pieces = Some(worst);
                     }
                 }

@@ -423,17 +423,26 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
 
 impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
     pub(super) fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's, Ix>> {
+        self.patch_view_with(p, self.baked.patch(p)?.edges)
+    }
+
+    /// [`patch_view`](Self::patch_view) with the patch's sides at hand (read from the bake
+    /// once, where a caller takes many views of one patch).
+    pub(super) fn patch_view_with(
+        &self,
+        p: usize,
+        edges: [EdgeLink; 4],
+    ) -> Option<PatchView<'_, 'm, 's, Ix>> {
         let slot = self.storage.patches.get(p)?;
         if slot.culled {
             return None;
         }
-        let bp = self.baked.patch(p)?;
         Some(PatchView {
             p,
             vo: slot.vertex_offset as usize,
             to: slot.triangle_offset as usize,
             tc: slot.triangle_capacity as usize,
-            edges: bp.edges,
+            edges,
             nodes: slot.nodes,
             tess: self,
             hide: None,

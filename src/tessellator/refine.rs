@@ -31,7 +31,9 @@
 //! A triangle whose own bound asks for a factor of 2 is halved instead, across the inner edge
 //! whose halves have the smallest bound (below), where that is within its threshold, or else
 //! has two inner edges halved (three pieces), where those fit: a cut into four can leave its
-//! pieces far below the threshold. The neighbour across a halved edge gets a pattern with that
+//! pieces far below the threshold. Each piece's bound samples the piece's lattice of step 1/3,
+//! whose points, a third of a half, are points of the triangle's own lattice of step 1/6: the
+//! halvings tried cost no surface point beyond the triangle's own bound. The neighbour across a halved edge gets a pattern with that
 //! edge halved (two triangles; see `pattern`).
 //!
 //! Otherwise a triangle is cut uniformly by the smallest factor `n` whose pieces are within
@@ -107,31 +109,61 @@ pub(super) fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
     own_threshold(view, tol, b.points, b.bound())
 }
 
-/// A cheaper cut than four for a triangle with unit corners `uv` whose own bound asks for a
-/// factor of 2, as split requests per edge: one inner edge halved (the one whose halves bound
-/// smallest), or else two (the corner between them cut off, the rest along one of two
-/// diagonals: the larger bound of both is taken, the pattern chooses one), where the pieces
-/// are within `c`. `inner[i]` says whether edge `i` (opposite corner `i`) has a neighbour.
+/// A cheaper cut than four for a triangle with corners `corners` (surface points `points`)
+/// whose own bound asks for a factor of 2, as split requests per edge: one inner edge halved
+/// (the one whose halves bound smallest), or else two (the corner between them cut off, the
+/// rest along one of two diagonals: the larger bound of both is taken, the pattern chooses
+/// one), where the pieces are within `c`. `inner[i]` says whether edge `i` (opposite corner
+/// `i`) has a neighbour. `local` bounds the triangle's box.
+///
+/// Every piece has its corners at halves of the triangle's sides, so [`piece_bound`]'s
+/// samples (a third of a piece's sides) are points of the triangle's own lattice of step
+/// 1/6: `lattice` is completed once, where a piece needs samples, and no other surface point
+/// is computed.
+#[allow(clippy::too_many_arguments)]
 fn halving(
     patch: &BezierPatch<'_>,
+    lattice: &mut Lattice,
+    corners: [GridPoint; 3],
+    points: [[f32; 3]; 3],
     local: &PatchBounds,
-    uv: [(f32, f32); 3],
     inner: [bool; 3],
     c: f32,
 ) -> Option<[u8; 3]> {
-    let piece = |q: [(f32, f32); 3]| piece_bound(patch, local, q, c);
-    let mid = |a: usize, b: usize| (0.5 * (uv[a].0 + uv[b].0), 0.5 * (uv[a].1 + uv[b].1));
-    let one = (0..3)
-        .filter(|&i| inner[i])
-        .map(|i| {
-            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            let m = mid(j, k);
-            (
-                i,
-                math::max(piece([uv[i], uv[j], m]), piece([uv[i], m, uv[k]])),
-            )
-        })
-        .min_by(|x, y| x.1.total_cmp(&y.1));
+    let uv = corners.map(GridPoint::to_unit);
+    // Corner `i` in halves of the sides (weight on corners 1 and 2), and its parameters.
+    let at = |i: usize| [(0, 0), (2, 0), (0, 2)][i];
+    let mid = |a: usize, b: usize| {
+        let (p, q) = (at(a), at(b));
+        ((p.0 + q.0) / 2, (p.1 + q.1) / 2)
+    };
+    let unit = |(i, j): (usize, usize)| {
+        let k = 2 - i - j;
+        let f = |c: fn((f32, f32)) -> f32| {
+            (k as f32 * c(uv[0]) + i as f32 * c(uv[1]) + j as f32 * c(uv[2])) * 0.5
+        };
+        (f(|p| p.0), f(|p| p.1))
+    };
+    let mut piece = |h: [(usize, usize); 3]| {
+        let curvature = local.curvature_term(h.map(unit));
+        let general = curvature + local.slack;
+        if general <= c {
+            return general;
+        }
+        lattice.sample_coarse_once(patch, corners, points);
+        lattice.complete(patch);
+        let sampled = lattice.half_piece_worst(h) + curvature * (1.0 / 9.0) + local.slack;
+        math::min(sampled, general)
+    };
+    let mut one = None;
+    for i in (0..3).filter(|&i| inner[i]) {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let m = mid(j, k);
+        let h = math::max(piece([at(i), at(j), m]), piece([at(i), m, at(k)]));
+        if one.is_none_or(|(_, best): (usize, f32)| h.total_cmp(&best).is_lt()) {
+            one = Some((i, h));
+        }
+    }
     if let Some((i, h)) = one {
         if h <= c {
             let mut split = [0; 3];
@@ -139,48 +171,68 @@ fn halving(
             return Some(split);
         }
     }
-    let two = |i: usize, j: usize| {
+    let mut two = None;
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        if !(inner[i] && inner[j]) {
+            continue;
+        }
         let k = 3 - i - j;
         let (mi, mj) = (mid(j, k), mid(i, k));
-        math::max(
+        let (ai, aj, ak) = (at(i), at(j), at(k));
+        let h = math::max(
             math::max(
-                piece([mi, uv[k], mj]),
-                math::max(piece([uv[i], uv[j], mi]), piece([uv[i], mi, mj])),
+                piece([mi, ak, mj]),
+                math::max(piece([ai, aj, mi]), piece([ai, mi, mj])),
             ),
-            math::max(piece([uv[i], uv[j], mj]), piece([uv[j], mi, mj])),
-        )
-    };
-    [(0, 1), (0, 2), (1, 2)]
-        .into_iter()
-        .filter(|&(i, j)| inner[i] && inner[j])
-        .map(|(i, j)| (i, j, two(i, j)))
-        .min_by(|x, y| x.2.total_cmp(&y.2))
-        .filter(|&(_, _, h)| h <= c)
-        .map(|(i, j, _)| {
-            let mut split = [0; 3];
-            split[i] = 2;
-            split[j] = 2;
-            split
-        })
+            math::max(piece([ai, aj, mj]), piece([aj, mi, mj])),
+        );
+        if two.is_none_or(|(_, _, best): (usize, usize, f32)| h.total_cmp(&best).is_lt()) {
+            two = Some((i, j, h));
+        }
+    }
+    two.filter(|&(_, _, h)| h <= c).map(|(i, j, _)| {
+        let mut split = [0; 3];
+        split[i] = 2;
+        split[j] = 2;
+        split
+    })
 }
 
-/// Bound of the piece `uv` of a triangle whose box has the bounds `local` (or any region
-/// containing the piece): its curvature term alone where that is within `c` (no surface point
-/// needed), otherwise the lattice of step 1/3 on the piece sampled (its 7 points besides the
-/// corners) and a ninth of its curvature term (the bound's argument, see
-/// [`crate::deviation`]). Either way the bound is within `c` exactly when the smaller of the
-/// two is.
+/// Bound of the piece `uv` of a triangle whose second derivatives `whole` bounds (the whole
+/// patch's, or any region's containing the piece), or where that is over `c`, `local` (the
+/// triangle's box, cut by [`PatchBounds::around`] from the triangle `tri` when first needed):
+/// the curvature term alone where that is within `c` (no surface point needed), otherwise the
+/// lattice of step 1/3 on the piece sampled (its 7 points besides the corners, once for both)
+/// and a ninth of the curvature term (the bound's argument, see [`crate::deviation`]). Each
+/// value taken is a bound of the piece on its own, so the smallest is.
 pub(super) fn piece_bound(
     patch: &BezierPatch<'_>,
-    local: &PatchBounds,
+    whole: &PatchBounds,
+    local: &mut Option<PatchBounds>,
+    tri: [(f32, f32); 3],
     uv: [(f32, f32); 3],
     c: f32,
 ) -> f32 {
-    let curvature = local.curvature_term(uv);
-    let general = curvature + local.slack;
+    let curvature = whole.curvature_term(uv);
+    let general = curvature + whole.slack;
     if general <= c {
         return general;
     }
+    let worst = piece_worst(patch, uv);
+    let bound = math::min(worst + curvature * (1.0 / 9.0) + whole.slack, general);
+    if bound <= c {
+        return bound;
+    }
+    let local = local.get_or_insert_with(|| PatchBounds::around(patch, tri));
+    let curvature = local.curvature_term(uv);
+    let general = curvature + local.slack;
+    let sampled = worst + curvature * (1.0 / 9.0) + local.slack;
+    math::min(bound, math::min(sampled, general))
+}
+
+/// The largest deviation of the piece `uv` from its flat triangle at the 7 points of its
+/// lattice of step 1/3 besides its corners.
+fn piece_worst(patch: &BezierPatch<'_>, uv: [(f32, f32); 3]) -> f32 {
     let s = uv.map(|(u, v)| patch.position_direct(u, v));
     let mut worst = 0.0f32;
     for (i, j) in [(1, 0), (2, 0), (0, 1), (0, 2), (1, 1), (2, 1), (1, 2)] {
@@ -191,7 +243,7 @@ pub(super) fn piece_bound(
         let linear = s[0] * a + s[1] * b + s[2] * c;
         worst = math::max(worst, length(patch.position_direct(u, v) - linear));
     }
-    math::min(worst + curvature * (1.0 / 9.0) + local.slack, general)
+    worst
 }
 
 impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
@@ -222,11 +274,14 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// replaced by others), so the outcome does not depend on what earlier frames cached.
     /// Returns the factor, the pieces' bound, the threshold, and the own bound where used
     /// (with the bounds of the patch cut to the triangle's box where they were computed).
+    /// The samples are taken in `lattice` (of this patch: holding those of another triangle or
+    /// none), for the caller to use again.
     #[allow(clippy::too_many_arguments)]
     fn judge(
         &mut self,
         p: usize,
         patch: &BezierPatch<'_>,
+        lattice: &mut Lattice,
         corners: [GridPoint; 3],
         whole: &PatchBounds,
         at_hand: f32,
@@ -246,7 +301,6 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         }
         // 2. The coarse lattice. One lattice, sampled in place once (and completed) where a
         // step needs it: steps 3 and 4 build on the samples of step 2.
-        let mut lattice = Lattice::UNSAMPLED;
         if state.known & KNOW_COARSE == 0 {
             lattice.sample_coarse_once(patch, corners, points);
             state.coarse = lattice.coarse_bound(whole, uv).bound();
@@ -304,6 +358,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         // without them leaves every triangle uncut.
         self.clear_states();
         self.share_states(refine);
+        // The samples of the last triangle judged, of the patch at hand.
+        let mut lattice = Lattice::UNSAMPLED;
         for p in 0..baked.patch_count() {
             let mut slot = self.storage.patches[p];
             if slot.culled {
@@ -333,6 +389,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             };
             // Without states, and with nothing to judge, every triangle is its prefix's, uncut.
             let (vo, tc) = (slot.vertex_offset as usize, slot.triangle_capacity as usize);
+            // (The lattice knows the triangle it holds by its corners alone.)
+            lattice.forget();
             let tc = if stated || exhausted || extra.contains(&true) {
                 tc
             } else {
@@ -366,8 +424,18 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     if let (false, Some(r)) = (near_extra, own) {
                         at_hand = math::min(at_hand, r);
                     }
-                    let (f, pieces, c, own_bound) =
-                        self.judge(p, &patch, corners, &whole, at_hand, view, tol, max, stats);
+                    let (f, pieces, c, own_bound) = self.judge(
+                        p,
+                        &patch,
+                        &mut lattice,
+                        corners,
+                        &whole,
+                        at_hand,
+                        view,
+                        tol,
+                        max,
+                        stats,
+                    );
                     state.threshold = c;
                     state.pieces = pieces;
                     // (An infinite threshold: the triangle, within the bound that judged
@@ -380,9 +448,10 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     // undone, in the rounds below). A neighbour across a halved edge gets a
                     // pattern with that edge halved, bounded in the rounds.
                     let cheaper = match own_bound {
-                        Some((_, local)) if f == 2 => {
+                        Some((b, local)) if f == 2 => {
                             let local = local.unwrap_or_else(|| PatchBounds::around(&patch, uv));
-                            halving(&patch, &local, uv, n.map(|x| x.is_some()), c)
+                            let inner = n.map(|x| x.is_some());
+                            halving(&patch, &mut lattice, corners, b.points, &local, inner, c)
                         }
                         _ => None,
                     };
@@ -434,5 +503,71 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every half-side piece a halving tries gets the deviation from the triangle's lattice
+    /// that its own samples give: the same points (to within the rounding of their
+    /// parameters), so the same value to a few units of rounding. A wrong lattice index
+    /// would pick another surface point, far off on this strongly curved rational patch.
+    #[test]
+    fn half_pieces_read_their_samples_from_the_lattice() {
+        let mut points = [[0.0f32; 3]; 16];
+        let mut weights = [1.0f32; 16];
+        for i in 0..4 {
+            for j in 0..4 {
+                let (x, y) = (i as f32 / 3.0, j as f32 / 3.0);
+                let k = i * 4 + j;
+                points[k] = [x, y, (3.0 * x).sin() * (2.0 * y + 0.5).cos()];
+                weights[k] = 1.0 + 0.3 * ((i + 2 * j) % 3) as f32;
+            }
+        }
+        let patch = BezierPatch::new_rational(3, 3, &points, &weights).unwrap();
+        let m = GridPoint::MAX;
+        let triangles = [
+            [(0, 0), (m, 0), (0, m)],
+            [(m / 7, m / 5), (m - m / 3, m / 9), (m / 4, m - m / 6)],
+            [(m / 2, m / 2), (m, m / 3), (m - m / 5, m)],
+        ];
+        let at = [(0, 0), (2, 0), (0, 2)];
+        let mid = |a: usize, b: usize| ((at[a].0 + at[b].0) / 2, (at[a].1 + at[b].1) / 2);
+        let (mut compared, mut largest) = (0, 0.0f32);
+        for corners in triangles {
+            let corners = corners.map(|(u, v)| GridPoint { u, v });
+            let uv = corners.map(GridPoint::to_unit);
+            let unit = |(i, j): (usize, usize)| {
+                let k = 2 - i - j;
+                let f = |c: fn((f32, f32)) -> f32| {
+                    (k as f32 * c(uv[0]) + i as f32 * c(uv[1]) + j as f32 * c(uv[2])) * 0.5
+                };
+                (f(|p| p.0), f(|p| p.1))
+            };
+            let mut lattice = Lattice::coarse(&patch, corners);
+            lattice.complete(&patch);
+            for (i, j, k) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
+                let (mi, mj, mk) = (mid(j, k), mid(i, k), mid(i, j));
+                for h in [
+                    [at[i], at[j], mi],
+                    [at[i], mi, at[k]],
+                    [mi, at[k], mj],
+                    [at[i], mi, mj],
+                    [mi, mj, mk],
+                ] {
+                    let from_lattice = lattice.half_piece_worst(h);
+                    let direct = piece_worst(&patch, h.map(unit));
+                    assert!(direct > 1e-4, "{h:?}: a curved piece deviates");
+                    let diff = (from_lattice - direct).abs();
+                    assert!(diff <= 1e-5, "{h:?}: {from_lattice} against {direct}");
+                    largest = largest.max(diff);
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 45);
+        assert!(largest < 1e-5);
     }
 }
