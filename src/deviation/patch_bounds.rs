@@ -4,7 +4,7 @@
 use glam::{Vec3, Vec4};
 
 use super::{enclosing_radius_sq, EPS, REMAINDER_SLACK};
-use crate::math::{length, max, min, sqrt};
+use crate::math::{max, min, sqrt};
 use crate::patch::BezierPatch;
 use crate::MAX_DEGREE;
 
@@ -20,15 +20,20 @@ pub struct PatchBounds {
 }
 
 /// The largest norm of `f(k)` for `k` in `0..n` (xyz part and w part), rounded up.
+///
+/// One square root, of the largest squared norm: the correctly rounded square root is
+/// monotone, so that is the largest of the norms `math::length` gives, bit for bit (a software
+/// square root costs about 50 instructions on a Cortex-M4F).
 fn max_norm(n: usize, f: impl Fn(usize) -> Vec4) -> (f32, f32) {
     let mut xyz = 0.0f32;
     let mut w = 0.0f32;
     for k in 0..n {
         let d = f(k);
-        xyz = max(xyz, length(Vec3::new(d.x, d.y, d.z)));
+        let v = Vec3::new(d.x, d.y, d.z);
+        xyz = max(xyz, v.dot(v));
         w = max(w, d.w.abs());
     }
-    (xyz * (1.0 + 8.0 * EPS), w * (1.0 + 8.0 * EPS))
+    (sqrt(xyz) * (1.0 + 8.0 * EPS), w * (1.0 + 8.0 * EPS))
 }
 
 /// Cuts the Bezier polygon `d` (homogeneous) to the parameter interval `[t0, t1]` in place.
@@ -129,13 +134,15 @@ impl PatchBounds {
         // A cut net's weights are convex combinations of the patch's: at least the smallest.
         let w_min = max(max(w_min - net_error, w_low), f32::MIN_POSITIVE);
         let center = (lo + hi) * 0.5;
+        // (The largest squared distance, then its root: see `max_norm`.)
         let mut radius = 0.0f32;
         for row in net.iter().take(p + 1) {
             for h in row.iter().take(q + 1) {
-                radius = max(radius, length(Vec3::new(h.x, h.y, h.z) / h.w - center));
+                let d = Vec3::new(h.x, h.y, h.z) / h.w - center;
+                radius = max(radius, d.dot(d));
             }
         }
-        let radius = radius * (1.0 + 8.0 * EPS) + 2.0 * net_error / w_min;
+        let radius = sqrt(radius) * (1.0 + 8.0 * EPS) + 2.0 * net_error / w_min;
         let h = |i: usize, j: usize| {
             let c = net[i][j];
             Vec4::new(
