@@ -33,8 +33,8 @@
 //! has two inner edges halved (three pieces), where those fit: a cut into four can leave its
 //! pieces far below the threshold. Each piece's bound samples the piece's lattice of step 1/3,
 //! whose points, a third of a half, are points of the triangle's own lattice of step 1/6: the
-//! halvings tried cost no surface point beyond the triangle's own bound. The neighbour across a halved edge gets a pattern with that
-//! edge halved (two triangles; see `pattern`).
+//! halvings tried cost no surface point beyond the triangle's own bound. The neighbour across
+//! a halved edge gets a pattern with that edge halved (two triangles; see `pattern`).
 //!
 //! Otherwise a triangle is cut uniformly by the smallest factor `n` whose pieces are within
 //! `c(T)`: for `n` = 2, 3, 6 the bound's own samples bound the pieces; for any `n`, so does the
@@ -116,10 +116,10 @@ pub(super) fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
 /// one), where the pieces are within `c`. `inner[i]` says whether edge `i` (opposite corner
 /// `i`) has a neighbour. `local` bounds the triangle's box.
 ///
-/// Every piece has its corners at halves of the triangle's sides, so [`piece_bound`]'s
-/// samples (a third of a piece's sides) are points of the triangle's own lattice of step
-/// 1/6: `lattice` is completed once, where a piece needs samples, and no other surface point
-/// is computed.
+/// Every piece has its corners at halves of the triangle's sides, so the samples of a piece's
+/// bound (as [`piece_bound`] takes it: at thirds of the piece's sides) are points of the
+/// triangle's own lattice of step 1/6: `lattice` is completed once, where a piece needs
+/// samples, and no other surface point is computed.
 #[allow(clippy::too_many_arguments)]
 fn halving(
     patch: &BezierPatch<'_>,
