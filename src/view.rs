@@ -376,16 +376,10 @@ impl Camera {
         }
     }
 
-    /// The largest object-space length within `margin` of the flat triangle `points` that
-    /// projects to at most `tol` pixels, over `tol`, and whether that region lies wholly
-    /// outside the view.
-    pub(crate) fn triangle_pixel_size(
-        &self,
-        points: [[f32; 3]; 3],
-        margin: f32,
-        tol: f32,
-    ) -> (f32, bool) {
-        let v = points.map(|p| self.to_view(Vec3::from_array(p)));
+    /// The largest object-space length within `margin` of the flat triangle whose corners
+    /// are `v` in view coordinates ([`to_view`](Self::to_view)) that projects to at most `tol`
+    /// pixels, over `tol`, and whether that region lies wholly outside the view.
+    pub(crate) fn triangle_pixel_size(&self, v: [Vec3; 3], margin: f32, tol: f32) -> (f32, bool) {
         let perspective = matches!(self.projection, Projection::Perspective { .. });
         let [sx, sy] = self.slope;
         let (half_w, half_h) = (
@@ -466,6 +460,11 @@ impl Camera {
     }
 }
 
+/// A flat triangle's corners in a [`View`]'s coordinates ([`View::view_triangle`]): judged
+/// with several margins, it is moved into view once.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ViewedTriangle([Vec3; 3]);
+
 /// What the tessellation must achieve in a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -520,11 +519,27 @@ impl View {
     /// Object-space length per unit of tolerance within `margin` of the flat triangle
     /// `points`, and whether it is culled.
     pub(crate) fn triangle_scale(&self, points: [[f32; 3]; 3], margin: f32) -> (f32, bool) {
+        self.viewed_triangle_scale(&self.view_triangle(points), margin)
+    }
+
+    /// The flat triangle `points` in view coordinates, for
+    /// [`viewed_triangle_scale`](Self::viewed_triangle_scale) with several margins.
+    pub(crate) fn view_triangle(&self, points: [[f32; 3]; 3]) -> ViewedTriangle {
+        match self {
+            View::Screen { camera, .. } => {
+                ViewedTriangle(points.map(|p| camera.to_view(Vec3::from_array(p))))
+            }
+            View::Object { .. } => ViewedTriangle([Vec3::ZERO; 3]),
+        }
+    }
+
+    /// [`triangle_scale`](Self::triangle_scale) of a triangle already in view coordinates.
+    pub(crate) fn viewed_triangle_scale(&self, t: &ViewedTriangle, margin: f32) -> (f32, bool) {
         match self {
             View::Screen {
                 camera,
                 tolerance_px,
-            } => camera.triangle_pixel_size(points, margin, *tolerance_px),
+            } => camera.triangle_pixel_size(t.0, margin, *tolerance_px),
             View::Object { .. } => (1.0, false),
         }
     }

@@ -73,6 +73,7 @@ use crate::patch::{BezierPatch, Side};
 mod patch_bounds;
 
 pub use patch_bounds::PatchBounds;
+pub(crate) use patch_bounds::PreparedBounds;
 
 /// Lattice steps per side of a bounded triangle or chord.
 pub const LATTICE: u32 = 6;
@@ -129,7 +130,8 @@ pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Trian
     lattice.complete(patch);
     lattice.pieces();
     let uv = corners.map(GridPoint::to_unit);
-    lattice.bound(&PatchBounds::around(patch, uv), uv, true)
+    let local = PatchBounds::around(patch, uv);
+    lattice.bound(local.curvature_term(uv), local.slack, true)
 }
 
 /// The surface on a triangle's lattice: its samples, and the largest sampled deviations of
@@ -150,11 +152,107 @@ pub(crate) struct Lattice {
 /// The surface at the corners of `corners`, computed as every bound computes them.
 pub(crate) fn corner_points(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> [[f32; 3]; 3] {
     let n = LATTICE as usize;
-    [(0, 0), (n, 0), (0, n)].map(|(i, j)| {
-        let (u, v) = lattice_point(corners, i, j);
-        patch.position_direct(u, v).to_array()
-    })
+    let uv = [(0, 0), (n, 0), (0, n)].map(|(i, j)| lattice_point(corners, i, j));
+    patch.positions_direct(uv).map(|p| p.to_array())
 }
+
+/// The lattice points with even indices besides the corners (the lattice of step 1/3).
+const COARSE: [(usize, usize); 7] = [(0, 2), (0, 4), (2, 0), (2, 2), (2, 4), (4, 0), (4, 2)];
+
+/// The lattice points with an odd index (the rest of the lattice of step 1/6).
+const FINE: [(usize, usize); 18] = [
+    (0, 1),
+    (0, 3),
+    (0, 5),
+    (1, 0),
+    (1, 1),
+    (1, 2),
+    (1, 3),
+    (1, 4),
+    (1, 5),
+    (2, 1),
+    (2, 3),
+    (3, 0),
+    (3, 1),
+    (3, 2),
+    (3, 3),
+    (4, 1),
+    (5, 0),
+    (5, 1),
+];
+
+/// A point of a piece of a triangle cut uniformly, where [`Lattice::pieces`] samples the
+/// piece's deviation: a lattice point (not a corner of the piece), the piece's corners as
+/// lattice points, and its weights on them in steps of the piece's own lattice.
+#[derive(Clone, Copy)]
+struct PiecePoint {
+    at: (u8, u8),
+    corners: [(u8, u8); 3],
+    weights: [u8; 3],
+}
+
+/// The points of [`Lattice::pieces`] for the cut by `factor` (a divisor of [`LATTICE`]): per
+/// piece, upright `(a, b)` then inverted, the points of its own lattice besides its corners.
+/// `K` must be their number (a wrong one does not compile).
+const fn piece_points<const K: usize>(factor: usize) -> [PiecePoint; K] {
+    let m = LATTICE as usize / factor;
+    let mut out = [PiecePoint {
+        at: (0, 0),
+        corners: [(0, 0); 3],
+        weights: [0; 3],
+    }; K];
+    let mut k = 0;
+    let mut pb = 0;
+    while pb < factor {
+        let mut pa = 0;
+        while pa < factor - pb {
+            let mut inverted = 0;
+            while inverted < 2 {
+                if inverted == 0 || pa + pb + 2 <= factor {
+                    let c = if inverted == 1 {
+                        [(pa + 1, pb), (pa + 1, pb + 1), (pa, pb + 1)]
+                    } else {
+                        [(pa, pb), (pa + 1, pb), (pa, pb + 1)]
+                    };
+                    let mut x = 0;
+                    while x <= m {
+                        let mut y = 0;
+                        while y <= m - x {
+                            let z = m - x - y;
+                            if x != m && y != m && z != m {
+                                let gi = c[0].0 * z + c[1].0 * x + c[2].0 * y;
+                                let gj = c[0].1 * z + c[1].1 * x + c[2].1 * y;
+                                out[k] = PiecePoint {
+                                    at: (gi as u8, gj as u8),
+                                    corners: [
+                                        ((c[0].0 * m) as u8, (c[0].1 * m) as u8),
+                                        ((c[1].0 * m) as u8, (c[1].1 * m) as u8),
+                                        ((c[2].0 * m) as u8, (c[2].1 * m) as u8),
+                                    ],
+                                    weights: [z as u8, x as u8, y as u8],
+                                };
+                                k += 1;
+                            }
+                            y += 1;
+                        }
+                        x += 1;
+                    }
+                }
+                inverted += 1;
+            }
+            pa += 1;
+        }
+        pb += 1;
+    }
+    assert!(k == K, "K is the number of points");
+    out
+}
+
+/// [`piece_points`] of the cut by 2: 4 pieces of 7 points.
+const PIECES_BY_2: [PiecePoint; 28] = piece_points(2);
+
+/// [`piece_points`] of the cut by 3: 9 pieces of 3 points.
+const PIECES_BY_3: [PiecePoint; 27] = piece_points(3);
 
 /// Unit parameters of lattice point (i, j) of `corners`.
 fn lattice_point(corners: [GridPoint; 3], i: usize, j: usize) -> (f32, f32) {
@@ -208,18 +306,12 @@ impl Lattice {
     ) {
         let n = LATTICE as usize;
         let s = &mut self.s;
-        for i in (0..=n).step_by(2) {
-            for j in (0..=n - i).step_by(2) {
-                s[i][j] = match (i, j) {
-                    (0, 0) => Vec3::from_array(points[0]),
-                    (i, 0) if i == n => Vec3::from_array(points[1]),
-                    (0, j) if j == n => Vec3::from_array(points[2]),
-                    _ => {
-                        let (u, v) = lattice_point(corners, i, j);
-                        patch.position_direct(u, v)
-                    }
-                };
-            }
+        s[0][0] = Vec3::from_array(points[0]);
+        s[n][0] = Vec3::from_array(points[1]);
+        s[0][n] = Vec3::from_array(points[2]);
+        let sampled = patch.positions_direct(COARSE.map(|(i, j)| lattice_point(corners, i, j)));
+        for ((i, j), point) in COARSE.into_iter().zip(sampled) {
+            s[i][j] = point;
         }
         self.worst = [0.0; 4];
         self.at = (1, 1);
@@ -247,8 +339,10 @@ impl Lattice {
         }
     }
 
-    /// The bound from the coarse points: the largest deviation at them and `½ ρ² / 9`.
-    pub(crate) fn coarse_bound(&self, bounds: &PatchBounds, uv: [(f32, f32); 3]) -> TriangleBound {
+    /// The bound from the coarse points: the largest deviation at them and `½ ρ² / 9`, with
+    /// the curvature term `curvature` and rounding slack `slack` of bounds over a region
+    /// containing the triangle.
+    pub(crate) fn coarse_bound(&self, curvature: f32, slack: f32) -> TriangleBound {
         let n = LATTICE as usize;
         let s = &self.s;
         let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
@@ -264,8 +358,7 @@ impl Lattice {
                 }
             }
         }
-        let curvature = bounds.curvature_term(uv);
-        let remainder = curvature * (1.0 / 9.0) + bounds.slack;
+        let remainder = curvature * (1.0 / 9.0) + slack;
         let (bu, bv) = lattice_point(self.corners, at.0, at.1);
         TriangleBound {
             refined: [
@@ -275,7 +368,7 @@ impl Lattice {
                 f32::INFINITY,
             ],
             curvature,
-            slack: bounds.slack,
+            slack,
             at: GridPoint::from_unit(bu, bv),
             points: [q0, q1, q2].map(|p| p.to_array()),
         }
@@ -290,18 +383,18 @@ impl Lattice {
         self.complete = true;
         let n = LATTICE as usize;
         let corners = self.corners;
-        for i in 0..=n {
-            for j in 0..=n - i {
-                if i % 2 == 1 || j % 2 == 1 {
-                    let (u, v) = lattice_point(corners, i, j);
-                    self.s[i][j] = patch.position_direct(u, v);
-                }
-            }
+        let sampled = patch.positions_direct(FINE.map(|(i, j)| lattice_point(corners, i, j)));
+        for ((i, j), point) in FINE.into_iter().zip(sampled) {
+            self.s[i][j] = point;
         }
         let s = &self.s;
         let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
         let inv = 1.0 / n as f32;
+        // The first point of the largest deviation `length` gives (as rounded): a root is
+        // taken only for a squared length above the best one's (the root is monotone, so no
+        // other can be larger).
         let mut best = (-1.0f32, (1usize, 1usize));
+        let mut best_squared = -1.0f32;
         for (i, row) in s.iter().enumerate() {
             for (j, &point) in row.iter().enumerate().take(n + 1 - i) {
                 let k = n - i - j;
@@ -309,9 +402,14 @@ impl Lattice {
                     continue;
                 }
                 let linear = (q0 * k as f32 + q1 * i as f32 + q2 * j as f32) * inv;
-                let d = length(point - linear);
-                if d > best.0 {
-                    best = (d, (i, j));
+                let e = point - linear;
+                let squared = e.dot(e);
+                if squared > best_squared {
+                    let d = sqrt(squared);
+                    if d > best.0 {
+                        best = (d, (i, j));
+                        best_squared = squared;
+                    }
                 }
             }
         }
@@ -320,46 +418,22 @@ impl Lattice {
     }
 
     /// The largest deviations of the pieces of a uniform refinement by 2 and 3, each against
-    /// its own interpolant.
+    /// its own interpolant (at the points of [`PIECES_BY_2`] and [`PIECES_BY_3`]).
     pub(crate) fn pieces(&mut self) {
-        let n = LATTICE as usize;
         let s = &self.s;
-        for (f, factor) in SAMPLED_FACTORS.iter().enumerate().take(3).skip(1) {
-            let m = n / *factor as usize; // lattice steps per piece side
+        let at = |(i, j): (u8, u8)| s[i as usize][j as usize];
+        for (f, table) in [(1, &PIECES_BY_2[..]), (2, &PIECES_BY_3[..])] {
+            // Lattice steps per piece side.
+            let m = LATTICE as usize / SAMPLED_FACTORS[f] as usize;
+            let inv = 1.0 / m as f32;
             let mut w = 0.0f32;
-            // Pieces: upright (a, b) and inverted, in piece-lattice coordinates.
-            let pieces = *factor as usize;
-            for pb in 0..pieces {
-                for pa in 0..pieces - pb {
-                    for inverted in [false, true] {
-                        if inverted && pa + pb + 2 > pieces {
-                            continue;
-                        }
-                        let (c0, c1, c2) = if inverted {
-                            ((pa + 1, pb), (pa + 1, pb + 1), (pa, pb + 1))
-                        } else {
-                            ((pa, pb), (pa + 1, pb), (pa, pb + 1))
-                        };
-                        let corner = |c: (usize, usize)| s[c.0 * m][c.1 * m];
-                        let (q0, q1, q2) = (corner(c0), corner(c1), corner(c2));
-                        let inv = 1.0 / m as f32;
-                        for x in 0..=m {
-                            for y in 0..=m - x {
-                                let z = m - x - y;
-                                if x == m || y == m || z == m {
-                                    continue;
-                                }
-                                // Lattice point: z on c0, x on c1, y on c2.
-                                let gi = c0.0 * z + c1.0 * x + c2.0 * y;
-                                let gj = c0.1 * z + c1.1 * x + c2.1 * y;
-                                let linear = (q0 * z as f32 + q1 * x as f32 + q2 * y as f32) * inv;
-                                let e = s[gi][gj] - linear;
-                                // Squared, one root at the end (the same value).
-                                w = max(w, e.dot(e));
-                            }
-                        }
-                    }
-                }
+            for point in table {
+                let [z, x, y] = point.weights.map(f32::from);
+                let [q0, q1, q2] = point.corners.map(at);
+                let linear = (q0 * z + q1 * x + q2 * y) * inv;
+                let e = at(point.at) - linear;
+                // Squared, one root at the end (the same value).
+                w = max(w, e.dot(e));
             }
             self.worst[f] = sqrt(w);
         }
@@ -387,19 +461,13 @@ impl Lattice {
         sqrt(w)
     }
 
-    /// The bounds, with the remainder from `bounds` (over a region containing the triangle
-    /// `uv`).
+    /// The bounds, with the remainder from the curvature term `curvature` and rounding slack
+    /// `slack` of bounds over a region containing the triangle.
     /// Without `with_pieces` (no [`pieces`](Self::pieces) taken), only the triangle's own
     /// bound is sampled; its pieces are left to the curvature term.
-    pub(crate) fn bound(
-        &self,
-        bounds: &PatchBounds,
-        uv: [(f32, f32); 3],
-        with_pieces: bool,
-    ) -> TriangleBound {
+    pub(crate) fn bound(&self, curvature: f32, slack: f32, with_pieces: bool) -> TriangleBound {
         let n = LATTICE as usize;
-        let curvature = bounds.curvature_term(uv);
-        let remainder = curvature * (1.0 / (n * n) as f32) + bounds.slack;
+        let remainder = curvature * (1.0 / (n * n) as f32) + slack;
         let mut refined = [remainder; 4];
         for (r, w) in refined.iter_mut().zip(self.worst).take(3) {
             *r = w + remainder;
@@ -411,7 +479,7 @@ impl Lattice {
         TriangleBound {
             refined,
             curvature,
-            slack: bounds.slack,
+            slack,
             at: GridPoint::from_unit(bu, bv),
             points: [self.s[0][0], self.s[n][0], self.s[0][n]].map(|p| p.to_array()),
         }
@@ -460,8 +528,15 @@ pub fn chord_bound(patch: &BezierPatch<'_>, side: Side, t0: f32, t1: f32) -> Cho
 }
 
 /// Squared radius of the smallest circle around the triangle `uv` in the coordinates
-/// `(√alpha u, √beta v)`, rounded up.
-pub(crate) fn enclosing_radius_sq(uv: [(f32, f32); 3], alpha: f32, beta: f32) -> f32 {
+/// `(√alpha u, √beta v)`, rounded up, with `sqrt(alpha beta)` from `root` (called only for
+/// an acute triangle).
+#[inline(always)]
+pub(crate) fn enclosing_radius_sq(
+    uv: [(f32, f32); 3],
+    alpha: f32,
+    beta: f32,
+    root: impl FnOnce() -> f32,
+) -> f32 {
     let d = |i: usize, j: usize| {
         let (du, dv) = (uv[j].0 - uv[i].0, uv[j].1 - uv[i].1);
         (du, dv, alpha * du * du + beta * dv * dv)
@@ -475,7 +550,7 @@ pub(crate) fn enclosing_radius_sq(uv: [(f32, f32); 3], alpha: f32, beta: f32) ->
     }
     // Acute: the circumcircle, R² = x y z / (4 cross²) with the scaled cross product, which
     // lies between longest/4 and longest/3 (the largest angle is 60 to 90 degrees).
-    let cross = (e01.0 * (-e20.1) - e01.1 * (-e20.0)) * sqrt(alpha * beta);
+    let cross = (e01.0 * (-e20.1) - e01.1 * (-e20.0)) * root();
     let r2 = x * y * z / (4.0 * cross * cross);
     if r2.is_finite() {
         r2.clamp(longest * 0.25, longest * (1.0 / 3.0))

@@ -19,19 +19,22 @@ pub struct PatchBounds {
     pub slack: f32,
 }
 
-/// The largest norm of `f(k)` for `k` in `0..n` (xyz part and w part), rounded up.
+/// The largest norm of the points `f(i, j)` of a `rows` by `cols` net (xyz part and w part),
+/// rounded up.
 ///
 /// One square root, of the largest squared norm: the correctly rounded square root is
 /// monotone, so that is the largest of the norms `math::length` gives, bit for bit (a software
 /// square root costs about 50 instructions on a Cortex-M4F).
-fn max_norm(n: usize, f: impl Fn(usize) -> Vec4) -> (f32, f32) {
+fn max_norm(rows: usize, cols: usize, f: impl Fn(usize, usize) -> Vec4) -> (f32, f32) {
     let mut xyz = 0.0f32;
     let mut w = 0.0f32;
-    for k in 0..n {
-        let d = f(k);
-        let v = Vec3::new(d.x, d.y, d.z);
-        xyz = max(xyz, v.dot(v));
-        w = max(w, d.w.abs());
+    for i in 0..rows {
+        for j in 0..cols {
+            let d = f(i, j);
+            let v = Vec3::new(d.x, d.y, d.z);
+            xyz = max(xyz, v.dot(v));
+            w = max(w, d.w.abs());
+        }
     }
     (sqrt(xyz) * (1.0 + 8.0 * EPS), w * (1.0 + 8.0 * EPS))
 }
@@ -160,25 +163,18 @@ impl PatchBounds {
             (x + e, w + e)
         };
         let (au, wu) = grow(
-            max_norm(p * (q + 1), |k| {
-                let (i, j) = (k / (q + 1), k % (q + 1));
-                (h(i + 1, j) - h(i, j)) * pf
-            }),
+            max_norm(p, q + 1, |i, j| (h(i + 1, j) - h(i, j)) * pf),
             pf,
             2.0,
         );
         let (av, wv) = grow(
-            max_norm((p + 1) * q, |k| {
-                let (i, j) = (k / q, k % q);
-                (h(i, j + 1) - h(i, j)) * qf
-            }),
+            max_norm(p + 1, q, |i, j| (h(i, j + 1) - h(i, j)) * qf),
             qf,
             2.0,
         );
         let (auu, wuu) = if p >= 2 {
             grow(
-                max_norm((p - 1) * (q + 1), |k| {
-                    let (i, j) = (k / (q + 1), k % (q + 1));
+                max_norm(p - 1, q + 1, |i, j| {
                     (h(i + 2, j) - h(i + 1, j) * 2.0 + h(i, j)) * (pf * (pf - 1.0))
                 }),
                 pf * (pf - 1.0),
@@ -189,8 +185,7 @@ impl PatchBounds {
         };
         let (avv, wvv) = if q >= 2 {
             grow(
-                max_norm((p + 1) * (q - 1), |k| {
-                    let (i, j) = (k / (q - 1), k % (q - 1));
+                max_norm(p + 1, q - 1, |i, j| {
                     (h(i, j + 2) - h(i, j + 1) * 2.0 + h(i, j)) * (qf * (qf - 1.0))
                 }),
                 qf * (qf - 1.0),
@@ -200,8 +195,7 @@ impl PatchBounds {
             (0.0, 0.0)
         };
         let (auv, wuv) = grow(
-            max_norm(p * q, |k| {
-                let (i, j) = (k / q, k % q);
+            max_norm(p, q, |i, j| {
                 (h(i + 1, j + 1) - h(i + 1, j) - h(i, j + 1) + h(i, j)) * (pf * qf)
             }),
             pf * qf,
@@ -254,9 +248,64 @@ impl PatchBounds {
     /// `½ ρ²` for the domain triangle with unit parameters `uv`: the bound of linear
     /// interpolation over it from the second derivatives alone (see the module docs).
     pub fn curvature_term(&self, uv: [(f32, f32); 3]) -> f32 {
+        self.prepared().curvature_term(uv)
+    }
+
+    /// These bounds with what [`curvature_term`](Self::curvature_term) computes from them
+    /// alone done once, for the many triangles one patch's bounds are applied to.
+    pub(crate) fn prepared(&self) -> PreparedBounds {
+        let [a, b, c] = self.second;
+        let t0 = if a > 0.0 && c > 0.0 { sqrt(c / a) } else { 1.0 };
+        let pair = |t: f32| {
+            let (alpha, beta) = if b > 0.0 {
+                (a + b * t, c + b / t)
+            } else {
+                (a, c)
+            };
+            (alpha, beta, sqrt(alpha * beta))
+        };
+        PreparedBounds {
+            second: self.second,
+            slack: self.slack,
+            t0,
+            fixed: [pair(t0), pair(1.0)],
+        }
+    }
+}
+
+/// [`PatchBounds`] prepared for many triangles: the choices of the curvature term's
+/// parameter `t` that do not depend on the triangle (`sqrt(c / a)` and 1), with their
+/// `α`, `β` and `sqrt(α β)`, computed once. Its terms are [`PatchBounds::curvature_term`]'s,
+/// bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PreparedBounds {
+    /// [`PatchBounds::second`].
+    second: [f32; 3],
+    /// [`PatchBounds::slack`].
+    pub(crate) slack: f32,
+    /// The first choice of `t`.
+    t0: f32,
+    /// `α`, `β` and `sqrt(α β)` for `t = t0` and `t = 1`.
+    fixed: [(f32, f32, f32); 2],
+}
+
+impl PreparedBounds {
+    /// [`PatchBounds::curvature_term`]: the smallest enclosing-circle term over the choices
+    /// `t0`, the triangle's box aspect and 1 (a choice equal to an earlier one gives the same
+    /// term and is skipped).
+    pub(crate) fn curvature_term(&self, uv: [(f32, f32); 3]) -> f32 {
         let [a, b, c] = self.second;
         if a == 0.0 && b == 0.0 && c == 0.0 {
             return 0.0;
+        }
+        let fixed = |k: usize| {
+            let (alpha, beta, root) = self.fixed[k];
+            enclosing_radius_sq(uv, alpha, beta, || root)
+        };
+        let mut best = fixed(0);
+        if b == 0.0 {
+            // Every choice gives (a, c).
+            return 0.5 * best * REMAINDER_SLACK;
         }
         let (lo_u, hi_u) = (
             min(min(uv[0].0, uv[1].0), uv[2].0),
@@ -266,6 +315,43 @@ impl PatchBounds {
             min(min(uv[0].1, uv[1].1), uv[2].1),
             max(max(uv[0].1, uv[1].1), uv[2].1),
         );
+        let (hu, hv) = (hi_u - lo_u, hi_v - lo_v);
+        let t1 = if hu > 0.0 && hv > 0.0 { hv / hu } else { 1.0 };
+        if t1 != self.t0 {
+            let (alpha, beta) = if b > 0.0 {
+                (a + b * t1, c + b / t1)
+            } else {
+                (a, c)
+            };
+            best = min(
+                best,
+                enclosing_radius_sq(uv, alpha, beta, || sqrt(alpha * beta)),
+            );
+        }
+        if self.t0 != 1.0 && t1 != 1.0 {
+            best = min(best, fixed(1));
+        }
+        0.5 * best * REMAINDER_SLACK
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::TestRng;
+
+    /// The curvature term with every choice of `t` computed afresh (as it was before the
+    /// choices that depend on the bounds alone were prepared).
+    fn reference(second: [f32; 3], uv: [(f32, f32); 3]) -> f32 {
+        let [a, b, c] = second;
+        if a == 0.0 && b == 0.0 && c == 0.0 {
+            return 0.0;
+        }
+        let lo_hi = |f: fn((f32, f32)) -> f32| {
+            let (x, y, z) = (f(uv[0]), f(uv[1]), f(uv[2]));
+            (min(min(x, y), z), max(max(x, y), z))
+        };
+        let ((lo_u, hi_u), (lo_v, hi_v)) = (lo_hi(|p| p.0), lo_hi(|p| p.1));
         let (hu, hv) = (hi_u - lo_u, hi_v - lo_v);
         let mut best = f32::INFINITY;
         let candidates = [
@@ -279,11 +365,50 @@ impl PatchBounds {
             } else {
                 (a, c)
             };
-            best = min(best, enclosing_radius_sq(uv, alpha, beta));
+            best = min(
+                best,
+                enclosing_radius_sq(uv, alpha, beta, || sqrt(alpha * beta)),
+            );
             if b == 0.0 {
                 break;
             }
         }
         0.5 * best * REMAINDER_SLACK
+    }
+
+    /// `PreparedBounds::curvature_term` gives the fresh computation's bits, for bounds with
+    /// zero terms and equal ones, and for acute, right, obtuse and axis-aligned triangles
+    /// (whose box aspect is 1 or equal to `sqrt(c / a)`).
+    #[test]
+    fn prepared_curvature_term_is_the_fresh_one_bit_for_bit() {
+        let mut rng = TestRng::new(0x5eed_0002);
+        let value = |rng: &mut TestRng| match rng.signed(5) {
+            -5 => 0.0,
+            -4 => 4.0,
+            _ => rng.signed(1 << 16).unsigned_abs() as f32 / 1000.0,
+        };
+        let mut compared = 0;
+        for _ in 0..2000 {
+            let second = [value(&mut rng), value(&mut rng), value(&mut rng)];
+            let bounds = PatchBounds { second, slack: 0.0 };
+            let prepared = bounds.prepared();
+            for _ in 0..10 {
+                let coordinate = |rng: &mut TestRng| (rng.signed(32) + 32) as f32 / 64.0;
+                let mut uv: [(f32, f32); 3] =
+                    core::array::from_fn(|_| (coordinate(&mut rng), coordinate(&mut rng)));
+                if rng.signed(2) == 0 {
+                    // A right isosceles triangle: a square box (aspect 1).
+                    let (u, v) = uv[0];
+                    uv[1] = (u + 0.125, v);
+                    uv[2] = (u, v + 0.125);
+                }
+                let want = reference(second, uv);
+                let got = prepared.curvature_term(uv);
+                assert_eq!(got.to_bits(), want.to_bits(), "{second:?} {uv:?}");
+                assert_eq!(bounds.curvature_term(uv).to_bits(), want.to_bits());
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, 20_000);
     }
 }

@@ -69,6 +69,42 @@ impl BezierPatch<'_> {
         }
     }
 
+    /// [`position_direct`](Self::position_direct) at `K` parameter pairs, the same bits per
+    /// point. A polynomial patch of degrees (3, 3), (2, 2) or (1, 1) is summed four points at
+    /// a time, one per lane of a [`Vec4`] for each coordinate: every lane takes the scalar
+    /// sum's operations in its order, and each control point is read once per four points
+    /// (SIMD on the host, and fewer loads everywhere). A point on a collapsed side is its pole,
+    /// as `position_direct` gives it.
+    pub(crate) fn positions_direct<const K: usize>(&self, uv: [(f32, f32); K]) -> [Vec3; K] {
+        let (p, q) = (self.degree_u(), self.degree_v());
+        let sum: fn(&[[f32; 3]], Vec4, Vec4) -> [Vec3; 4] = match (self.weights, p, q) {
+            (None, 3, 3) => direct_sum4::<4, 4>,
+            (None, 2, 2) => direct_sum4::<3, 3>,
+            (None, 1, 1) => direct_sum4::<2, 2>,
+            _ => return uv.map(|(u, v)| self.position_direct(u, v)),
+        };
+        let mut out = [Vec3::ZERO; K];
+        for (k0, chunk) in out.chunks_mut(4).enumerate() {
+            // Lanes past the end repeat the chunk's first point.
+            let len = chunk.len();
+            let at = |l: usize| uv[k0 * 4 + if l < len { l } else { 0 }];
+            let (u, v) = (
+                Vec4::new(at(0).0, at(1).0, at(2).0, at(3).0),
+                Vec4::new(at(0).1, at(1).1, at(2).1, at(3).1),
+            );
+            let lanes = sum(self.points, u, v);
+            for (l, point) in chunk.iter_mut().enumerate() {
+                let (u, v) = at(l);
+                let boundary = u == 0.0 || u == 1.0 || v == 0.0 || v == 1.0;
+                *point = match boundary.then(|| self.pole_at(u, v)).flatten() {
+                    Some(pole) => pole,
+                    None => lanes[l],
+                };
+            }
+        }
+        out
+    }
+
     /// Position and partials `S_u`, `S_v` at `(u, v)` in `[0, 1]²` (for integrals over the
     /// patch; no special case at poles).
     pub(crate) fn position_and_partials(&self, u: f32, v: f32) -> (Vec3, Vec3, Vec3) {
@@ -265,6 +301,45 @@ fn direct_sum<const M: usize, const N: usize>(points: &[[f32; 3]], u: f32, v: f3
     sum
 }
 
+/// [`direct_sum`] at four parameter pairs, one per lane: each lane's operations are the
+/// scalar sum's, in its order (the Bernstein values as [`bernstein_fixed`] computes them).
+#[inline(always)]
+fn direct_sum4<const M: usize, const N: usize>(points: &[[f32; 3]], u: Vec4, v: Vec4) -> [Vec3; 4] {
+    let (bu, bv) = (bernstein4::<M>(u), bernstein4::<N>(v));
+    let Some(points) = points.get(..M * N) else {
+        return [Vec3::ZERO; 4];
+    };
+    let (mut x, mut y, mut z) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);
+    for (i, &a) in bu.iter().enumerate() {
+        let (mut rx, mut ry, mut rz) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);
+        for (&[px, py, pz], &b) in points[i * N..(i + 1) * N].iter().zip(&bv) {
+            rx += Vec4::splat(px) * b;
+            ry += Vec4::splat(py) * b;
+            rz += Vec4::splat(pz) * b;
+        }
+        x += rx * a;
+        y += ry * a;
+        z += rz * a;
+    }
+    [0, 1, 2, 3].map(|l| Vec3::new(x[l], y[l], z[l]))
+}
+
+/// [`bernstein_fixed`] at four parameters, one per lane (the same operations per lane).
+#[inline(always)]
+fn bernstein4<const M: usize>(t: Vec4) -> [Vec4; M] {
+    let mut b = [Vec4::ZERO; M];
+    b[0] = Vec4::ONE;
+    let s = Vec4::ONE - t;
+    for k in 1..M {
+        b[k] = t * b[k - 1];
+        for i in (1..k).rev() {
+            b[i] = s * b[i] + t * b[i - 1];
+        }
+        b[0] *= s;
+    }
+    b
+}
+
 /// Point, `S_u / p` and `S_v / q` of a polynomial patch from the Bernstein values of its
 /// degrees (`bu`, `bv`) and one less (`du`, `dv`): direct sums over the net and its
 /// differences. With fixed-length arguments the loops unroll; the operations are the same.
@@ -301,4 +376,72 @@ fn derivative_sums(
         s_u += row * d_i;
     }
     (s, s_u, s_v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::TestRng;
+
+    /// `positions_direct` gives `position_direct`'s bits at every point, for the degrees it
+    /// sums four at a time and for one it hands back (and a rational patch), at interior and
+    /// boundary parameters, and the pole on a collapsed side; for lengths that fill and that
+    /// leave lanes over.
+    #[test]
+    fn positions_direct_are_position_direct_bit_for_bit() {
+        let mut rng = TestRng::new(0x5eed_0001);
+        // About one parameter in eight on the boundary.
+        let unit = |rng: &mut TestRng| match rng.signed(7) {
+            -7 => 0.0,
+            -6 => 1.0,
+            _ => (rng.signed(1 << 20) + (1 << 20)) as f32 / (1 << 21) as f32,
+        };
+        let mut compared = 0;
+        for (p, q) in [(3, 3), (2, 2), (1, 1), (3, 2)] {
+            for collapsed in [false, true] {
+                let n = (p + 1) * (q + 1);
+                let mut points = [[0.0f32; 3]; 16];
+                let mut weights = [1.0f32; 16];
+                for (k, point) in points.iter_mut().enumerate().take(n) {
+                    *point = [0, 1, 2].map(|_| rng.signed(1000) as f32 / 97.0);
+                    weights[k] = 1.0 + rng.signed(50).unsigned_abs() as f32 / 40.0;
+                }
+                if collapsed {
+                    // Side V0 (j = 0) collapsed to one point.
+                    for i in 0..=p {
+                        points[i * (q + 1)] = points[0];
+                    }
+                }
+                let plain = BezierPatch::new(p, q, &points[..n]).unwrap();
+                let rational =
+                    BezierPatch::new_rational(p, q, &points[..n], &weights[..n]).unwrap();
+                assert_eq!(plain.is_collapsed(Side::V0), collapsed);
+                for patch in [plain, rational] {
+                    for _ in 0..20 {
+                        let uv3: [(f32, f32); 3] =
+                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
+                        let uv10: [(f32, f32); 10] =
+                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
+                        let uv18: [(f32, f32); 18] =
+                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
+                        let check = |uv: &[(f32, f32)], got: &[Vec3]| {
+                            for (&(u, v), g) in uv.iter().zip(got) {
+                                let want = patch.position_direct(u, v);
+                                assert_eq!(
+                                    g.to_array().map(f32::to_bits),
+                                    want.to_array().map(f32::to_bits),
+                                    "({p}, {q}) at ({u}, {v})"
+                                );
+                            }
+                            uv.len()
+                        };
+                        compared += check(&uv3, &patch.positions_direct(uv3));
+                        compared += check(&uv10, &patch.positions_direct(uv10));
+                        compared += check(&uv18, &patch.positions_direct(uv18));
+                    }
+                }
+            }
+        }
+        assert_eq!(compared, 4 * 2 * 2 * 20 * 31);
+    }
 }

@@ -132,6 +132,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             } else {
                 slot.recorded / slot.c
             };
+            let mut whole = None;
             for t in 0..tc {
                 let Some((v, n)) = self.storage.triangles[to + t].live_parts() else {
                     continue;
@@ -146,7 +147,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     }
                     continue;
                 }
-                let mut bound = self.bound_entry(p, corners).cached();
+                let mut bound = self.bound_entry(p, to + t, corners).cached();
                 let edges = self
                     .patch_view_with(p, sides)
                     .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
@@ -157,11 +158,11 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     // the threshold it was judged with, or, for a baked prefix triangle, the
                     // one the recorded bound gives at its corners.
                     if f > 1 {
-                        let b = self.bound_of(p, &patch, corners, stats);
+                        let b = self.bound_of(p, to + t, &patch, corners, stats);
                         state.threshold = threshold(view, tol, &b);
                         bound = Some(b);
                     } else if !state.judged() {
-                        let points = self.bound_entry(p, corners).corner_points(&patch);
+                        let points = self.bound_entry(p, to + t, corners).corner_points(&patch);
                         // (Every triangle of a patch without states is within `plain`.)
                         let margin = if stated { slot.recorded } else { slot.plain };
                         let own = own_threshold(view, tol, points, margin);
@@ -173,15 +174,18 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 // (A pattern already bounded this frame keeps its bound.)
                 let mut pieces = None;
                 let mut computed = None;
-                // The whole patch's bounds (cached in its slot) where a pattern is new.
-                let whole = match edges {
-                    Some(e) if e != [f; 3] && state.pattern != [f, e[0], e[1], e[2]] => Some(
-                        *self.storage.patches[p]
+                // The whole patch's bounds (cached in its slot, prepared once for the
+                // patch) where a pattern is new.
+                if whole.is_none()
+                    && edges.is_some_and(|e| e != [f; 3] && state.pattern != [f, e[0], e[1], e[2]])
+                {
+                    whole = Some(
+                        self.storage.patches[p]
                             .whole
-                            .get_or_insert_with(|| PatchBounds::of(&patch)),
-                    ),
-                    _ => None,
-                };
+                            .get_or_insert_with(|| PatchBounds::of(&patch))
+                            .prepared(),
+                    );
+                }
                 if let (Some(view_p), Some(edges)) = (self.patch_view_with(p, sides), edges) {
                     let key = [f, edges[0], edges[1], edges[2]];
                     if edges != [f; 3] && state.pattern == key {
@@ -190,7 +194,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                         computed = Some(key);
                         // Each piece first with the whole patch's remainder, and where that
                         // is over, with the triangle's box (cut once, where first needed).
-                        let whole = whole.unwrap_or_else(|| PatchBounds::of(&patch));
+                        let whole = whole.unwrap_or_else(|| PatchBounds::of(&patch).prepared());
                         let tri = corners.map(GridPoint::to_unit);
                         let mut local = None;
                         let mut worst = 0.0f32;
@@ -289,7 +293,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             return;
         };
         let corners = v.map(|id| self.storage.vertices[vo + id as usize].corner_point());
-        let b = self.bound_of(p, &patch, corners, stats);
+        let b = self.bound_of(p, to + t, &patch, corners, stats);
         let Some(state) = self.state_mut(p, t) else {
             return;
         };

@@ -286,7 +286,9 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
         let hide = self.hide.and_then(|view| {
             let state = self.state(t);
             let patch = self.tess.patches.patch(self.p)?;
-            let points = self.tess.cached_corner_points(self.p, &patch, pr);
+            let points = self
+                .tess
+                .cached_corner_points(self.p, self.to + t, &patch, pr);
             // (With the rounding of the combinations.)
             let big = points.iter().flatten().fold(0.0f32, |m, &x| m.max(x.abs()));
             Some((view, points, state.margin + 8.0 * f32::EPSILON * big))

@@ -55,7 +55,7 @@ use super::bound_cache::{KNOW_COARSE, KNOW_WHOLE};
 use super::select::recorded;
 use super::storage::TriangleSlot;
 use super::{common_side, FrameStats, Tessellator};
-use crate::deviation::{triangle_bound, Lattice, PatchBounds, TriangleBound};
+use crate::deviation::{triangle_bound, Lattice, PatchBounds, PreparedBounds, TriangleBound};
 use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::math::{self, length};
@@ -126,7 +126,7 @@ fn halving(
     lattice: &mut Lattice,
     corners: [GridPoint; 3],
     points: [[f32; 3]; 3],
-    local: &PatchBounds,
+    local: &PreparedBounds,
     inner: [bool; 3],
     c: f32,
 ) -> Option<[u8; 3]> {
@@ -207,8 +207,8 @@ fn halving(
 /// value taken is a bound of the piece on its own, so the smallest is.
 pub(super) fn piece_bound(
     patch: &BezierPatch<'_>,
-    whole: &PatchBounds,
-    local: &mut Option<PatchBounds>,
+    whole: &PreparedBounds,
+    local: &mut Option<PreparedBounds>,
     tri: [(f32, f32); 3],
     uv: [(f32, f32); 3],
     c: f32,
@@ -223,7 +223,7 @@ pub(super) fn piece_bound(
     if bound <= c {
         return bound;
     }
-    let local = local.get_or_insert_with(|| PatchBounds::around(patch, tri));
+    let local = local.get_or_insert_with(|| PatchBounds::around(patch, tri).prepared());
     let curvature = local.curvature_term(uv);
     let general = curvature + local.slack;
     let sampled = worst + curvature * (1.0 / 9.0) + local.slack;
@@ -233,15 +233,26 @@ pub(super) fn piece_bound(
 /// The largest deviation of the piece `uv` from its flat triangle at the 7 points of its
 /// lattice of step 1/3 besides its corners.
 fn piece_worst(patch: &BezierPatch<'_>, uv: [(f32, f32); 3]) -> f32 {
-    let s = uv.map(|(u, v)| patch.position_direct(u, v));
-    let mut worst = 0.0f32;
-    for (i, j) in [(1, 0), (2, 0), (0, 1), (0, 2), (1, 1), (2, 1), (1, 2)] {
+    const INNER: [(usize, usize); 7] = [(1, 0), (2, 0), (0, 1), (0, 2), (1, 1), (2, 1), (1, 2)];
+    let weights = |(i, j): (usize, usize)| {
         let k = 3 - i - j;
-        let (a, b, c) = (k as f32 / 3.0, i as f32 / 3.0, j as f32 / 3.0);
+        (k as f32 / 3.0, i as f32 / 3.0, j as f32 / 3.0)
+    };
+    // The corners and the 7 points, evaluated together.
+    let mut at = [(0.0, 0.0); 10];
+    at[..3].copy_from_slice(&uv);
+    for (slot, ij) in at[3..].iter_mut().zip(INNER) {
+        let (a, b, c) = weights(ij);
         let u = a * uv[0].0 + b * uv[1].0 + c * uv[2].0;
         let v = a * uv[0].1 + b * uv[1].1 + c * uv[2].1;
+        *slot = (u, v);
+    }
+    let s = patch.positions_direct(at);
+    let mut worst = 0.0f32;
+    for (k, ij) in INNER.into_iter().enumerate() {
+        let (a, b, c) = weights(ij);
         let linear = s[0] * a + s[1] * b + s[2] * c;
-        worst = math::max(worst, length(patch.position_direct(u, v) - linear));
+        worst = math::max(worst, length(s[3 + k] - linear));
     }
     worst
 }
@@ -252,11 +263,12 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     pub(super) fn bound_of(
         &mut self,
         p: usize,
+        slot: usize,
         patch: &BezierPatch<'_>,
         corners: [GridPoint; 3],
         stats: &mut FrameStats,
     ) -> TriangleBound {
-        let entry = self.bound_entry(p, corners);
+        let entry = self.bound_entry(p, slot, corners);
         if let Some(b) = entry.cached() {
             return b;
         }
@@ -266,9 +278,10 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         b
     }
 
-    /// Judges a triangle that needs a bound, by the cheapest bound that settles it (see the
+    /// Judges a triangle (in pool triangle slot `slot`) that needs a bound, by the cheapest bound that settles it (see the
     /// module docs): `at_hand` (step 1), then the coarse lattice and the full lattice with
-    /// the whole patch's remainder `whole`, each leaving it uncut where it is within the
+    /// the whole patch's remainder `whole` (`curvature`: its curvature term on the triangle,
+    /// computed once for the three steps), each leaving it uncut where it is within the
     /// threshold it implies, then its own bound, which chooses its factor. The steps and their
     /// values depend on the triangle and the view alone (computed values are cached, never
     /// replaced by others), so the outcome does not depend on what earlier frames cached.
@@ -280,20 +293,36 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     fn judge(
         &mut self,
         p: usize,
+        slot: usize,
         patch: &BezierPatch<'_>,
         lattice: &mut Lattice,
         corners: [GridPoint; 3],
-        whole: &PatchBounds,
+        whole: &PreparedBounds,
+        curvature: f32,
         at_hand: f32,
         view: &View,
         tol: f32,
         max: u8,
         stats: &mut FrameStats,
-    ) -> (u8, f32, f32, Option<(TriangleBound, Option<PatchBounds>)>) {
+    ) -> (
+        u8,
+        f32,
+        f32,
+        Option<(TriangleBound, Option<PreparedBounds>)>,
+    ) {
         let uv = corners.map(GridPoint::to_unit);
-        let state = self.bound_entry(p, corners);
+        let state = self.bound_entry(p, slot, corners);
         let points = state.corner_points(patch);
-        let own_threshold = |bound: f32| own_threshold(view, tol, points, bound);
+        // (In view coordinates once, for the thresholds of every step.)
+        let viewed = view.view_triangle(points);
+        let own_threshold = |bound: f32| {
+            let (scale, culled) = view.viewed_triangle_scale(&viewed, bound);
+            if culled {
+                f32::INFINITY
+            } else {
+                tol * scale
+            }
+        };
         // 1. A bound at hand.
         let c = own_threshold(at_hand);
         if at_hand <= c {
@@ -303,7 +332,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         // step needs it: steps 3 and 4 build on the samples of step 2.
         if state.known & KNOW_COARSE == 0 {
             lattice.sample_coarse_once(patch, corners, points);
-            state.coarse = lattice.coarse_bound(whole, uv).bound();
+            state.coarse = lattice.coarse_bound(curvature, whole.slack).bound();
             state.known |= KNOW_COARSE;
             stats.estimated += 1;
         }
@@ -315,7 +344,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         if state.known & KNOW_WHOLE == 0 {
             lattice.sample_coarse_once(patch, corners, points);
             lattice.complete(patch);
-            state.whole = lattice.bound(whole, uv, false).bound();
+            state.whole = lattice.bound(curvature, whole.slack, false).bound();
             state.known |= KNOW_WHOLE;
         }
         let c = own_threshold(state.whole);
@@ -329,13 +358,14 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 lattice.sample_coarse_once(patch, corners, points);
                 lattice.complete(patch);
                 lattice.pieces();
-                let local = PatchBounds::around(patch, uv);
-                let b = lattice.bound(&local, uv, true);
+                let local = PatchBounds::around(patch, uv).prepared();
+                let b = lattice.bound(local.curvature_term(uv), local.slack, true);
                 state.keep_own(&b);
                 (b, Some(local))
             }
         };
-        let c = threshold(view, tol, &b);
+        // (`b.points` are `points`: the same threshold as `threshold(view, tol, &b)`.)
+        let c = own_threshold(b.bound());
         let f = factor_for(&b, c, max);
         (f, refined_bound(&b, f), c, Some((b, local)))
     }
@@ -391,6 +421,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             let (vo, tc) = (slot.vertex_offset as usize, slot.triangle_capacity as usize);
             // (The lattice knows the triangle it holds by its corners alone.)
             lattice.forget();
+            // The whole patch's bounds, prepared once for its triangles.
+            let mut whole = None;
             let tc = if stated || exhausted || extra.contains(&true) {
                 tc
             } else {
@@ -412,24 +444,33 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 // Off the view (with its surface piece): not written in a refined frame.
                 let hide = refine && !slot.inside && stated;
                 if hide && !needs {
-                    let points = self.bound_entry(p, corners).corner_points(&patch);
+                    let points = self
+                        .bound_entry(p, slot.triangle_offset as usize + t, corners)
+                        .corner_points(&patch);
                     state.set_hidden(view.triangle_scale(points, slot.recorded).1);
                 }
                 let f = if needs {
                     // A bound at hand: the whole patch's curvature term, and the recorded
                     // bound for a prefix triangle.
-                    let whole = *slot.whole.get_or_insert_with(|| PatchBounds::of(&patch));
+                    let whole = *whole.get_or_insert_with(|| {
+                        slot.whole
+                            .get_or_insert_with(|| PatchBounds::of(&patch))
+                            .prepared()
+                    });
                     let uv = corners.map(GridPoint::to_unit);
-                    let mut at_hand = whole.curvature_term(uv) + whole.slack;
+                    let curvature = whole.curvature_term(uv);
+                    let mut at_hand = curvature + whole.slack;
                     if let (false, Some(r)) = (near_extra, own) {
                         at_hand = math::min(at_hand, r);
                     }
                     let (f, pieces, c, own_bound) = self.judge(
                         p,
+                        slot.triangle_offset as usize + t,
                         &patch,
                         &mut lattice,
                         corners,
                         &whole,
+                        curvature,
                         at_hand,
                         view,
                         tol,
@@ -449,7 +490,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     // pattern with that edge halved, bounded in the rounds.
                     let cheaper = match own_bound {
                         Some((b, local)) if f == 2 => {
-                            let local = local.unwrap_or_else(|| PatchBounds::around(&patch, uv));
+                            let local =
+                                local.unwrap_or_else(|| PatchBounds::around(&patch, uv).prepared());
                             let inner = n.map(|x| x.is_some());
                             halving(&patch, &mut lattice, corners, b.points, &local, inner, c)
                         }

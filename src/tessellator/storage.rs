@@ -240,8 +240,9 @@ pub struct StorageSize {
     /// slot, and one that finds the arena full is left uncut, its bound reported like a
     /// budget fit's).
     pub triangle_states: usize,
-    /// [`BoundSlot`]s: the bound cache (any number works, none included; more entries spare
-    /// frames recomputing bounds they computed before).
+    /// [`BoundSlot`]s: the bound cache, one per pool triangle slot (any number works, none
+    /// included; with fewer, slots share entries, and more frames recompute bounds they
+    /// computed before).
     pub bounds: usize,
     /// [`PointSlot`]s: the vertex cache, one per pool vertex slot from the first (any number
     /// works, none included; the slots past it are evaluated at every output).
