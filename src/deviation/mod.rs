@@ -530,7 +530,7 @@ pub fn chord_bound(patch: &BezierPatch<'_>, side: Side, t0: f32, t1: f32) -> Cho
 /// Squared radius of the smallest circle around the triangle `uv` in the coordinates
 /// `(√alpha u, √beta v)`, rounded up, with `sqrt(alpha beta)` from `root` (called only for
 /// an acute triangle).
-#[inline(always)]
+#[inline]
 pub(crate) fn enclosing_radius_sq(
     uv: [(f32, f32); 3],
     alpha: f32,

@@ -70,39 +70,44 @@ impl BezierPatch<'_> {
     }
 
     /// [`position_direct`](Self::position_direct) at `K` parameter pairs, the same bits per
-    /// point. A polynomial patch of degrees (3, 3), (2, 2) or (1, 1) is summed four points at
-    /// a time, one per lane of a [`Vec4`] for each coordinate: every lane takes the scalar
-    /// sum's operations in its order, and each control point is read once per four points
-    /// (SIMD on the host, and fewer loads everywhere). A point on a collapsed side is its pole,
-    /// as `position_direct` gives it.
+    /// point. A bicubic polynomial patch (the common case) is summed four points at a time,
+    /// one per lane of a [`Vec4`] for each coordinate: every lane takes the scalar sum's
+    /// operations in its order, and each control point is read once per four points (SIMD on
+    /// the host, and fewer loads everywhere). A point on a collapsed side is its pole, as
+    /// `position_direct` gives it; other patches are evaluated a point at a time.
     pub(crate) fn positions_direct<const K: usize>(&self, uv: [(f32, f32); K]) -> [Vec3; K] {
-        let (p, q) = (self.degree_u(), self.degree_v());
-        let sum: fn(&[[f32; 3]], Vec4, Vec4) -> [Vec3; 4] = match (self.weights, p, q) {
-            (None, 3, 3) => direct_sum4::<4, 4>,
-            (None, 2, 2) => direct_sum4::<3, 3>,
-            (None, 1, 1) => direct_sum4::<2, 2>,
-            _ => return uv.map(|(u, v)| self.position_direct(u, v)),
-        };
         let mut out = [Vec3::ZERO; K];
-        for (k0, chunk) in out.chunks_mut(4).enumerate() {
+        self.positions_direct_into(&uv, &mut out);
+        out
+    }
+
+    /// [`positions_direct`](Self::positions_direct) into `out` (one copy of the code for every
+    /// length: kernel flash is scarce).
+    fn positions_direct_into(&self, uv: &[(f32, f32)], out: &mut [Vec3]) {
+        let (p, q) = (self.degree_u(), self.degree_v());
+        if !(self.weights.is_none() && p == 3 && q == 3) {
+            for (point, &(u, v)) in out.iter_mut().zip(uv) {
+                *point = self.position_direct(u, v);
+            }
+            return;
+        }
+        for (chunk, at) in out.chunks_mut(4).zip(uv.chunks(4)) {
             // Lanes past the end repeat the chunk's first point.
-            let len = chunk.len();
-            let at = |l: usize| uv[k0 * 4 + if l < len { l } else { 0 }];
+            let first = at.first().copied().unwrap_or_default();
+            let lane = |l: usize| at.get(l).copied().unwrap_or(first);
             let (u, v) = (
-                Vec4::new(at(0).0, at(1).0, at(2).0, at(3).0),
-                Vec4::new(at(0).1, at(1).1, at(2).1, at(3).1),
+                Vec4::new(lane(0).0, lane(1).0, lane(2).0, lane(3).0),
+                Vec4::new(lane(0).1, lane(1).1, lane(2).1, lane(3).1),
             );
-            let lanes = sum(self.points, u, v);
-            for (l, point) in chunk.iter_mut().enumerate() {
-                let (u, v) = at(l);
+            let lanes = direct_sum4::<4, 4>(self.points, u, v);
+            for ((point, &(u, v)), sum) in chunk.iter_mut().zip(at).zip(lanes) {
                 let boundary = u == 0.0 || u == 1.0 || v == 0.0 || v == 1.0;
                 *point = match boundary.then(|| self.pole_at(u, v)).flatten() {
                     Some(pole) => pole,
-                    None => lanes[l],
+                    None => sum,
                 };
             }
         }
-        out
     }
 
     /// Position and partials `S_u`, `S_v` at `(u, v)` in `[0, 1]²` (for integrals over the
@@ -303,7 +308,6 @@ fn direct_sum<const M: usize, const N: usize>(points: &[[f32; 3]], u: f32, v: f3
 
 /// [`direct_sum`] at four parameter pairs, one per lane: each lane's operations are the
 /// scalar sum's, in its order (the Bernstein values as [`bernstein_fixed`] computes them).
-#[inline(always)]
 fn direct_sum4<const M: usize, const N: usize>(points: &[[f32; 3]], u: Vec4, v: Vec4) -> [Vec3; 4] {
     let (bu, bv) = (bernstein4::<M>(u), bernstein4::<N>(v));
     let Some(points) = points.get(..M * N) else {
