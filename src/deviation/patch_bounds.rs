@@ -254,14 +254,10 @@ impl PatchBounds {
     /// These bounds with what [`curvature_term`](Self::curvature_term) computes from them
     /// alone done once, for the many triangles one patch's bounds are applied to.
     pub(crate) fn prepared(&self) -> PreparedBounds {
-        let [a, b, c] = self.second;
+        let [a, _, c] = self.second;
         let t0 = if a > 0.0 && c > 0.0 { sqrt(c / a) } else { 1.0 };
         let pair = |t: f32| {
-            let (alpha, beta) = if b > 0.0 {
-                (a + b * t, c + b / t)
-            } else {
-                (a, c)
-            };
+            let (alpha, beta) = weights_for(self.second, t);
             (alpha, beta, sqrt(alpha * beta))
         };
         PreparedBounds {
@@ -270,6 +266,16 @@ impl PatchBounds {
             t0,
             fixed: [pair(t0), pair(1.0)],
         }
+    }
+}
+
+/// `α = a + b t` and `β = c + b / t` for the second-derivative bounds `[a, b, c]` (`(a, c)`
+/// without a mixed term): `|D²S[h, h]| <= α h_u² + β h_v²` (see the module docs).
+fn weights_for([a, b, c]: [f32; 3], t: f32) -> (f32, f32) {
+    if b > 0.0 {
+        (a + b * t, c + b / t)
+    } else {
+        (a, c)
     }
 }
 
@@ -318,11 +324,7 @@ impl PreparedBounds {
         let (hu, hv) = (hi_u - lo_u, hi_v - lo_v);
         let t1 = if hu > 0.0 && hv > 0.0 { hv / hu } else { 1.0 };
         if t1 != self.t0 {
-            let (alpha, beta) = if b > 0.0 {
-                (a + b * t1, c + b / t1)
-            } else {
-                (a, c)
-            };
+            let (alpha, beta) = weights_for(self.second, t1);
             best = min(
                 best,
                 enclosing_radius_sq(uv, alpha, beta, || sqrt(alpha * beta)),
