@@ -129,6 +129,9 @@ pub struct Camera {
     focal: f32,
     /// Largest visible |x/z| and |y/z| (perspective).
     slope: [f32; 2],
+    /// `sqrt(1 + s²)` for both slopes (perspective; 1 orthographic): the length of a side
+    /// plane's normal `(1, -s)`, by which a distance beyond it is divided.
+    side_norm: [f32; 2],
 }
 
 impl Camera {
@@ -198,6 +201,10 @@ impl Camera {
             viewport,
             focal,
             slope,
+            side_norm: match projection {
+                Projection::Perspective { .. } => slope.map(|s| sqrt(1.0 + s * s)),
+                Projection::Orthographic { .. } => [1.0; 2],
+            },
         })
     }
 
@@ -388,32 +395,28 @@ impl Camera {
         );
         // Signed distances beyond each plane (near, left, right, bottom, top) of the corners;
         // the region is outside when every corner is farther than `margin` beyond one plane.
-        let (nx, ny) = if perspective {
-            (sqrt(1.0 + sx * sx), sqrt(1.0 + sy * sy))
-        } else {
-            (1.0, 1.0)
-        };
-        let beyond = |p: Vec3| -> [f32; 5] {
+        // (A distance is computed only while every earlier corner is beyond that plane.)
+        let [nx, ny] = self.side_norm;
+        let beyond = |p: &Vec3, k: usize| -> f32 {
             if perspective {
-                [
-                    self.near - p.z,
-                    (-p.x - sx * p.z) / nx,
-                    (p.x - sx * p.z) / nx,
-                    (-p.y - sy * p.z) / ny,
-                    (p.y - sy * p.z) / ny,
-                ]
+                match k {
+                    0 => self.near - p.z,
+                    1 => (-p.x - sx * p.z) / nx,
+                    2 => (p.x - sx * p.z) / nx,
+                    3 => (-p.y - sy * p.z) / ny,
+                    _ => (p.y - sy * p.z) / ny,
+                }
             } else {
-                [
-                    self.near - p.z,
-                    -p.x - half_w,
-                    p.x - half_w,
-                    -p.y - half_h,
-                    p.y - half_h,
-                ]
+                match k {
+                    0 => self.near - p.z,
+                    1 => -p.x - half_w,
+                    2 => p.x - half_w,
+                    3 => -p.y - half_h,
+                    _ => p.y - half_h,
+                }
             }
         };
-        let d = v.map(beyond);
-        let culled = (0..5).any(|k| d.iter().all(|c| c[k] > margin));
+        let culled = (0..5).any(|k| v.iter().all(|p| beyond(p, k) > margin));
         if !perspective {
             return (1.0 / self.focal, culled);
         }
@@ -449,8 +452,9 @@ impl Camera {
             Projection::Perspective { .. } => {
                 let [sx, sy] = self.slope;
                 // Distance of the centre outside each side plane (planes through the eye).
-                let side = |x: f32, s: f32| (x.abs() - s * c.z) / sqrt(1.0 + s * s);
-                let outside = c.z + r < self.near || side(c.x, sx) > r || side(c.y, sy) > r;
+                let [nx, ny] = self.side_norm;
+                let side = |x: f32, s: f32, n: f32| (x.abs() - s * c.z) / n;
+                let outside = c.z + r < self.near || side(c.x, sx, nx) > r || side(c.y, sy, ny) > r;
                 let z_min = max(c.z - r, self.near);
                 let a = (c.x.abs() + r) / z_min;
                 let b = (c.y.abs() + r) / z_min;

@@ -146,15 +146,19 @@ impl PatchBounds {
             }
         }
         let radius = sqrt(radius) * (1.0 + 8.0 * EPS) + 2.0 * net_error / w_min;
-        let h = |i: usize, j: usize| {
-            let c = net[i][j];
-            Vec4::new(
-                c.x - center.x * c.w,
-                c.y - center.y * c.w,
-                c.z - center.z * c.w,
-                c.w,
-            )
-        };
+        // The net about its centre, in place, once (the difference nets below read each
+        // point up to ten times).
+        for row in net.iter_mut().take(p + 1) {
+            for c in row.iter_mut().take(q + 1) {
+                *c = Vec4::new(
+                    c.x - center.x * c.w,
+                    c.y - center.y * c.w,
+                    c.z - center.z * c.w,
+                    c.w,
+                );
+            }
+        }
+        let h = |i: usize, j: usize| net[i][j];
         let (pf, qf) = (p as f32, q as f32);
         // A derivative net of order k mixes 2^k net points: its points are off by at most
         // 2^k net_error times its scale.

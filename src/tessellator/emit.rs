@@ -250,13 +250,21 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     next += f - 1;
                 }
             }
-            // Refined triangles.
+            // Refined triangles (counted from their patterns where every piece is written).
             let first_triangle = triangles;
+            let closed_form = ts_out.is_none() && view.writes_every_piece();
             for t in 0..view.tc {
                 if view.hidden(t) {
                     continue;
                 }
+                if closed_form {
+                    let (faces, pieces) = view.piece_counts(t);
+                    next += faces;
+                    triangles += pieces;
+                    continue;
+                }
                 let face_base = next;
+                let before = triangles;
                 let mut faces = 0u32;
                 view.refine(
                     t,
@@ -285,6 +293,12 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     },
                 );
                 next += faces;
+                // The walk and the closed form agree (which a count relies on).
+                debug_assert!(
+                    !view.writes_every_piece()
+                        || view.piece_counts(t) == (faces, triangles - before),
+                    "patch {p} triangle {t}"
+                );
             }
             self.storage.patches[p].triangles = [first_triangle, triangles];
         }

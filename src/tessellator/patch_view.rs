@@ -195,24 +195,22 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
 
     /// Factor of edge `i` (opposite `v[i]`) of triangle `t`.
     pub(super) fn edge_factor(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3], i: usize) -> u8 {
-        let own = self.factor(t);
-        let asked = |t: usize, i: usize| self.state(t).asked(i);
+        let own = self.state(t);
         match n[i] {
             Some(nb) => {
                 let nb = nb as usize;
+                let other = self.state(nb);
+                let f = own.factor.max(1).max(other.factor.max(1)).max(own.asked(i));
+                if !other.halves() {
+                    return f;
+                }
                 // The neighbour's side of the same edge (looked up only when it asks).
-                let asks = self.state(nb).halves();
-                let back = asks
-                    .then(|| self.triangle(nb))
-                    .flatten()
-                    .and_then(|(_, nn)| {
-                        (0..3)
-                            .find(|&j| nn[j] == Some(t as u16))
-                            .map(|j| asked(nb, j))
-                    });
-                own.max(self.factor(nb))
-                    .max(asked(t, i))
-                    .max(back.unwrap_or(0))
+                let back = self.triangle(nb).and_then(|(_, nn)| {
+                    (0..3)
+                        .find(|&j| nn[j] == Some(t as u16))
+                        .map(|j| other.asked(j))
+                });
+                f.max(back.unwrap_or(0))
             }
             None => {
                 let (a, b) = (self.point_of(v[(i + 1) % 3]), self.point_of(v[(i + 2) % 3]));
@@ -220,9 +218,56 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
                     Some(EdgeLink::Curve { curve, .. }) => {
                         self.tess.storage.curves[curve as usize].factor.max(1)
                     }
-                    _ => own,
+                    _ => own.factor.max(1),
                 }
             }
+        }
+    }
+
+    /// The inner factor and ring side factors (`pattern`'s `n` and `e`) domain triangle `t`,
+    /// with corners `v` and neighbours `n`, is cut with, as [`refine`](Self::refine) finds
+    /// them. (`refine` spells the same lines out: called from there, this function cost the
+    /// firmware's render 14k instructions a frame, 2026-11-24.)
+    fn pattern_of(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3]) -> (u8, [u8; 3]) {
+        if self.tess.storage.patches[self.p].factor <= 1 {
+            (1, [1; 3])
+        } else {
+            // Ring side s is the edge opposite v[s+2].
+            let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, (s + 2) % 3));
+            (self.factor(t), e)
+        }
+    }
+
+    /// Whether [`refine`](Self::refine) writes every piece of every pattern: no piece is left
+    /// out for the view, and none is flat. A piece is flat only where two of its points are
+    /// one corner node, and the only nodes among a patch's points are its corners and the
+    /// points of its collapsed sides: with no collapsed side and four distinct corner nodes,
+    /// none is.
+    pub(super) fn writes_every_piece(&self) -> bool {
+        let [a, b, c, d] = self.nodes;
+        self.hide.is_none()
+            && self
+                .edges
+                .iter()
+                .all(|e| matches!(e, EdgeLink::Curve { .. }))
+            && a != b
+            && a != c
+            && a != d
+            && b != c
+            && b != d
+            && c != d
+    }
+
+    /// The inner points and triangles [`refine`](Self::refine) gives domain triangle `t`,
+    /// without walking its pattern, for a patch that
+    /// [`writes_every_piece`](Self::writes_every_piece).
+    pub(super) fn piece_counts(&self, t: usize) -> (u32, u32) {
+        match self.triangle(t) {
+            Some((v, n)) => {
+                let (nf, e) = self.pattern_of(t, v, n);
+                (pattern::inner_points(nf, e), pattern::triangle_count(nf, e))
+            }
+            None => (0, 0),
         }
     }
 

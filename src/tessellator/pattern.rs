@@ -105,7 +105,6 @@ pub(crate) fn inner_index(n: u8, p: Local) -> Option<u32> {
 }
 
 /// Triangles the pattern makes.
-#[cfg(test)]
 pub(crate) fn triangle_count(n: u8, e: [u8; 3]) -> u32 {
     let n32 = n as u32;
     if let Some(s) = single_side(n, e) {
