@@ -8,7 +8,7 @@
 //! combination of grid coordinates divided once, so it does not depend on which triangle
 //! asks for it, nor on the history of the mesh.
 
-use super::patch_view::{Point, MAX};
+use super::patch_view::{Point, VertexBatch, MAX};
 use super::Tessellator;
 use crate::domain::DomainIndex;
 use crate::patch::Side;
@@ -75,6 +75,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     ) -> Option<MeshCounts> {
         let baked = self.baked;
         let mut next = self.nodes;
+        // Points are evaluated a few at a time (the same bits).
+        let mut batch = VertexBatch::default();
         if let Some((vs, _)) = out.as_mut() {
             for n in 0..self.nodes {
                 vs[n as usize] = self.vertex_data(Point::Node(n), 0);
@@ -113,9 +115,10 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                             num: (f - r) * t0 + r * t1,
                             den: f * MAX,
                         };
-                        vs[(next + j - 1) as usize] = self.vertex_data(p, 0);
+                        self.queue_vertex(&mut batch, vs, next + j - 1, p, 0);
                     }
                 }
+                self.flush_vertices(&mut batch, vs);
             }
             next += (cnt + 1) * f - 1;
         }
@@ -244,7 +247,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                                 v: (f - r) * lo.v as u32 + r * hi.v as u32,
                                 den: f * MAX,
                             };
-                            vs[(next + r - 1) as usize] = self.vertex_data(point, p);
+                            self.queue_vertex(&mut batch, vs, next + r - 1, point, p);
                         }
                     }
                     next += f - 1;
@@ -270,7 +273,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     t,
                     &mut |point| {
                         if let Some(vs) = vs_out.as_mut() {
-                            vs[(face_base + faces) as usize] = self.vertex_data(point, p);
+                            self.queue_vertex(&mut batch, vs, face_base + faces, point, p);
                         }
                         faces += 1;
                     },
@@ -299,6 +302,9 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                         || view.piece_counts(t) == (faces, triangles - before),
                     "patch {p} triangle {t}"
                 );
+            }
+            if let Some(vs) = vs_out.as_mut() {
+                self.flush_vertices(&mut batch, vs);
             }
             self.storage.patches[p].triangles = [first_triangle, triangles];
         }

@@ -15,6 +15,7 @@
 
 use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
+use crate::frame::SurfacePoint;
 use crate::sink::Vertex;
 
 use super::Tessellator;
@@ -57,25 +58,43 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             let Some(patch) = self.patches.patch(p) else {
                 continue;
             };
-            for i in slot.vertex_range().skip(4) {
-                if i >= len {
+            // Evaluated four at a time (`BezierPatch::evaluate_into`: the same bits).
+            let mut batch = [(0usize, GridPoint::default()); 4];
+            let mut n = 0;
+            let mut slots = slot.vertex_range().skip(4).take_while(|&i| i < len);
+            loop {
+                let next = slots.next();
+                if let Some(i) = next {
+                    let Some(g) = self.storage.vertices[i].live_point() else {
+                        continue;
+                    };
+                    let entry = &self.storage.vertex_points[i];
+                    if g.on_boundary() || (entry.patch == p as u32 && entry.point == g) {
+                        continue;
+                    }
+                    batch[n] = (i, g);
+                    n += 1;
+                    if n < batch.len() {
+                        continue;
+                    }
+                }
+                if n > 0 {
+                    let uv: [(f32, f32); 4] = core::array::from_fn(|k| unit(batch[k].1));
+                    let mut points = [SurfacePoint::PLACEHOLDER; 4];
+                    patch.evaluate_into(&uv[..n], &mut points[..n]);
+                    for (&(i, g), s) in batch.iter().zip(&points).take(n) {
+                        self.storage.vertex_points[i] = PointSlot {
+                            patch: p as u32,
+                            point: g,
+                            position: s.position.to_array(),
+                            normal: s.normal.to_array(),
+                        };
+                    }
+                    n = 0;
+                }
+                if next.is_none() {
                     break;
                 }
-                let Some(g) = self.storage.vertices[i].live_point() else {
-                    continue;
-                };
-                let entry = &mut self.storage.vertex_points[i];
-                if g.on_boundary() || (entry.patch == p as u32 && entry.point == g) {
-                    continue;
-                }
-                let (u, v) = unit(g);
-                let s = patch.evaluate(u, v);
-                *entry = PointSlot {
-                    patch: p as u32,
-                    point: g,
-                    position: s.position.to_array(),
-                    normal: s.normal.to_array(),
-                };
             }
         }
     }
