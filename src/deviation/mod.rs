@@ -64,8 +64,6 @@
 //! `host-tests/tests/deviation.rs` checks the bound against dense `f64` sampling on every
 //! triangle of every model's bake and reports how tight it is.
 
-use glam::Vec3;
-
 use crate::domain::GridPoint;
 use crate::math::{length, max, sqrt};
 use crate::patch::{BezierPatch, Side};
@@ -138,7 +136,7 @@ pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Trian
 /// the triangle and of its uniform pieces, before any remainder.
 pub(crate) struct Lattice {
     /// Samples, indexed by (i, j): weight i on corner 1, j on corner 2 (in sixths).
-    s: [[Vec3; LATTICE as usize + 1]; LATTICE as usize + 1],
+    s: [[Sample; LATTICE as usize + 1]; LATTICE as usize + 1],
     /// Largest sampled deviation of the pieces of [`SAMPLED_FACTORS`] (the last unused).
     worst: [f32; 4],
     /// Lattice point of the triangle's own largest sampled deviation.
@@ -148,6 +146,22 @@ pub(crate) struct Lattice {
     /// Whether every point is sampled (not only the coarse ones).
     complete: bool,
 }
+
+/// A lattice sample: a [`glam::Vec3A`] where it has SIMD lanes (each lane's arithmetic is
+/// [`glam::Vec3`]'s, and its `dot` adds `x² + y²` then `z²` as `Vec3`'s does: the same bits), three
+/// scalars elsewhere (12 bytes, not 16, on the stack of a microcontroller).
+#[cfg(any(
+    target_feature = "sse2",
+    target_feature = "simd128",
+    all(target_arch = "aarch64", target_feature = "neon")
+))]
+type Sample = glam::Vec3A;
+#[cfg(not(any(
+    target_feature = "sse2",
+    target_feature = "simd128",
+    all(target_arch = "aarch64", target_feature = "neon")
+)))]
+type Sample = glam::Vec3;
 
 /// The surface at the corners of `corners`, computed as every bound computes them.
 pub(crate) fn corner_points(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> [[f32; 3]; 3] {
@@ -290,7 +304,7 @@ impl Lattice {
     /// the stack where a caller may need it several ways). All zeros, so that it is cleared
     /// in place rather than copied from flash.
     pub(crate) const UNSAMPLED: Lattice = Lattice {
-        s: [[Vec3::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1],
+        s: [[Sample::ZERO; LATTICE as usize + 1]; LATTICE as usize + 1],
         worst: [0.0; 4],
         at: (0, 0),
         corners: [GridPoint { u: 0, v: 0 }; 3],
@@ -306,12 +320,12 @@ impl Lattice {
     ) {
         let n = LATTICE as usize;
         let s = &mut self.s;
-        s[0][0] = Vec3::from_array(points[0]);
-        s[n][0] = Vec3::from_array(points[1]);
-        s[0][n] = Vec3::from_array(points[2]);
+        s[0][0] = Sample::from_array(points[0]);
+        s[n][0] = Sample::from_array(points[1]);
+        s[0][n] = Sample::from_array(points[2]);
         let sampled = patch.positions_direct(COARSE.map(|(i, j)| lattice_point(corners, i, j)));
         for ((i, j), point) in COARSE.into_iter().zip(sampled) {
-            s[i][j] = point;
+            s[i][j] = Sample::from_array(point.to_array());
         }
         self.worst = [0.0; 4];
         self.at = (1, 1);
@@ -385,7 +399,7 @@ impl Lattice {
         let corners = self.corners;
         let sampled = patch.positions_direct(FINE.map(|(i, j)| lattice_point(corners, i, j)));
         for ((i, j), point) in FINE.into_iter().zip(sampled) {
-            self.s[i][j] = point;
+            self.s[i][j] = Sample::from_array(point.to_array());
         }
         let s = &self.s;
         let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
