@@ -43,6 +43,33 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             self.check_patterns(view, tol, false, stats);
         }
         self.spread_curve_factors();
+        self.record_patterns();
+    }
+
+    /// Records every stated triangle's agreed pattern in its state
+    /// ([`TriangleSlot::pattern`](super::storage::TriangleSlot)): the output passes (counting,
+    /// writing, streaming) read it rather than agree on each edge again.
+    fn record_patterns(&mut self) {
+        let baked = self.baked;
+        for p in 0..baked.patch_count() {
+            let Some(sides) = baked.patch(p).map(|bp| bp.edges) else {
+                continue;
+            };
+            let slot = self.storage.patches[p];
+            if slot.culled || slot.factor <= 1 {
+                continue;
+            }
+            for t in 0..slot.state_count as usize {
+                let pattern = self.patch_view_with(p, sides).and_then(|view_p| {
+                    let (v, n) = view_p.triangle(t)?;
+                    let (nf, e) = view_p.pattern_of(t, v, n);
+                    Some([nf, e[0], e[1], e[2]])
+                });
+                if let (Some(pattern), Some(state)) = (pattern, self.state_mut(p, t)) {
+                    state.pattern = pattern;
+                }
+            }
+        }
     }
 
     /// A curve's factor can exceed every triangle's along it in one patch: that patch is

@@ -231,7 +231,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     if let Some(slot) = ebase.get_mut(3 * t + i) {
                         *slot = next;
                     }
-                    let f = view.edge_factor(t, v, n, i) as u32;
+                    let f = view.output_edge_factor(t, v, n, i) as u32;
                     if f <= 1 {
                         continue;
                     }

@@ -88,6 +88,9 @@ pub(super) struct PatchView<'t, 'm, 's, Ix: DomainIndex = u16> {
     tess: &'t Tessellator<'m, 's, Ix>,
     /// The view whose hidden pieces [`refine`](Self::refine) leaves out (none: every piece).
     hide: Option<View>,
+    /// Whether its triangles' states hold their agreed patterns (output views, made after
+    /// agreement: see `agree::record_patterns`).
+    recorded: bool,
     /// Where its triangles' states start in the arena and how many there are (0: it has
     /// none; see `states`).
     states: (usize, usize),
@@ -240,13 +243,57 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
     /// with corners `v` and neighbours `n`, is cut with, as [`refine`](Self::refine) finds
     /// them. (`refine` spells the same lines out: called from there, this function cost the
     /// firmware's render 14k instructions a frame, 2026-11-24.)
-    fn pattern_of(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3]) -> (u8, [u8; 3]) {
+    pub(super) fn pattern_of(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3]) -> (u8, [u8; 3]) {
         if self.tess.storage.patches[self.p].factor <= 1 {
             (1, [1; 3])
+        } else if let Some(recorded) = self.recorded_pattern(t, v, n) {
+            recorded
         } else {
             // Ring side s is the edge opposite v[s+2].
             let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, (s + 2) % 3));
             (self.factor(t), e)
+        }
+    }
+
+    /// Triangle `t`'s pattern as agreement recorded it in its state, in an output view of a
+    /// refined patch (none for a triangle without a state: it is agreed again). Debug builds
+    /// check it against agreeing again.
+    #[inline]
+    fn recorded_pattern(
+        &self,
+        t: usize,
+        v: [u16; 3],
+        n: [Option<u16>; 3],
+    ) -> Option<(u8, [u8; 3])> {
+        let (start, count) = self.states;
+        if !(self.recorded && t < count) {
+            return None;
+        }
+        let [nf, e0, e1, e2] = self.tess.storage.triangle_states.get(start + t)?.pattern;
+        debug_assert_eq!(
+            (nf, [e0, e1, e2]),
+            (
+                self.factor(t),
+                [0, 1, 2].map(|s| self.edge_factor(t, v, n, (s + 2) % 3))
+            ),
+            "patch {} triangle {t}: recorded pattern",
+            self.p
+        );
+        Some((nf, [e0, e1, e2]))
+    }
+
+    /// [`edge_factor`](Self::edge_factor) for output: from the recorded pattern where there
+    /// is one (edge `i` is ring side `i + 1`).
+    pub(super) fn output_edge_factor(
+        &self,
+        t: usize,
+        v: [u16; 3],
+        n: [Option<u16>; 3],
+        i: usize,
+    ) -> u8 {
+        match self.recorded_pattern(t, v, n) {
+            Some((_, e)) => e[(i + 1) % 3],
+            None => self.edge_factor(t, v, n, i),
         }
     }
 
@@ -306,6 +353,8 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
         // Nothing refined in or around the patch: every factor is 1 (as `emit`'s fast path).
         let (nf, e) = if self.tess.storage.patches[self.p].factor <= 1 {
             (1, [1; 3])
+        } else if let Some(recorded) = self.recorded_pattern(t, v, n) {
+            recorded
         } else {
             let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
             (self.factor(t), e)
@@ -505,6 +554,7 @@ impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
             nodes: slot.nodes,
             tess: self,
             hide: None,
+            recorded: false,
             states: (slot.states as usize, slot.state_count as usize),
             plain: TriangleSlot::plain(slot.plain, slot.c),
         })
@@ -517,6 +567,7 @@ impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
         if self.refine && !self.storage.patches[p].inside {
             view.hide = self.view;
         }
+        view.recorded = true;
         Some(view)
     }
 

@@ -143,7 +143,8 @@ pub struct TriangleSlot {
     /// [`JUDGED`], [`HIDDEN`], and the edges to halve ([`HALVED`] shifted by the edge).
     flags: u8,
     /// The factor and edge factors of the non-uniform pattern `pieces` bounds this frame
-    /// (zeros when none).
+    /// (zeros when none); once agreement ends, of the pattern it is cut in, whatever it is
+    /// (see `agree::record_patterns`).
     pub(super) pattern: [u8; 4],
     /// Bound of every piece it is cut into in the current frame, in object units.
     pub(super) pieces: f32,
