@@ -75,14 +75,17 @@ pub(super) fn in_circle(
     c: GridPoint,
     d: GridPoint,
 ) -> bool {
-    // Differences up to 2^20 (in i32, and exact in f32): the lifts are below 2^41, the
-    // determinant below 2^85.
+    // Differences up to 2^20 (in i32, and exact in f32, so the filter's are computed in f32
+    // directly): the lifts are below 2^41, the determinant below 2^85.
+    let (mu, mv) = (metric.u as f32, metric.v as f32);
+    let fx = |p: GridPoint| (p.u as f32 - d.u as f32) * mu;
+    let fy = |p: GridPoint| (p.v as f32 - d.v as f32) * mv;
+    if let Some(inside) = in_circle_filter([fx(a), fy(a), fx(b), fy(b), fx(c), fy(c)]) {
+        return inside;
+    }
     let dx = |p: GridPoint| (p.u as i32 - d.u as i32) * metric.u as i32;
     let dy = |p: GridPoint| (p.v as i32 - d.v as i32) * metric.v as i32;
     let differences = [dx(a), dy(a), dx(b), dy(b), dx(c), dy(c)];
-    if let Some(inside) = in_circle_filter(differences.map(|x| x as f32)) {
-        return inside;
-    }
     let [adx, ady, bdx, bdy, cdx, cdy] = differences.map(i64::from);
     let lift = |x: i64, y: i64| (x * x + y * y) as i128;
     let det = lift(adx, ady) * (bdx * cdy - bdy * cdx) as i128
