@@ -62,7 +62,13 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         if self.storage.scratch.len() < scratch {
             return Err(WriteError::ScratchTooSmall { needed: scratch });
         }
-        self.emit(Some((vertices, triangles)));
+        let written = self.emit(Some((vertices, triangles)));
+        // (The count's shortcuts give what writing does.)
+        debug_assert_eq!(
+            written,
+            Some(self.counts),
+            "the mesh written is the one counted"
+        );
         Ok(needed)
     }
 
@@ -140,34 +146,45 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             };
             let vc = self.storage.patches[p].vertex_capacity as usize;
             let (vidx, ebase) = tables.split_at_mut(vc.min(tables.len()));
-            // Domain vertices.
-            for id in 0..vc {
-                if self.storage.vertices[view.vo + id].live_point().is_none() {
-                    continue;
-                }
-                let point = view.vertex(id as u16);
-                let index = match point {
-                    Point::Node(n) => n,
-                    Point::Curve { curve, j, .. } => self.curve_index(curve, j),
-                    Point::Vertex { p: g, .. } => {
-                        if let Some(vs) = vs_out.as_mut() {
-                            vs[next as usize] = self
-                                .cached_vertex(p, view.vo + id, g)
-                                .unwrap_or_else(|| self.vertex_data(point, p));
-                        }
-                        next += 1;
-                        next - 1
+            // Domain vertices: only the interior ones are new output vertices (a corner is a
+            // node, a boundary vertex a node or a curve point), which is all a count needs.
+            if vs_out.is_none() && vidx.is_empty() {
+                next += (4..vc)
+                    .filter(|&id| {
+                        self.storage.vertices[view.vo + id]
+                            .live_point()
+                            .is_some_and(|g| !g.on_boundary())
+                    })
+                    .count() as u32;
+            } else {
+                for id in 0..vc {
+                    if self.storage.vertices[view.vo + id].live_point().is_none() {
+                        continue;
                     }
-                    _ => {
-                        if let Some(vs) = vs_out.as_mut() {
-                            vs[next as usize] = self.vertex_data(point, p);
+                    let point = view.vertex(id as u16);
+                    let index = match point {
+                        Point::Node(n) => n,
+                        Point::Curve { curve, j, .. } => self.curve_index(curve, j),
+                        Point::Vertex { p: g, .. } => {
+                            if let Some(vs) = vs_out.as_mut() {
+                                vs[next as usize] = self
+                                    .cached_vertex(p, view.vo + id, g)
+                                    .unwrap_or_else(|| self.vertex_data(point, p));
+                            }
+                            next += 1;
+                            next - 1
                         }
-                        next += 1;
-                        next - 1
+                        _ => {
+                            if let Some(vs) = vs_out.as_mut() {
+                                vs[next as usize] = self.vertex_data(point, p);
+                            }
+                            next += 1;
+                            next - 1
+                        }
+                    };
+                    if let Some(slot) = vidx.get_mut(id) {
+                        *slot = index;
                     }
-                };
-                if let Some(slot) = vidx.get_mut(id) {
-                    *slot = index;
                 }
             }
             if self.storage.patches[p].factor <= 1 {
