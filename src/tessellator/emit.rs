@@ -192,6 +192,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 // pattern of factor 1 gives, corners from the smallest point on), without
                 // the pattern's machinery.
                 let first_triangle = triangles;
+                let may_flatten = view.may_flatten();
                 for t in 0..view.tc {
                     let Some((v, _)) = view.triangle(t) else {
                         continue;
@@ -206,16 +207,19 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                         }
                     };
                     // On a collapsed edge two corners are one node: the triangle is flat.
-                    let nodes = v.map(|id| {
-                        (id < 4 || view.point_of(id).on_boundary())
-                            .then(|| node(id))
-                            .flatten()
-                    });
+                    // (Only where a side collapses or two corners share a node.)
                     let same = |a: Option<u32>, b: Option<u32>| a.is_some() && a == b;
-                    if same(nodes[0], nodes[1])
-                        || same(nodes[1], nodes[2])
-                        || same(nodes[2], nodes[0])
-                    {
+                    let flat = may_flatten && {
+                        let nodes = v.map(|id| {
+                            (id < 4 || view.point_of(id).on_boundary())
+                                .then(|| node(id))
+                                .flatten()
+                        });
+                        same(nodes[0], nodes[1])
+                            || same(nodes[1], nodes[2])
+                            || same(nodes[2], nodes[0])
+                    };
+                    if flat {
                         continue;
                     }
                     if let Some(ts) = ts_out.as_mut() {

@@ -303,18 +303,23 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
     /// points of its collapsed sides: with no collapsed side and four distinct corner nodes,
     /// none is.
     pub(super) fn writes_every_piece(&self) -> bool {
+        self.hide.is_none() && !self.may_flatten()
+    }
+
+    /// Whether a piece of this patch can be flat (two of its points one corner node): only
+    /// with a collapsed side or two corners on one node.
+    pub(super) fn may_flatten(&self) -> bool {
         let [a, b, c, d] = self.nodes;
-        self.hide.is_none()
-            && self
-                .edges
-                .iter()
-                .all(|e| matches!(e, EdgeLink::Curve { .. }))
+        !(self
+            .edges
+            .iter()
+            .all(|e| matches!(e, EdgeLink::Curve { .. }))
             && a != b
             && a != c
             && a != d
             && b != c
             && b != d
-            && c != d
+            && c != d)
     }
 
     /// The inner points and triangles [`refine`](Self::refine) gives domain triangle `t`,
