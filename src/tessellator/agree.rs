@@ -52,13 +52,13 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     fn record_patterns(&mut self) {
         let baked = self.baked;
         for p in 0..baked.patch_count() {
-            let Some(sides) = baked.patch(p).map(|bp| bp.edges) else {
-                continue;
-            };
             let slot = self.storage.patches[p];
             if slot.culled || slot.factor <= 1 {
                 continue;
             }
+            let Some(sides) = baked.patch_edges(p) else {
+                continue;
+            };
             for t in 0..slot.state_count as usize {
                 let pattern = self.patch_view_with(p, sides).and_then(|view_p| {
                     let (v, n) = view_p.triangle(t)?;
@@ -80,8 +80,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             if self.storage.patches[p].culled {
                 continue;
             }
-            if let Some(bp) = baked.patch(p) {
-                for link in bp.edges {
+            if let Some(edges) = baked.patch_edges(p) {
+                for link in edges {
                     if let EdgeLink::Curve { curve, .. } = link {
                         let f = self.storage.curves[curve as usize].factor;
                         let slot = &mut self.storage.patches[p];
@@ -113,7 +113,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 continue;
             };
             // Nothing changed since the patch was last checked: its patterns and bounds stand.
-            let Some(sides) = baked.patch(p).map(|bp| bp.edges) else {
+            let Some(sides) = baked.patch_edges(p) else {
                 continue;
             };
             let curve_factors = sides.map(|link| match link {
@@ -311,7 +311,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         let Some(patch) = self.patches.patch(p) else {
             return;
         };
-        let Some(bp) = self.baked.patch(p) else {
+        let Some(edges) = self.baked.patch_edges(p) else {
             return;
         };
         let slot = self.storage.patches[p];
@@ -329,6 +329,6 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         self.storage.patches[p].settled = false;
         let s = &mut self.storage.patches[p];
         s.factor = s.factor.max(f);
-        self.hand_to_curves(&bp.edges, corners, n, f);
+        self.hand_to_curves(&edges, corners, n, f);
     }
 }

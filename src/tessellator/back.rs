@@ -54,7 +54,7 @@ impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
         }
         let mut agree = true;
         for p in 0..np {
-            for (side, link) in Side::ALL.into_iter().zip(baked.patch(p)?.edges) {
+            for (side, link) in Side::ALL.into_iter().zip(baked.patch_edges(p)?) {
                 if let EdgeLink::Curve { curve, reversed } = link {
                     let c = self.storage.curves.get_mut(curve as usize)?;
                     let sign = loop_sign(side, reversed);
@@ -87,7 +87,7 @@ impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
         while changed {
             changed = false;
             for p in 0..np {
-                for link in baked.patch(p)?.edges {
+                for link in baked.patch_edges(p)? {
                     if let EdgeLink::Curve { curve, .. } = link {
                         let q = self.storage.curves[curve as usize].owner as usize;
                         let l = labels[p].min(*labels.get(q)?);

@@ -536,7 +536,7 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
 
 impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
     pub(super) fn patch_view(&self, p: usize) -> Option<PatchView<'_, 'm, 's, Ix>> {
-        self.patch_view_with(p, self.baked.patch(p)?.edges)
+        self.patch_view_with(p, self.baked.patch_edges(p)?)
     }
 
     /// [`patch_view`](Self::patch_view) with the patch's sides at hand (read from the bake
