@@ -126,9 +126,11 @@ impl PatchBounds {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         let mut w_min = f32::INFINITY;
+        // (Each point divided by its weight lane by lane: the bits of `Vec3 / f32`.)
+        let euclidean = |h: &Vec4| (*h / Vec4::splat(h.w)).truncate();
         for row in net.iter().take(p + 1) {
             for h in row.iter().take(q + 1) {
-                let e = Vec3::new(h.x, h.y, h.z) / h.w;
+                let e = euclidean(h);
                 lo = lo.min(e);
                 hi = hi.max(e);
                 w_min = min(w_min, h.w);
@@ -141,7 +143,7 @@ impl PatchBounds {
         let mut radius = 0.0f32;
         for row in net.iter().take(p + 1) {
             for h in row.iter().take(q + 1) {
-                let d = Vec3::new(h.x, h.y, h.z) / h.w - center;
+                let d = euclidean(h) - center;
                 radius = max(radius, d.dot(d));
             }
         }
