@@ -277,6 +277,9 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             // Refined triangles (counted from their patterns where every piece is written).
             let first_triangle = triangles;
             let closed_form = ts_out.is_none() && view.writes_every_piece();
+            // An uncut triangle that cannot be flat is its corners' output points, which the
+            // domain vertices' table holds.
+            let may_flatten = view.may_flatten();
             for t in 0..view.tc {
                 if view.hidden(t) {
                     continue;
@@ -286,6 +289,16 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     next += faces;
                     triangles += pieces;
                     continue;
+                }
+                if let (false, Some((v, n))) = (may_flatten, view.triangle(t)) {
+                    if view.pattern_of(t, v, n) == (1, [1; 3]) {
+                        if let Some(ts) = ts_out.as_mut() {
+                            // From the smallest point on, as `refine` writes it.
+                            ts[triangles as usize] = v.map(|id| I::from_index(vidx[id as usize]));
+                        }
+                        triangles += 1;
+                        continue;
+                    }
                 }
                 let face_base = next;
                 let before = triangles;
