@@ -7,14 +7,7 @@ use glam::{Vec3, Vec4};
 use super::{BezierPatch, Side};
 use crate::basis::{bernstein, bernstein_fixed, tensor_point, tensor_with_derivatives, Bezier};
 use crate::frame::{frame, nudge, SurfacePoint};
-use crate::math::{clamp_param, normalize};
-
-/// Whether [`Vec4`] has SIMD lanes on this target (glam's SSE2, NEON and wasm SIMD forms).
-const SIMD_LANES: bool = cfg!(any(
-    target_feature = "sse2",
-    target_feature = "simd128",
-    all(target_arch = "aarch64", target_feature = "neon")
-));
+use crate::math::{clamp_param, normalize, SIMD_LANES};
 
 impl BezierPatch<'_> {
     /// The point at `(u, v)`; parameters are clamped to `[0, 1]` (NaN counts as 0). The same

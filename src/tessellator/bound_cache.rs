@@ -18,6 +18,7 @@
 use crate::deviation::{corner_points, TriangleBound};
 use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
+use crate::math::SIMD_LANES;
 use crate::patch::BezierPatch;
 
 use super::Tessellator;
@@ -104,12 +105,76 @@ impl BoundSlot {
         self.points
     }
 
+    /// [`corner_points`](Self::corner_points) of the triangle with domain vertices `ids`,
+    /// through `memo` (read where it holds all three, and given them).
+    pub(super) fn corner_points_memo(
+        &mut self,
+        patch: &BezierPatch<'_>,
+        ids: [u16; 3],
+        memo: &mut CornerMemo,
+    ) -> [[f32; 3]; 3] {
+        if CORNER_MEMO == 0 {
+            return self.corner_points(patch);
+        }
+        if self.known & KNOW_POINTS == 0 {
+            if let [Some(a), Some(b), Some(c)] = ids.map(|id| memo.get(id)) {
+                self.points = [a, b, c];
+                self.known |= KNOW_POINTS;
+            }
+        }
+        let points = self.corner_points(patch);
+        for (&id, &point) in ids.iter().zip(&points) {
+            memo.put(id, point);
+        }
+        points
+    }
+
     /// Keeps `b` as the triangle's own bound.
     pub(super) fn keep_own(&mut self, b: &TriangleBound) {
         let r = b.refined;
         self.own = [r[0], r[1], r[2], r[3], b.curvature, b.slack];
         self.points = b.points;
         self.known |= KNOW_OWN | KNOW_POINTS;
+    }
+}
+
+/// Entries of a [`CornerMemo`]: none where `Vec4` has no SIMD lanes (a microcontroller, whose
+/// stack it would take).
+const CORNER_MEMO: usize = if SIMD_LANES { 256 } else { 0 };
+
+/// The corner points of one patch's triangles judged in a frame, by domain vertex: a vertex's
+/// point is computed once for the triangles around it rather than once for each. The same
+/// bits as computing it again (a corner's lattice parameters are a function of its grid point
+/// alone). Direct-mapped, on the stack.
+pub(super) struct CornerMemo {
+    ids: [u16; CORNER_MEMO],
+    points: [[f32; 3]; CORNER_MEMO],
+}
+
+impl CornerMemo {
+    /// A memo holding nothing.
+    pub(super) const EMPTY: CornerMemo = CornerMemo {
+        ids: [u16::MAX; CORNER_MEMO],
+        points: [[0.0; 3]; CORNER_MEMO],
+    };
+
+    /// Forgets every point (for another patch).
+    pub(super) fn clear(&mut self) {
+        self.ids = [u16::MAX; CORNER_MEMO];
+    }
+
+    /// The point of domain vertex `id`, if held.
+    pub(super) fn get(&self, id: u16) -> Option<[f32; 3]> {
+        let k = (id as usize).checked_rem(CORNER_MEMO)?;
+        (self.ids[k] == id).then_some(self.points[k])
+    }
+
+    /// Holds `point` as domain vertex `id`'s.
+    pub(super) fn put(&mut self, id: u16, point: [f32; 3]) {
+        if let Some(k) = (id as usize).checked_rem(CORNER_MEMO) {
+            self.ids[k] = id;
+            self.points[k] = point;
+        }
     }
 }
 

@@ -51,7 +51,7 @@
 //! in the view's units: at most the tolerance unless refinement hit
 //! [`Settings::max_factor`](super::Settings::max_factor).
 
-use super::bound_cache::{KNOW_COARSE, KNOW_WHOLE};
+use super::bound_cache::{CornerMemo, KNOW_COARSE, KNOW_WHOLE};
 use super::select::recorded;
 use super::storage::TriangleSlot;
 use super::{common_side, FrameStats, Tessellator};
@@ -297,6 +297,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         patch: &BezierPatch<'_>,
         lattice: &mut Lattice,
         corners: [GridPoint; 3],
+        ids: [u16; 3],
+        memo: &mut CornerMemo,
         whole: &PreparedBounds,
         curvature: f32,
         at_hand: f32,
@@ -312,7 +314,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     ) {
         let uv = corners.map(GridPoint::to_unit);
         let state = self.bound_entry(p, slot, corners);
-        let points = state.corner_points(patch);
+        let points = state.corner_points_memo(patch, ids, memo);
         // (In view coordinates once, for the thresholds of every step.)
         let viewed = view.view_triangle(points);
         let own_threshold = |bound: f32| {
@@ -390,6 +392,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         self.share_states(refine);
         // The samples of the last triangle judged, of the patch at hand.
         let mut lattice = Lattice::UNSAMPLED;
+        // The corner points of the patch at hand's judged triangles.
+        let mut memo = CornerMemo::EMPTY;
         for p in 0..baked.patch_count() {
             let mut slot = self.storage.patches[p];
             if slot.culled {
@@ -421,6 +425,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             let (vo, tc) = (slot.vertex_offset as usize, slot.triangle_capacity as usize);
             // (The lattice knows the triangle it holds by its corners alone.)
             lattice.forget();
+            memo.clear();
             // The whole patch's bounds, prepared once for its triangles.
             let mut whole = None;
             let tc = if stated || exhausted || extra.contains(&true) {
@@ -469,6 +474,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                         &patch,
                         &mut lattice,
                         corners,
+                        v,
+                        &mut memo,
                         &whole,
                         curvature,
                         at_hand,
