@@ -492,21 +492,27 @@ mod tests {
     use super::*;
     use crate::test_rng::TestRng;
 
-    /// `positions_direct` gives `position_direct`'s bits at every point, for the degrees it
-    /// sums four at a time and for one it hands back (and a rational patch), at interior and
-    /// boundary parameters, and the pole on a collapsed side; for lengths that fill and that
-    /// leave lanes over.
-    #[test]
-    fn positions_direct_are_position_direct_bit_for_bit() {
-        let mut rng = TestRng::new(0x5eed_0001);
-        // About one parameter in eight on the boundary.
-        let unit = |rng: &mut TestRng| match rng.signed(7) {
-            -7 => 0.0,
-            -6 => 1.0,
+    /// A parameter in `[0, 1]`, about one in eight on the boundary (0 or 1); with `outside`,
+    /// also some beyond it (-0.25 and 1.5, which evaluation clamps).
+    fn random_unit(rng: &mut TestRng, outside: bool) -> f32 {
+        match (rng.signed(8), outside) {
+            (-8, _) => 0.0,
+            (-7, _) => 1.0,
+            (-6, true) => -0.25,
+            (-5, true) => 1.5,
             _ => (rng.signed(1 << 20) + (1 << 20)) as f32 / (1 << 21) as f32,
-        };
-        let mut compared = 0;
-        for (p, q) in [(3, 3), (2, 2), (1, 1), (3, 2)] {
+        }
+    }
+
+    /// Calls `f` with a plain and a rational patch of each degree pair of `degrees`, each
+    /// from a random net (at most 16 points), once with side V0 (j = 0) collapsed to one
+    /// point and once not.
+    fn for_each_random_patch(
+        rng: &mut TestRng,
+        degrees: &[(usize, usize)],
+        mut f: impl FnMut(&mut TestRng, &BezierPatch<'_>, (usize, usize)),
+    ) {
+        for &(p, q) in degrees {
             for collapsed in [false, true] {
                 let n = (p + 1) * (q + 1);
                 let mut points = [[0.0f32; 3]; 16];
@@ -516,7 +522,6 @@ mod tests {
                     weights[k] = 1.0 + rng.signed(50).unsigned_abs() as f32 / 40.0;
                 }
                 if collapsed {
-                    // Side V0 (j = 0) collapsed to one point.
                     for i in 0..=p {
                         points[i * (q + 1)] = points[0];
                     }
@@ -525,32 +530,43 @@ mod tests {
                 let rational =
                     BezierPatch::new_rational(p, q, &points[..n], &weights[..n]).unwrap();
                 assert_eq!(plain.is_collapsed(Side::V0), collapsed);
-                for patch in [plain, rational] {
-                    for _ in 0..20 {
-                        let uv3: [(f32, f32); 3] =
-                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
-                        let uv10: [(f32, f32); 10] =
-                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
-                        let uv18: [(f32, f32); 18] =
-                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
-                        let check = |uv: &[(f32, f32)], got: &[Vec3]| {
-                            for (&(u, v), g) in uv.iter().zip(got) {
-                                let want = patch.position_direct(u, v);
-                                assert_eq!(
-                                    g.to_array().map(f32::to_bits),
-                                    want.to_array().map(f32::to_bits),
-                                    "({p}, {q}) at ({u}, {v})"
-                                );
-                            }
-                            uv.len()
-                        };
-                        compared += check(&uv3, &patch.positions_direct(uv3));
-                        compared += check(&uv10, &patch.positions_direct(uv10));
-                        compared += check(&uv18, &patch.positions_direct(uv18));
-                    }
-                }
+                f(rng, &plain, (p, q));
+                f(rng, &rational, (p, q));
             }
         }
+    }
+
+    /// `positions_direct` gives `position_direct`'s bits at every point, for the degrees it
+    /// sums four at a time and for one it hands back (and a rational patch), at interior and
+    /// boundary parameters, and the pole on a collapsed side; for lengths that fill and that
+    /// leave lanes over.
+    #[test]
+    fn positions_direct_are_position_direct_bit_for_bit() {
+        let mut rng = TestRng::new(0x5eed_0001);
+        let mut compared = 0;
+        let degrees = [(3, 3), (2, 2), (1, 1), (3, 2)];
+        for_each_random_patch(&mut rng, &degrees, |rng, patch, (p, q)| {
+            let mut unit = || random_unit(rng, false);
+            for _ in 0..20 {
+                let uv3: [(f32, f32); 3] = core::array::from_fn(|_| (unit(), unit()));
+                let uv10: [(f32, f32); 10] = core::array::from_fn(|_| (unit(), unit()));
+                let uv18: [(f32, f32); 18] = core::array::from_fn(|_| (unit(), unit()));
+                let check = |uv: &[(f32, f32)], got: &[Vec3]| {
+                    for (&(u, v), g) in uv.iter().zip(got) {
+                        let want = patch.position_direct(u, v);
+                        assert_eq!(
+                            g.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "({p}, {q}) at ({u}, {v})"
+                        );
+                    }
+                    uv.len()
+                };
+                compared += check(&uv3, &patch.positions_direct(uv3));
+                compared += check(&uv10, &patch.positions_direct(uv10));
+                compared += check(&uv18, &patch.positions_direct(uv18));
+            }
+        });
         assert_eq!(compared, 4 * 2 * 2 * 20 * 31);
     }
 
@@ -559,49 +575,23 @@ mod tests {
     #[test]
     fn evaluate_into_is_evaluate_bit_for_bit() {
         let mut rng = TestRng::new(0x5eed_0002);
-        let unit = |rng: &mut TestRng| match rng.signed(8) {
-            -8 => 0.0,
-            -7 => 1.0,
-            -6 => -0.25,
-            -5 => 1.5,
-            _ => (rng.signed(1 << 20) + (1 << 20)) as f32 / (1 << 21) as f32,
-        };
         let bits = |s: &SurfacePoint| {
             [s.position, s.partial_u, s.partial_v, s.normal].map(|x| x.to_array().map(f32::to_bits))
         };
         let mut compared = 0;
-        for (p, q) in [(3, 3), (2, 2), (3, 2)] {
-            for collapsed in [false, true] {
-                let n = (p + 1) * (q + 1);
-                let mut points = [[0.0f32; 3]; 16];
-                let mut weights = [1.0f32; 16];
-                for (k, point) in points.iter_mut().enumerate().take(n) {
-                    *point = [0, 1, 2].map(|_| rng.signed(1000) as f32 / 97.0);
-                    weights[k] = 1.0 + rng.signed(50).unsigned_abs() as f32 / 40.0;
-                }
-                if collapsed {
-                    for i in 0..=p {
-                        points[i * (q + 1)] = points[0];
-                    }
-                }
-                let plain = BezierPatch::new(p, q, &points[..n]).unwrap();
-                let rational =
-                    BezierPatch::new_rational(p, q, &points[..n], &weights[..n]).unwrap();
-                for patch in [plain, rational] {
-                    for len in [1, 3, 4, 7, 9] {
-                        let uv: [(f32, f32); 9] =
-                            core::array::from_fn(|_| (unit(&mut rng), unit(&mut rng)));
-                        let mut got = [patch.evaluate(0.5, 0.5); 9];
-                        patch.evaluate_into(&uv[..len], &mut got[..len]);
-                        for (&(u, v), g) in uv.iter().zip(&got).take(len) {
-                            let want = patch.evaluate(u, v);
-                            assert_eq!(bits(g), bits(&want), "({p}, {q}) at ({u}, {v})");
-                            compared += 1;
-                        }
-                    }
+        for_each_random_patch(&mut rng, &[(3, 3), (2, 2), (3, 2)], |rng, patch, (p, q)| {
+            for len in [1, 3, 4, 7, 9] {
+                let uv: [(f32, f32); 9] =
+                    core::array::from_fn(|_| (random_unit(rng, true), random_unit(rng, true)));
+                let mut got = [patch.evaluate(0.5, 0.5); 9];
+                patch.evaluate_into(&uv[..len], &mut got[..len]);
+                for (&(u, v), g) in uv.iter().zip(&got).take(len) {
+                    let want = patch.evaluate(u, v);
+                    assert_eq!(bits(g), bits(&want), "({p}, {q}) at ({u}, {v})");
+                    compared += 1;
                 }
             }
-        }
+        });
         assert_eq!(compared, 3 * 2 * 2 * 24);
     }
 }
