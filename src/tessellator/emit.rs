@@ -8,7 +8,8 @@
 //! combination of grid coordinates divided once, so it does not depend on which triangle
 //! asks for it, nor on the history of the mesh.
 
-use super::patch_view::{Point, VertexBatch, MAX};
+use super::output_vertex::VertexBatch;
+use super::patch_view::{Point, MAX};
 use super::Tessellator;
 use crate::domain::DomainIndex;
 use crate::patch::Side;

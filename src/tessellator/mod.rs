@@ -37,6 +37,7 @@ mod bound_cache;
 mod budget;
 mod emit;
 mod fixed;
+mod output_vertex;
 mod patch_view;
 mod pattern;
 mod pool;
