@@ -16,6 +16,7 @@
 use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::frame::SurfacePoint;
+use crate::math::SIMD_LANES;
 use crate::sink::Vertex;
 
 use super::Tessellator;
@@ -42,6 +43,9 @@ impl Default for PointSlot {
     }
 }
 
+/// Points [`Tessellator::fill_vertex_points`] evaluates together.
+const FILL_BATCH: usize = if SIMD_LANES { 4 } else { 1 };
+
 impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// Evaluates the live interior vertices of the visible patches that the cache does not
     /// hold.
@@ -58,8 +62,9 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             let Some(patch) = self.patches.patch(p) else {
                 continue;
             };
-            // Evaluated four at a time (`BezierPatch::evaluate_into`: the same bits).
-            let mut batch = [(0usize, GridPoint::default()); 4];
+            // Evaluated four at a time where `Vec4` has SIMD lanes
+            // (`BezierPatch::evaluate_into`: the same bits), else one at a time.
+            let mut batch = [(0usize, GridPoint::default()); FILL_BATCH];
             let mut n = 0;
             let mut slots = slot.vertex_range().skip(4).take_while(|&i| i < len);
             loop {
@@ -79,8 +84,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     }
                 }
                 if n > 0 {
-                    let uv: [(f32, f32); 4] = core::array::from_fn(|k| unit(batch[k].1));
-                    let mut points = [SurfacePoint::PLACEHOLDER; 4];
+                    let uv: [(f32, f32); FILL_BATCH] = core::array::from_fn(|k| unit(batch[k].1));
+                    let mut points = [SurfacePoint::PLACEHOLDER; FILL_BATCH];
                     patch.evaluate_into(&uv[..n], &mut points[..n]);
                     for (&(i, g), s) in batch.iter().zip(&points).take(n) {
                         self.storage.vertex_points[i] = PointSlot {
