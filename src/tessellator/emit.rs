@@ -277,7 +277,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             }
             // Refined triangles (counted from their patterns where every piece is written).
             let first_triangle = triangles;
-            let closed_form = ts_out.is_none() && view.writes_every_piece();
+            let every_piece = view.writes_every_piece();
+            let closed_form = ts_out.is_none() && every_piece;
             // An uncut triangle that cannot be flat is its corners' output points, which the
             // domain vertices' table holds.
             let may_flatten = view.may_flatten();
@@ -333,8 +334,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                 next += faces;
                 // The walk and the closed form agree (which a count relies on).
                 debug_assert!(
-                    !view.writes_every_piece()
-                        || view.piece_counts(t) == (faces, triangles - before),
+                    !every_piece || view.piece_counts(t) == (faces, triangles - before),
                     "patch {p} triangle {t}"
                 );
             }

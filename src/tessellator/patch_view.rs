@@ -236,10 +236,17 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
         } else if let Some(recorded) = self.recorded_pattern(t, v, n) {
             recorded
         } else {
-            // Ring side s is the edge opposite v[s+2].
-            let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, (s + 2) % 3));
-            (self.factor(t), e)
+            self.agreed_pattern(t, v, n)
         }
+    }
+
+    /// Triangle `t`'s factor and ring side factors, agreed from its and its neighbours'
+    /// states now.
+    #[inline(always)]
+    fn agreed_pattern(&self, t: usize, v: [u16; 3], n: [Option<u16>; 3]) -> (u8, [u8; 3]) {
+        // Ring side s is the edge opposite v[s+2].
+        let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, (s + 2) % 3));
+        (self.factor(t), e)
     }
 
     /// Triangle `t`'s pattern as agreement recorded it in its state, in an output view of a
@@ -259,10 +266,7 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
         let [nf, e0, e1, e2] = self.tess.storage.triangle_states.get(start + t)?.pattern;
         debug_assert_eq!(
             (nf, [e0, e1, e2]),
-            (
-                self.factor(t),
-                [0, 1, 2].map(|s| self.edge_factor(t, v, n, (s + 2) % 3))
-            ),
+            self.agreed_pattern(t, v, n),
             "patch {} triangle {t}: recorded pattern",
             self.p
         );
@@ -348,8 +352,7 @@ impl<Ix: DomainIndex> PatchView<'_, '_, '_, Ix> {
         } else if let Some(recorded) = self.recorded_pattern(t, v, n) {
             recorded
         } else {
-            let e = [0, 1, 2].map(|s| self.edge_factor(t, v, n, edge_of(s)));
-            (self.factor(t), e)
+            self.agreed_pattern(t, v, n)
         };
         let corner = v.map(|id| self.vertex(id));
         if nf == 1 && e == [1; 3] {
