@@ -17,6 +17,7 @@ use crate::domain::DomainIndex;
 use crate::domain::GridPoint;
 use crate::frame::SurfacePoint;
 use crate::math::SIMD_LANES;
+use crate::patch::BezierPatch;
 use crate::sink::Vertex;
 
 use super::Tessellator;
@@ -66,41 +67,40 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             // (`BezierPatch::evaluate_into`: the same bits), else one at a time.
             let mut batch = [(0usize, GridPoint::default()); FILL_BATCH];
             let mut n = 0;
-            let mut slots = slot.vertex_range().skip(4).take_while(|&i| i < len);
-            loop {
-                let next = slots.next();
-                if let Some(i) = next {
-                    let Some(g) = self.storage.vertices[i].live_point() else {
-                        continue;
-                    };
-                    let entry = &self.storage.vertex_points[i];
-                    if g.on_boundary() || (entry.patch == p as u32 && entry.point == g) {
-                        continue;
-                    }
-                    batch[n] = (i, g);
-                    n += 1;
-                    if n < batch.len() {
-                        continue;
-                    }
+            for i in slot.vertex_range().skip(4).take_while(|&i| i < len) {
+                let Some(g) = self.storage.vertices[i].live_point() else {
+                    continue;
+                };
+                let entry = &self.storage.vertex_points[i];
+                if g.on_boundary() || (entry.patch == p as u32 && entry.point == g) {
+                    continue;
                 }
-                if n > 0 {
-                    let uv: [(f32, f32); FILL_BATCH] = core::array::from_fn(|k| unit(batch[k].1));
-                    let mut points = [SurfacePoint::PLACEHOLDER; FILL_BATCH];
-                    patch.evaluate_into(&uv[..n], &mut points[..n]);
-                    for (&(i, g), s) in batch.iter().zip(&points).take(n) {
-                        self.storage.vertex_points[i] = PointSlot {
-                            patch: p as u32,
-                            point: g,
-                            position: s.position.to_array(),
-                            normal: s.normal.to_array(),
-                        };
-                    }
+                batch[n] = (i, g);
+                n += 1;
+                if n == FILL_BATCH {
+                    self.fill_points(p, &patch, &batch);
                     n = 0;
                 }
-                if next.is_none() {
-                    break;
-                }
             }
+            self.fill_points(p, &patch, &batch[..n]);
+        }
+    }
+
+    /// Evaluates the interior grid points `points` (with their pool vertex slots) of patch
+    /// `p` into the cache, together.
+    fn fill_points(&mut self, p: usize, patch: &BezierPatch<'_>, points: &[(usize, GridPoint)]) {
+        let n = points.len().min(FILL_BATCH);
+        let uv: [(f32, f32); FILL_BATCH] =
+            core::array::from_fn(|k| points.get(k).map_or((0.0, 0.0), |&(_, g)| unit(g)));
+        let mut evaluated = [SurfacePoint::PLACEHOLDER; FILL_BATCH];
+        patch.evaluate_into(&uv[..n], &mut evaluated[..n]);
+        for (&(i, g), s) in points.iter().zip(&evaluated) {
+            self.storage.vertex_points[i] = PointSlot {
+                patch: p as u32,
+                point: g,
+                position: s.position.to_array(),
+                normal: s.normal.to_array(),
+            };
         }
     }
 
