@@ -295,6 +295,7 @@ impl<O: BandOutput> Band<'_, '_, O> {
 
     /// Draws the triangles in the first `front` slots of `list` (its groups and triangles)
     /// that reach the band, in order.
+    #[inline(never)]
     pub fn draw_list(&mut self, list: &[ListSlot], front: usize) {
         let rows = SubpixelRows::new(&self.rows());
         for_each_listed(list, front, &rows, |t| {

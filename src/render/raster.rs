@@ -204,6 +204,23 @@ fn inside_columns<I: EdgeInt>(
     (lo <= hi).then_some((lo, hi))
 }
 
+/// [`inside_columns`] in 64 bits, for rows of [`Edges::Wide`] triangles: out of line, so
+/// that the 32-bit arithmetic of small viewports keeps its registers.
+#[cold]
+#[inline(never)]
+fn wide_columns(
+    k: &[i64; 3],
+    m0: &[i64; 3],
+    dx: &[i32; 3],
+    yc: i32,
+    lo: i32,
+    hi: i32,
+) -> Option<(i32, i32)> {
+    let (lo, hi) = inside_columns(k, m0, dx, yc as i64, lo as i64, hi as i64)?;
+    // Within the columns asked for: `i32`.
+    Some((lo as i32, hi as i32))
+}
+
 /// `v` as `f32`: exactly rounded when it fits `i32` (one instruction on a 32-bit core, where
 /// a 64-bit conversion is a library call), within two roundings otherwise.
 #[inline]
@@ -216,17 +233,17 @@ fn wide_to_f32(v: i64) -> f32 {
     }
 }
 
-fn snap(v: f32) -> i64 {
+fn snap(v: f32) -> i32 {
     // `floor` without the library call: `x` is within `±2^28`, so truncation is exact in
     // `i32` and one comparison corrects it for negative non-integers.
     let x = v * SUBPIXELS as f32 + 0.5;
     let t = x as i32;
-    (t - ((t as f32) > x) as i32) as i64
+    t - ((t as f32) > x) as i32
 }
 
 /// `v` snapped to 1/16 pixel, when it is a finite pixel position within [`COORDINATE_LIMIT`]
 /// (the comparison is false for NaN).
-pub(crate) fn snap_checked(v: f32) -> Option<i64> {
+pub(crate) fn snap_checked(v: f32) -> Option<i32> {
     (v.abs() <= COORDINATE_LIMIT).then(|| snap(v))
 }
 
@@ -260,17 +277,31 @@ impl Triangle {
     /// within [`COORDINATE_LIMIT`] pixels) with their depth keys and shades; `None` when it
     /// has no area.
     pub fn from_snapped(
+        x: [i32; 3],
+        y: [i32; 3],
+        depth: [f32; 3],
+        shade: [f32; 3],
+        wire: [bool; 3],
+    ) -> Option<Triangle> {
+        let narrow = NARROW_LIMIT as i32;
+        if x.iter().chain(&y).all(|&v| -narrow <= v && v <= narrow) {
+            Triangle::set_up(x, y, depth, shade, wire)
+        } else {
+            Triangle::set_up_wide(x.map(i64::from), y.map(i64::from), depth, shade, wire)
+        }
+    }
+
+    /// [`set_up`](Self::set_up) in 64 bits, out of line (see [`wide_columns`]).
+    #[cold]
+    #[inline(never)]
+    fn set_up_wide(
         x: [i64; 3],
         y: [i64; 3],
         depth: [f32; 3],
         shade: [f32; 3],
         wire: [bool; 3],
     ) -> Option<Triangle> {
-        if x.iter().chain(&y).all(|v| v.abs() <= NARROW_LIMIT) {
-            Triangle::set_up(x.map(|v| v as i32), y.map(|v| v as i32), depth, shade, wire)
-        } else {
-            Triangle::set_up(x, y, depth, shade, wire)
-        }
+        Triangle::set_up(x, y, depth, shade, wire)
     }
 
     /// [`from_snapped`](Self::from_snapped) in the integer type `I`, which holds every edge
@@ -368,11 +399,7 @@ impl Triangle {
         let (lo, hi) = (columns.start, columns.end - 1);
         let (lo, hi) = match &self.edges {
             Edges::Narrow { k, m0 } => inside_columns(k, m0, &self.dx, yc, lo, hi)?,
-            Edges::Wide { k, m0 } => {
-                let (lo, hi) = inside_columns(k, m0, &self.dx, yc as i64, lo as i64, hi as i64)?;
-                // Within `columns`: `i32`.
-                (lo as i32, hi as i32)
-            }
+            Edges::Wide { k, m0 } => wide_columns(k, m0, &self.dx, yc, lo, hi)?,
         };
         let xc = lo * SUBPIXELS as i32 + HALF as i32;
         let (rx, ry) = ((xc - self.x[0]) as f32, (yc - self.y[0]) as f32);
@@ -561,7 +588,7 @@ mod tests {
         // Then the same values with the other sign and a little smaller.
         for _ in 0..2 {
             for &v in &values {
-                let expect = libm::floorf(v * SUBPIXELS as f32 + 0.5) as i64;
+                let expect = libm::floorf(v * SUBPIXELS as f32 + 0.5) as i32;
                 assert_eq!(snap(v), expect, "{v}");
                 assert_eq!(snap_checked(v), Some(expect), "{v}");
             }
@@ -572,7 +599,7 @@ mod tests {
         // And a sweep in steps that are not dyadic.
         let mut v = -40.0f32;
         while v < 40.0 {
-            assert_eq!(snap(v), libm::floorf(v * 16.0 + 0.5) as i64, "{v}");
+            assert_eq!(snap(v), libm::floorf(v * 16.0 + 0.5) as i32, "{v}");
             v += 0.007_812_5 * 0.37;
         }
         assert_eq!(snap_checked(f32::NAN), None);

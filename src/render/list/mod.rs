@@ -62,11 +62,11 @@ impl ListSlot {
     }
 
     /// A corner slot as the rasteriser takes it: `x`, `y` in subpixels, depth key, shade.
-    fn unpack_corner(&self) -> (i64, i64, f32, f32) {
+    fn unpack_corner(&self) -> (i32, i32, f32, f32) {
         let [x, y, depth, shade] = self.0;
         (
-            x as i16 as i64,
-            y as i16 as i64,
+            x as i16 as i32,
+            y as i16 as i32,
             depth_from_u16(depth),
             shade_from_u8(shade as u8),
         )
@@ -139,28 +139,52 @@ pub(super) fn for_each_listed<'l>(
         if !header.group_meets(rows) {
             continue;
         }
-        // Offsets are one byte: `base - 1 - offset` stays in the group's window.
+        // Offsets are one byte: `base - 1 - offset` stays in the group's window, whose
+        // slots are a fixed-size array (no bounds check per corner) unless the list is
+        // shorter than a window.
         let base = header.group_base();
-        let mut triangle = |ab: u16, c_flags: u16, flat: Option<u8>| {
-            let corner = |off: u16| list.get(base.wrapping_sub(1 + (off & 0xff) as usize));
-            if let (Some(a), Some(b), Some(c)) = (corner(ab), corner(ab >> 8), corner(c_flags)) {
-                f(ListedTriangle {
-                    corners: [a, b, c],
-                    flags: (c_flags >> 8) as u8,
-                    flat,
-                });
-            }
-        };
-        for (i, slot) in group.iter().enumerate() {
-            let [ab, c_flags, second_ab, second_c_flags] = slot.0;
-            if (c_flags >> 8) as u8 & FLAT != 0 {
-                triangle(ab, c_flags, Some(second_ab as u8));
-                continue;
-            }
-            triangle(ab, c_flags, None);
-            if 2 * i + 1 < halves {
-                triangle(second_ab, second_c_flags, None);
-            }
+        let window = list.get(base.saturating_sub(WINDOW)..base).unwrap_or(&[]);
+        match <&[ListSlot; WINDOW]>::try_from(window) {
+            Ok(full) => group_triangles(group, halves, |off| Some(&full[WINDOW - 1 - off]), &mut f),
+            // Through `dyn`: one copy of `f` inlined is enough.
+            Err(_) => group_triangles(
+                group,
+                halves,
+                |off| window.get(window.len().wrapping_sub(1 + off)),
+                &mut (&mut f as &mut dyn FnMut(ListedTriangle<'l>)),
+            ),
+        }
+    }
+}
+
+/// Hands `f` the triangles of one group, `halves` half slots in `group`, with their corners
+/// `corner(offset)`.
+#[inline(always)]
+fn group_triangles<'l>(
+    group: &[ListSlot],
+    halves: usize,
+    corner: impl Fn(usize) -> Option<&'l ListSlot>,
+    f: &mut impl FnMut(ListedTriangle<'l>),
+) {
+    let mut triangle = |ab: u16, c_flags: u16, flat: Option<u8>| {
+        let at = |off: u16| corner((off & 0xff) as usize);
+        if let (Some(a), Some(b), Some(c)) = (at(ab), at(ab >> 8), at(c_flags)) {
+            f(ListedTriangle {
+                corners: [a, b, c],
+                flags: (c_flags >> 8) as u8,
+                flat,
+            });
+        }
+    };
+    for (i, slot) in group.iter().enumerate() {
+        let [ab, c_flags, second_ab, second_c_flags] = slot.0;
+        if (c_flags >> 8) as u8 & FLAT != 0 {
+            triangle(ab, c_flags, Some(second_ab as u8));
+            continue;
+        }
+        triangle(ab, c_flags, None);
+        if 2 * i + 1 < halves {
+            triangle(second_ab, second_c_flags, None);
         }
     }
 }
