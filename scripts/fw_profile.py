@@ -31,8 +31,7 @@ QEMU = [
 PARTS = [
     ("rasterising (spans, depth test, colours)", ["rasterise"]),
     ("triangle set-up, per band it meets", ["from_snapped"]),
-    ("band loop: fill, push, display model", ["fw_teapot5frame",
-                                                          "6teapot6render"]),
+    ("band loop: fill, push, display model", ["fw_teapot5frame", "6teapot6render"]),
     ("surface evaluation", ["frame_at", "8evaluate", "pole_at", "sqrtf", "is_collapsed",
                             "fmaxf", "fminf"]),
     ("domain mesh traversal and corner keys", ["stream_patch", "edge_factor", "curve_point",
