@@ -146,12 +146,11 @@ pub(super) fn for_each_listed<'l>(
         let window = list.get(base.saturating_sub(WINDOW)..base).unwrap_or(&[]);
         match <&[ListSlot; WINDOW]>::try_from(window) {
             Ok(full) => group_triangles(group, halves, |off| Some(&full[WINDOW - 1 - off]), &mut f),
-            // Through `dyn`: one copy of `f` inlined is enough.
             Err(_) => group_triangles(
                 group,
                 halves,
                 |off| window.get(window.len().wrapping_sub(1 + off)),
-                &mut (&mut f as &mut dyn FnMut(ListedTriangle<'l>)),
+                &mut f,
             ),
         }
     }
