@@ -90,7 +90,6 @@ use embedded_graphics::primitives::Rectangle;
 
 use crate::view::Camera;
 use band::{Band, BandOutput, BandPixels, Buffered, Rgb565Be, Runs, Typed};
-use list::ListSink;
 pub use list::ListSlot;
 use project::{CornerCache, Setup};
 pub use source::{IndexedMesh, TriangleSource};
@@ -519,23 +518,24 @@ impl<'d> Renderer<'d> {
         let setup = Setup::new(camera, source.bound(), style);
         // One cache of corners in view space, for the list's pass and then each band's.
         let mut corners = CornerCache::new();
-        let [x0, x1] = area.columns;
-        let [y0, y1] = area.rows;
-        let width = (x1 - x0) as usize;
         // One pass into the list, when there is one: `Some((n, resume))` when it holds the
         // frame's first `n` triangles, all of them unless patches from `resume` on are left.
         let mut listed = None;
         if !self.list.is_empty() && setup.depth.is_some() {
-            let mut sink = ListSink::new(&setup, self.list, &mut corners);
-            source.stream_rows(camera, y0 as u32..y1 as u32, &mut sink);
+            let [y0, y1] = area.rows;
+            let rows = y0 as u32..y1 as u32;
+            let filled = list::fill(&setup, self.list, &mut corners, source, rows);
             stats.passes += 1;
-            stats.triangles += sink.handed;
-            if !sink.overflow {
-                listed = Some((sink.len, sink.resume));
-                stats.listed = sink.listed;
-                stats.list_slots = sink.used() as u32;
+            stats.triangles += filled.handed;
+            if let Some(held) = filled.listed {
+                listed = Some(held);
+                stats.listed = filled.triangles;
+                stats.list_slots = filled.slots;
             }
         }
+        let [x0, x1] = area.columns;
+        let [y0, y1] = area.rows;
+        let width = (x1 - x0) as usize;
         let mut top = y0;
         while top < y1 {
             let bottom = (top as i64 + area.band_rows as i64).min(y1 as i64) as i32;

@@ -114,23 +114,15 @@ impl<'a> Setup<'a> {
         inside: bool,
         mut out: impl FnMut([ScreenVertex; 3], [bool; 3]),
     ) {
-        let camera = self.camera;
-        if self.style.shading == Shading::Flat {
-            let [a, b, c] = t.map(|c| c.view);
-            let shade = self.shade((b - a).cross(c - a), (a + b + c) / 3.0);
+        if let Some(shade) = self.flat_shade(&t) {
             for c in &mut t {
                 c.shade = shade;
             }
         }
         let wire = self.style.wireframe.is_some();
-        let screen_of = |c: &ClipVertex| ScreenVertex {
-            xy: camera.view_to_pixel(c.view),
-            depth: self.depth_key(c.view.z),
-            shade: quantize_shade(c.shade),
-        };
         if inside {
             // Most triangles: nothing to clip.
-            out(t.each_ref().map(screen_of), [wire; 3]);
+            out(t.each_ref().map(|c| self.screen(c)), [wire; 3]);
             return;
         }
         let poly = self.frustum.clip(t, [wire; 3]);
@@ -138,7 +130,7 @@ impl<'a> Setup<'a> {
         let n = poly.len;
         let mut screen = [ScreenVertex::default(); clip::MAX_CORNERS];
         for (s, c) in screen.iter_mut().zip(&poly.corners[..n]) {
-            *s = screen_of(c);
+            *s = self.screen(c);
         }
         for k in 1..n.saturating_sub(1) {
             let edges = [
@@ -149,21 +141,51 @@ impl<'a> Setup<'a> {
             out([screen[0], screen[k], screen[k + 1]], edges);
         }
     }
+
+    /// The shade of triangle `t` with flat shading (its corners' then all take it), `None`
+    /// with Gouraud shading (each corner keeps its own).
+    #[inline]
+    pub fn flat_shade(&self, t: &[ClipVertex; 3]) -> Option<f32> {
+        (self.style.shading == Shading::Flat).then(|| {
+            let [a, b, c] = t.each_ref().map(|c| c.view);
+            self.shade((b - a).cross(c - a), (a + b + c) / 3.0)
+        })
+    }
+
+    /// A corner inside the clip planes on screen: pixel position, depth key and shade, the
+    /// last two quantized (see the module docs).
+    #[inline]
+    pub fn screen(&self, c: &ClipVertex) -> ScreenVertex {
+        ScreenVertex {
+            xy: self.camera.view_to_pixel(c.view),
+            depth: self.depth_key(c.view.z),
+            shade: quantize_shade(c.shade),
+        }
+    }
 }
 
 /// Entries of a [`CornerCache`]: enough for the corners a tessellator's patch shares between
-/// its triangles as it streams them.
-const CORNER_CACHE: usize = 64;
+/// its triangles as it streams them. Even, and at most 64: [`CachedCorners::replaced`] has a
+/// bit per entry, `CornerCache::recent` one per pair.
+pub(super) const CORNER_CACHE: usize = 64;
+const _: () = assert!(CORNER_CACHE <= 64 && CORNER_CACHE.is_multiple_of(2));
 
 /// Keyed corners already taken to view space ([`Setup::corner`]) and tested against the clip
-/// planes ([`Setup::inside`]), direct-mapped: a sink that gets
+/// planes ([`Setup::inside`]): a sink that gets
 /// [`keyed_triangle`](crate::TriangleSink::keyed_triangle)s asks a corner's vertex (an
 /// evaluation, for a tessellator) and transforms it only when the cache does not have it.
+///
+/// Two-way: a key's hash names a pair of entries, and a new corner replaces the one of the pair
+/// used less recently. (Measured 2026-11-25 on `fw_teapot`, whose streams keep no evaluated
+/// points of their own for the renderer: a direct-mapped cache of the same size evaluates
+/// the colliding corners again, for about 0.15M more render instructions a frame.)
 pub(super) struct CornerCache {
     entries: [(u64, ClipVertex); CORNER_CACHE],
     /// Whether each entry's corner is inside (apart: a flag beside a `u64` would pad each
     /// entry by 8 bytes).
     inside: [bool; CORNER_CACHE],
+    /// Bit `k`: entry `2k + 1` of pair `k` was used after entry `2k`.
+    recent: u64,
 }
 
 impl CornerCache {
@@ -172,36 +194,80 @@ impl CornerCache {
         CornerCache {
             entries: [(NO_KEY, ClipVertex::default()); CORNER_CACHE],
             inside: [false; CORNER_CACHE],
+            recent: 0,
         }
     }
 
     /// The corners named `keys`, from the cache or through `corner` and `setup`, and whether
     /// all three are inside the clip planes.
+    #[inline]
     pub fn corners(
         &mut self,
         setup: &Setup<'_>,
         keys: [u64; 3],
         corner: &mut dyn FnMut(usize) -> Vertex,
     ) -> ([ClipVertex; 3], bool) {
+        let found = self.corners_in_entries(setup, keys, corner);
+        (found.corners, found.inside)
+    }
+
+    /// As [`corners`](Self::corners), with the entries that hold them: what lets a sink keep
+    /// more of each corner beside the cache.
+    pub fn corners_in_entries(
+        &mut self,
+        setup: &Setup<'_>,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) -> CachedCorners {
         let mut inside = true;
+        let mut entries = [0u8; 3];
+        let mut replaced = 0u64;
         let corners = core::array::from_fn(|i| {
             let key = keys[i];
             // Fold the key's 64 bits, then a multiplicative hash's top bits.
             let folded = (key ^ (key >> 29) ^ (key >> 47)) as u32;
             let hash = folded.wrapping_mul(0x9e37_79b1) as u64;
-            let slot = ((hash * CORNER_CACHE as u64) >> 32) as usize;
-            let entry = &mut self.entries[slot];
+            let pair = ((hash * (CORNER_CACHE / 2) as u64) >> 32) as usize;
+            let first = 2 * pair;
             // (A stray key equal to `NO_KEY` is only computed again.)
-            if entry.0 != key || key == NO_KEY {
+            let slot = if self.entries[first].0 == key && key != NO_KEY {
+                first
+            } else if self.entries[first + 1].0 == key && key != NO_KEY {
+                first + 1
+            } else {
+                // The entry of the pair used less recently.
+                let slot = first + 1 - (self.recent >> pair & 1) as usize;
                 let c = setup.corner(&corner(i));
-                *entry = (key, c);
+                self.entries[slot] = (key, c);
                 self.inside[slot] = setup.inside(&c);
-            }
+                replaced |= 1 << slot;
+                slot
+            };
+            let bit = 1u64 << pair;
+            self.recent = (self.recent & !bit) | ((slot - first) as u64) << pair;
             inside &= self.inside[slot];
-            entry.1
+            entries[i] = slot as u8;
+            self.entries[slot].1
         });
-        (corners, inside)
+        CachedCorners {
+            corners,
+            inside,
+            entries,
+            replaced,
+        }
     }
+}
+
+/// A triangle's corners as [`CornerCache::corners_in_entries`] finds them.
+pub(super) struct CachedCorners {
+    /// The corners in view space.
+    pub corners: [ClipVertex; 3],
+    /// Whether all three are inside the clip planes.
+    pub inside: bool,
+    /// The cache entry of each (below [`CORNER_CACHE`]).
+    pub entries: [u8; 3],
+    /// Bit `e` set: entry `e` now holds another corner than before the call.
+    pub replaced: u64,
 }
 
 /// A depth key rounded to the nearest integer in `0..=65535` (NaN gives 0).
@@ -244,6 +310,71 @@ pub(super) fn shade_from_u8(level: u8) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The pair of cache entries a key's hash names.
+    fn pair_of(key: u64) -> usize {
+        let folded = (key ^ (key >> 29) ^ (key >> 47)) as u32;
+        let hash = folded.wrapping_mul(0x9e37_79b1) as u64;
+        ((hash * (CORNER_CACHE / 2) as u64) >> 32) as usize
+    }
+
+    #[test]
+    fn the_corner_cache_keeps_two_corners_per_pair_and_replaces_the_older() {
+        let camera = Camera::new(
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Orthographic { height: 4.0 },
+            0.1,
+            [32, 32],
+        )
+        .unwrap();
+        let style = Style::default();
+        let setup = Setup::new(&camera, None, &style);
+        // Four keys of one pair, and a fifth of another.
+        let pair = pair_of(1);
+        let mut same = (2..).filter(|&k| pair_of(k) == pair);
+        let [a, b, c] = [1, same.next().unwrap(), same.next().unwrap()];
+        let other = (2..).find(|&k| pair_of(k) != pair).unwrap();
+        let mut cache = CornerCache::new();
+        // Each key's corner sits at x = key, so a wrong entry shows.
+        let mut ask = |cache: &mut CornerCache, keys: [u64; 3]| {
+            let mut evaluated = [false; 3];
+            let found = cache.corners_in_entries(&setup, keys, &mut |i| {
+                evaluated[i] = true;
+                Vertex {
+                    position: [keys[i] as f32, 0.0, 0.0],
+                    ..Vertex::default()
+                }
+            });
+            for (c, &k) in found.corners.iter().zip(&keys) {
+                assert_eq!(camera.to_view(Vec3::new(k as f32, 0.0, 0.0)), c.view);
+            }
+            let entries = found.entries.map(|e| e as usize);
+            (evaluated, entries, found.replaced)
+        };
+        // `a` and `b` take both entries of the pair (one triangle: no entry twice).
+        let (evaluated, entries, replaced) = ask(&mut cache, [a, b, other]);
+        assert_eq!(evaluated, [true; 3]);
+        assert_eq!(entries[0] / 2, pair);
+        assert_eq!(entries[1] / 2, pair);
+        assert_ne!(entries[0], entries[1]);
+        assert_eq!(replaced.count_ones(), 3);
+        let (ea, eb) = (entries[0], entries[1]);
+        // Both are kept; `a` is now the more recent.
+        let (evaluated, entries, replaced) = ask(&mut cache, [b, a, other]);
+        assert_eq!((evaluated, entries, replaced), ([false; 3], [eb, ea, entries[2]], 0));
+        // `c` replaces `b`, the less recently used, and `a` stays.
+        let (evaluated, entries, replaced) = ask(&mut cache, [c, a, other]);
+        assert_eq!(evaluated, [true, false, false]);
+        assert_eq!([entries[0], entries[1]], [eb, ea]);
+        assert_eq!(replaced, 1 << eb);
+        // `b` comes back in place of `c`, `a` being the more recent.
+        let (evaluated, entries, replaced) = ask(&mut cache, [a, b, other]);
+        assert_eq!(evaluated, [false, true, false]);
+        assert_eq!([entries[0], entries[1]], [ea, eb]);
+        assert_eq!(replaced, 1 << eb);
+    }
 
     #[test]
     fn quantized_values_round_trip() {

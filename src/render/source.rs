@@ -28,6 +28,11 @@ pub trait TriangleSource {
 /// The current frame of a tessellator, streamed without a mesh buffer: each band streams only
 /// the patches that may reach its rows (by their projected control points, or their bounding
 /// sphere when a control point is behind the near plane), and evaluates their vertices again.
+///
+/// The triangles come as [`keyed_triangle`](TriangleSink::keyed_triangle)s, and a corner is
+/// evaluated each time the sink asks for it: unlike [`Tessellator::stream`], this stream keeps
+/// no evaluated points of its own, because the renderer's sinks keep the corners they ask for
+/// by key. A sink that keeps none is better served by `Tessellator::stream`.
 impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
     fn bound(&self) -> Option<BoundingSphere> {
         sphere_around(self.model_box()?)
@@ -37,7 +42,7 @@ impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
         // One copy of the tessellator's streaming code serves every kind of sink (the list,
         // a band, what a partial list leaves): a call through a pointer per triangle is cheap
         // against evaluating it, and each copy would cost kilobytes of flash.
-        let mut sink: &mut dyn TriangleSink = sink;
+        let sink: &mut dyn TriangleSink = sink;
         for p in 0..self.patches().len() {
             if self.is_culled(p) || !sink.wants_patch(p as u32) {
                 continue;
@@ -59,7 +64,7 @@ impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
                     bottom >= rows.start as f32 - 1.0 && top <= rows.end as f32 + 1.0
                 });
             if reaches {
-                self.stream_patch(p, &mut sink);
+                self.stream_patch_to_keeper(p, sink);
             }
         }
     }

@@ -52,21 +52,31 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// ([`TriangleSink::keyed_triangle`]). A renderer that draws in bands uses it, with
     /// [`patch_bound`](Self::patch_bound), to skip patches off a band.
     pub fn stream_patch(&self, p: usize, sink: &mut impl TriangleSink) {
-        self.stream_patch_keyed(p, |info, keys, corner| {
+        self.stream_patch_keyed::<STREAM_CACHE>(p, |info, keys, corner| {
+            sink.keyed_triangle(info.patch, keys, corner)
+        });
+    }
+
+    /// [`stream_patch`](Self::stream_patch) for a sink that keeps the corners it asks for by
+    /// their keys (the renderer's): the stream keeps no evaluated points of its own, and takes
+    /// that much less stack.
+    #[cfg(feature = "embedded-graphics")]
+    pub(crate) fn stream_patch_to_keeper(&self, p: usize, sink: &mut dyn TriangleSink) {
+        self.stream_patch_keyed::<0>(p, |info, keys, corner| {
             sink.keyed_triangle(info.patch, keys, corner)
         });
     }
 
     fn stream_patch_with_info(&self, p: usize, mut f: impl FnMut(&TriangleInfo, [&Vertex; 3])) {
-        self.stream_patch_keyed(p, |info, _, corner| {
+        self.stream_patch_keyed::<STREAM_CACHE>(p, |info, _, corner| {
             let [a, b, c] = [0, 1, 2].map(corner);
             f(info, [&a, &b, &c]);
         });
     }
 
     /// The traversal behind the streams: each triangle's information, its corners' keys, and
-    /// a function that evaluates a corner.
-    fn stream_patch_keyed(
+    /// a function that evaluates a corner (through a cache of `CACHE` points).
+    fn stream_patch_keyed<const CACHE: usize>(
         &self,
         p: usize,
         mut f: impl FnMut(&TriangleInfo, [u64; 3], &mut dyn FnMut(usize) -> Vertex),
@@ -77,8 +87,8 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         // Neighbouring triangles share corners: a small direct-mapped cache of evaluated
         // points saves most evaluations. Entries are named by the points' keys (equal keys,
         // equal data: see `PatchView::key`), kept apart from the data so that no entry pads.
-        let mut keys = [NO_KEY; STREAM_CACHE];
-        let mut data = [Vertex::default(); STREAM_CACHE];
+        let mut keys = [NO_KEY; CACHE];
+        let mut data = [Vertex::default(); CACHE];
         let vo = view.vo;
         let mut vertex = |q: Point, key: u64| -> Vertex {
             if let Point::Vertex { id, p: g } = q {
@@ -86,7 +96,10 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     return v;
                 }
             }
-            let k = point_hash(&q) as usize % STREAM_CACHE;
+            if CACHE == 0 {
+                return self.vertex_data(q, p);
+            }
+            let k = point_hash(&q) as usize % CACHE;
             if keys[k] != key {
                 keys[k] = key;
                 data[k] = self.vertex_data(q, p);

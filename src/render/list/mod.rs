@@ -16,7 +16,7 @@
 
 mod sink;
 
-pub(super) use sink::{ListSink, Remaining};
+pub(super) use sink::{fill, Remaining};
 
 use super::project::{depth_from_u16, shade_from_u8};
 use super::raster::{Triangle, HALF, SUBPIXELS};

@@ -3,9 +3,11 @@
 
 use super::{triangle_half, ListSlot, GROUP, MAX_SLOTS, REACH_BACK, WINDOW};
 use crate::render::clip::ClipVertex;
-use crate::render::project::{depth_to_u16, shade_to_u8, CornerCache, Setup};
+use crate::render::project::{
+    depth_to_u16, quantize_shade, shade_to_u8, CachedCorners, CornerCache, Setup, CORNER_CACHE,
+};
 use crate::render::raster::{snap_checked, ScreenVertex};
-use crate::render::Shading;
+use crate::render::{Shading, TriangleSource};
 use crate::sink::{TriangleSink, Vertex};
 
 /// Entries of the table that finds a corner already in the list by its value.
@@ -53,6 +55,11 @@ pub(in crate::render) struct ListSink<'a, 'b, 'c> {
     pub overflow: bool,
     /// Corners in view space by key.
     corners: &'c mut CornerCache,
+    /// The list value of the corner in each entry of `corners`, where bit `e` of `projected`
+    /// is set: a corner shared by triangles inside the clip planes is projected once while
+    /// the cache keeps it.
+    values: [ListSlot; CORNER_CACHE],
+    projected: u64,
 }
 
 impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
@@ -76,6 +83,8 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
             resume: None,
             overflow: false,
             corners,
+            values: [ListSlot::default(); CORNER_CACHE],
+            projected: 0,
         }
     }
 }
@@ -121,22 +130,39 @@ impl ListSink<'_, '_, '_> {
         Ok((base - 1 - self.top) as u8)
     }
 
+    /// The list value of a projected corner; `None` when it is out of the list's `i16` range.
+    #[inline]
+    fn corner_value(&self, v: &ScreenVertex) -> Option<ListSlot> {
+        let fit = |c: f32| i16::try_from(snap_checked(c)?).ok();
+        // With flat shading the triangle holds the shade (its corners share a slot).
+        let flat = self.setup.style.shading == Shading::Flat;
+        let shade = if flat { 0 } else { shade_to_u8(v.shade) };
+        Some(ListSlot::corner(
+            fit(v.xy[0])?,
+            fit(v.xy[1])?,
+            depth_to_u16(v.depth),
+            shade,
+        ))
+    }
+
     /// Adds one projected triangle; false when it does not fit (nothing is added then).
     fn push(&mut self, v: &[ScreenVertex; 3], wire: [bool; 3]) -> bool {
-        let fit = |c: f32| i16::try_from(snap_checked(c)?).ok();
         let flat = self.setup.style.shading == Shading::Flat;
         let mut values = [ListSlot::default(); 3];
-        let mut y = [0i16; 3];
-        for ((value, v), y) in values.iter_mut().zip(v).zip(&mut y) {
-            let (Some(x), Some(row)) = (fit(v.xy[0]), fit(v.xy[1])) else {
+        for (value, v) in values.iter_mut().zip(v) {
+            let Some(c) = self.corner_value(v) else {
                 return false;
             };
-            // With flat shading the triangle holds the shade (its corners share a slot).
-            let shade = if flat { 0 } else { shade_to_u8(v.shade) };
-            *value = ListSlot::corner(x, row, depth_to_u16(v.depth), shade);
-            *y = row;
+            *value = c;
         }
         let level = flat.then(|| shade_to_u8(v[0].shade));
+        self.push_values(values, wire, level)
+    }
+
+    /// Adds a triangle of corner values `values`; false when it does not fit (nothing is
+    /// added then).
+    fn push_values(&mut self, values: [ListSlot; 3], wire: [bool; 3], level: Option<u8>) -> bool {
+        let y = values.map(|v| v.y());
         // A corner out of the open group's window closes it: the next group's window starts
         // at the free slots.
         match self.try_push(values, y, wire, level) {
@@ -220,6 +246,50 @@ impl ListSink<'_, '_, '_> {
     /// Lists one admitted triangle, its corners in view space (`inside`: all inside the clip
     /// planes).
     fn take(&mut self, patch: u32, corners: [ClipVertex; 3], inside: bool) {
+        self.begin(patch);
+        let mut fits = true;
+        self.setup.project(corners, inside, |v, wire| {
+            fits = fits && self.push(&v, wire);
+        });
+        self.end(fits);
+    }
+
+    /// [`take`](Self::take) for corners from the corner cache, all inside the clip planes and
+    /// in three different entries: each corner's list value is computed once while the cache
+    /// holds it. The same values as `take` (its screen corners, quantized the same way).
+    fn take_cached(&mut self, patch: u32, found: &CachedCorners) {
+        self.begin(patch);
+        let mut values = [ListSlot::default(); 3];
+        let mut fits = true;
+        for ((value, c), &entry) in values.iter_mut().zip(&found.corners).zip(&found.entries) {
+            let (e, bit) = (entry as usize % CORNER_CACHE, 1u64 << (entry % 64));
+            // (Corners in one entry come here only from different triangles: the entry held
+            // this corner when its value was kept, else the bit was cleared.)
+            if self.projected & bit == 0 {
+                match self.corner_value(&self.setup.screen(c)) {
+                    Some(v) => self.values[e] = v,
+                    None => {
+                        fits = false;
+                        break;
+                    }
+                }
+                self.projected |= bit;
+            }
+            *value = self.values[e];
+        }
+        if fits {
+            let level = self
+                .setup
+                .flat_shade(&found.corners)
+                .map(|s| shade_to_u8(quantize_shade(s)));
+            let wire = self.setup.style.wireframe.is_some();
+            fits = self.push_values(values, [wire; 3], level);
+        }
+        self.end(fits);
+    }
+
+    /// Opens patch `patch`'s groups when its first triangle comes.
+    fn begin(&mut self, patch: u32) {
         let started = match self.current {
             Some((p, ..)) if p == patch => None,
             Some((p, ..)) if p > patch => {
@@ -233,10 +303,11 @@ impl ListSink<'_, '_, '_> {
             self.group = None;
             self.current = Some((patch, self.len, self.top, self.listed));
         }
-        let mut fits = true;
-        self.setup.project(corners, inside, |v, wire| {
-            fits = fits && self.push(&v, wire);
-        });
+    }
+
+    /// After a triangle: when it did not `fit`, the list is cut at its patch's start (or
+    /// given up).
+    fn end(&mut self, fits: bool) {
         if !fits {
             match self.current {
                 Some((p, len, top, listed)) if self.increasing => {
@@ -267,12 +338,52 @@ impl TriangleSink for ListSink<'_, '_, '_> {
         if !self.admit() {
             return;
         }
-        let (corners, inside) = self.corners.corners(self.setup, keys, corner);
-        self.take(patch, corners, inside);
+        let found = self.corners.corners_in_entries(self.setup, keys, corner);
+        self.projected &= !found.replaced;
+        let [a, b, c] = found.entries;
+        if found.inside && a != b && b != c && a != c {
+            self.take_cached(patch, &found);
+        } else {
+            self.take(patch, found.corners, false);
+        }
     }
 
     fn wants_patch(&self, _patch: u32) -> bool {
         self.open()
+    }
+}
+
+/// What [`fill`] listed.
+pub(in crate::render) struct Filled {
+    /// Triangles handed over by the source.
+    pub handed: u32,
+    /// `Some((n, resume))` when the list holds the frame's first `n` slots of groups and
+    /// triangles: all of the frame, unless patches from `resume` on are left out. `None` when
+    /// the list was given up.
+    pub listed: Option<(usize, Option<u32>)>,
+    /// Triangles listed.
+    pub triangles: u32,
+    /// Slots in use.
+    pub slots: u32,
+}
+
+/// Fills `list` from one pass over `source`'s triangles on `rows`. Out of line, so that the
+/// sink's tables take stack only during this pass, not under the bands drawn after it.
+#[inline(never)]
+pub(in crate::render) fn fill<S: TriangleSource>(
+    setup: &Setup<'_>,
+    list: &mut [ListSlot],
+    corners: &mut CornerCache,
+    source: &S,
+    rows: core::ops::Range<u32>,
+) -> Filled {
+    let mut sink = ListSink::new(setup, list, corners);
+    source.stream_rows(setup.camera, rows, &mut sink);
+    Filled {
+        handed: sink.handed,
+        listed: (!sink.overflow).then_some((sink.len, sink.resume)),
+        triangles: sink.listed,
+        slots: sink.used() as u32,
     }
 }
 
