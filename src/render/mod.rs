@@ -25,10 +25,11 @@
 //! what a list entry holds, before either path rasterises.
 //!
 //! A tessellator names each corner it streams
-//! ([`keyed_triangle`](crate::TriangleSink::keyed_triangle)); the renderer keeps the last 64
-//! corners it took to view space (with their shade) by name, on the stack, so a vertex shared
-//! by neighbouring triangles is evaluated and transformed once for most of them. Triangles whose
-//! corners are all inside the clip planes skip the clipper.
+//! ([`keyed_triangle`](crate::TriangleSink::keyed_triangle)); the renderer keeps 64 corners it
+//! took to view space (with their shade) by name, in a two-way cache on the stack, so a vertex
+//! shared by neighbouring triangles is evaluated and transformed once for most of them.
+//! Triangles whose corners are all inside the clip planes skip the clipper, and while the list
+//! is filled, such a corner is also projected and packed once while the cache holds it.
 //!
 //! Each triangle is clipped in view space (the near plane, and a guard band at twice the
 //! viewport), snapped to 1/16 pixel and scan-converted with exact integer edge functions and

@@ -308,8 +308,22 @@ pub(super) fn shade_from_u8(level: u8) -> f32 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
+
+    /// A 32x32 orthographic view and the default style.
+    pub fn view() -> (Camera, Style) {
+        let camera = Camera::new(
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Orthographic { height: 4.0 },
+            0.1,
+            [32, 32],
+        )
+        .unwrap();
+        (camera, Style::default())
+    }
 
     /// The pair of cache entries a key's hash names.
     fn pair_of(key: u64) -> usize {
@@ -320,16 +334,7 @@ mod tests {
 
     #[test]
     fn the_corner_cache_keeps_two_corners_per_pair_and_replaces_the_older() {
-        let camera = Camera::new(
-            Vec3::new(0.0, 0.0, 4.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            Projection::Orthographic { height: 4.0 },
-            0.1,
-            [32, 32],
-        )
-        .unwrap();
-        let style = Style::default();
+        let (camera, style) = view();
         let setup = Setup::new(&camera, None, &style);
         // Four keys of one pair, and a fifth of another.
         let pair = pair_of(1);
@@ -338,7 +343,7 @@ mod tests {
         let other = (2..).find(|&k| pair_of(k) != pair).unwrap();
         let mut cache = CornerCache::new();
         // Each key's corner sits at x = key, so a wrong entry shows.
-        let mut ask = |cache: &mut CornerCache, keys: [u64; 3]| {
+        let ask = |cache: &mut CornerCache, keys: [u64; 3]| {
             let mut evaluated = [false; 3];
             let found = cache.corners_in_entries(&setup, keys, &mut |i| {
                 evaluated[i] = true;
@@ -363,7 +368,10 @@ mod tests {
         let (ea, eb) = (entries[0], entries[1]);
         // Both are kept; `a` is now the more recent.
         let (evaluated, entries, replaced) = ask(&mut cache, [b, a, other]);
-        assert_eq!((evaluated, entries, replaced), ([false; 3], [eb, ea, entries[2]], 0));
+        assert_eq!(
+            (evaluated, entries, replaced),
+            ([false; 3], [eb, ea, entries[2]], 0)
+        );
         // `c` replaces `b`, the less recently used, and `a` stays.
         let (evaluated, entries, replaced) = ask(&mut cache, [c, a, other]);
         assert_eq!(evaluated, [true, false, false]);

@@ -431,23 +431,7 @@ fn halves_added(used: usize, flat: bool) -> usize {
 mod tests {
     use super::super::{for_each_listed, SubpixelRows};
     use super::*;
-    use crate::render::Style;
-    use crate::view::{Camera, Projection};
-    use glam::Vec3;
-
-    /// A 32x32 orthographic view and the default style.
-    fn view() -> (Camera, Style) {
-        let camera = Camera::new(
-            Vec3::new(0.0, 0.0, 4.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            Projection::Orthographic { height: 4.0 },
-            0.1,
-            [32, 32],
-        )
-        .unwrap();
-        (camera, Style::default())
-    }
+    use crate::render::project::tests::view;
 
     /// A screen corner at `(x, y)`, depth 300, one shade.
     fn v(x: f32, y: f32) -> ScreenVertex {
