@@ -15,7 +15,8 @@
 //! curve factors have not changed since it was last checked, and a pattern keeps its bound for
 //! the frame once computed.
 
-use super::refine::{own_threshold, piece_bound, refined_bound, threshold};
+use super::pieces::{piece_bound, refined_bound};
+use super::refine::{own_threshold, threshold};
 use super::{FrameStats, Tessellator};
 use crate::deviation::PatchBounds;
 use crate::domain::DomainIndex;

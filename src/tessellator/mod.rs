@@ -40,6 +40,7 @@ mod fixed;
 mod output_vertex;
 mod patch_view;
 mod pattern;
+mod pieces;
 mod pool;
 mod refine;
 mod select;

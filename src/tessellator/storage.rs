@@ -213,7 +213,7 @@ impl TriangleSlot {
     }
 
     /// Asks edge `i` to be halved where `split[i]` is 2, and nothing of the others (a split
-    /// holds only 0 and 2: see `refine::halving`).
+    /// holds only 0 and 2: see `pieces::halving`).
     pub(super) fn set_split(&mut self, split: [u8; 3]) {
         for (i, &f) in split.iter().enumerate() {
             debug_assert!(f == 0 || f == 2, "a split halves an edge or leaves it");
