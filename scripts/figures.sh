@@ -49,7 +49,7 @@ cargo run -q --release --example fw_tessellate --target "$T" >"$out/fw_tessellat
 arm-none-eabi-size -A "target/$T/release/examples/fw_eval" |
     awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}' >"$out/fw_eval_sizes.md"
 step "footprint of fw_teapot"
-scripts/footprint.sh >"$out/footprint.md"
+scripts/footprint.sh "$out/text_by_module.md" >"$out/footprint.md"
 step "run time on the host"
 cargo run -q --release -p host-tests --example runtime_figures >"$out/runtime.md"
 step "teapot main job"
@@ -222,6 +222,12 @@ The same with a bake at 2.5e-4 of the diagonal (`BAKE_REL=2.5e-4`): views at 1 p
 `scripts/footprint.sh` (run by this script).
 
 {read("footprint.md")}
+
+The kernel's `.text` at opt-level "s" by module (`scripts/text_by_module.py`, from the same
+builds): each function counted where its name puts it, so what the compiler inlined is counted
+with its caller, and the demo's frame loop holds the parts of the update it inlined.
+
+{read("text_by_module.md")}
 
 ## Firmware size of `fw_eval`
 

@@ -4,6 +4,9 @@
 # buffers, the baked teapot, and instructions per frame and per triangle under QEMU icount.
 # Prints a Markdown table, which `scripts/figures.sh` puts into README.md and BENCHMARKS.md.
 # Takes a few minutes (one extra build at opt-level "s").
+#
+#   scripts/footprint.sh [MODULES_MD]   # also writes the kernel's .text at opt-level "s" by
+#                                       # module (scripts/text_by_module.py) to MODULES_MD
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,6 +30,7 @@ sizes() {
     local elf=$dir/$T/release/examples/fw_teapot
     CARGO_TARGET_DIR=$dir cargo rustc -q --release --example fw_teapot --target "$T" "$@" -- --cfg fw_quiet
     "$qemu_run" "$elf" >/dev/null # the quiet build still checks every frame (exit code)
+    cp "$elf" "$dir/fw_teapot_quiet.elf"
     local q="$(section "$elf" .text) $(section "$elf" .rodata) $(section "$elf" .data) $(section "$elf" .bss)"
     CARGO_TARGET_DIR=$dir cargo rustc -q --release --example fw_teapot --target "$T" "$@" -- --cfg fw_quiet --cfg fw_baseline
     local b="$(section "$elf" .text) $(section "$elf" .rodata)"
@@ -39,6 +43,9 @@ trap 'rm -f "$qemu_run"' EXIT
 
 read -r text3 ro3 data3 bss3 btext3 bro3 < <(sizes target/footprint)
 read -r texts ros datas bsss btexts bros < <(sizes target/footprint-s --config 'profile.release.opt-level="s"')
+if [ -n "${1:-}" ]; then
+    scripts/text_by_module.py target/footprint-s/fw_teapot_quiet.elf "target/footprint-s/$T/release/examples/fw_teapot" >"$1"
+fi
 
 host=$(cargo run -q --example fw_teapot)
 fw=$(cargo run -q --release --example fw_teapot --target "$T")
