@@ -34,7 +34,7 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 today=$(date -u +%Y-%m-%d)
 
 step "builds"
-cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures
+cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures --example oracle_selection
 mkdir -p target/glu
 cc -O2 -o target/glu/glu_peer host-tests/glu/glu_peer.c -lGLU -lGL
 cargo build -q --release --example teapot
@@ -57,6 +57,8 @@ cargo run -q --release --example teapot -- --size 480x360 --out "$out/teapot" >"
 step "error control, against the uniform grid and GLU"
 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_1e-3.md"
 BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_2.5e-4.md"
+step "oracle selections"
+cargo run -q --release -p host-tests --example oracle_selection >"$out/oracle.md"
 step "bake figures"
 if [ "$full" = 1 ]; then
     cargo run -q --release -p host-tests --example bake_figures -- 1e-3 1e-4 >"$out/bake.md"
@@ -212,6 +214,19 @@ The same with a bake at 2.5e-4 of the diagonal (`BAKE_REL=2.5e-4`): views at 1 p
 1024x768 need few or no refinements:
 
 {read("error_2.5e-4.md")}
+
+How far a selection of this kind could go, with an exact error measure in place of a bound:
+`cargo run --release -p host-tests --example oracle_selection` (its module docs say exactly
+what is measured). Two oracles triangulate each patch apart (cracks allowed, as the grid's),
+by Delaunay insertion in (u,v), checking each triangle as the table above does. *Adaptive*
+inserts the worst point of the triangle worst on screen until all are within the tolerance:
+each triangle judged by its own projection. *Nested* inserts in the order of largest
+object-space error, as a bake records it, and stops at the shortest prefix within the
+tolerance on screen: the per-patch prefix of Chhugani & Kumar, without a bound's margin.
+Neither is sound, and greedy is not optimal: they show what a sound, crack-free tessellator
+that selects the same way can hope for, before a bound's margin and shared boundaries.
+
+{read("oracle.md")}
 
 ## Run time
 
