@@ -36,7 +36,7 @@ use std::time::Instant;
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::{RefPatch, V3};
 use host_tests::runtime::{streamed, RuntimeStorage};
-use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter};
+use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
@@ -78,79 +78,24 @@ struct Case {
 }
 
 fn cases() -> Vec<Case> {
-    let s = |model, name: &str, eye, target, viewport, tol| Case {
-        name: name.to_string(),
-        model,
-        look: Look::Screen {
-            eye,
-            target,
-            viewport,
-            tol,
-        },
-    };
-    let mut v = vec![
-        s(
-            "teapot.bpt",
-            "teapot 240x240 1 px, eye (8,-8,5)",
-            [8.0, -8.0, 5.0],
-            [0.0, 0.0, 1.2],
-            [240, 240],
-            1.0,
-        ),
-        s(
-            "teapot.bpt",
-            "teapot 1024x768 1 px, eye (6,-6,4)",
-            [6.0, -6.0, 4.0],
-            [0.0, 0.0, 1.2],
-            [1024, 768],
-            1.0,
-        ),
-        s(
-            "teapot.bpt",
-            "teapot 1024x768 0.5 px, eye (6,-6,4)",
-            [6.0, -6.0, 4.0],
-            [0.0, 0.0, 1.2],
-            [1024, 768],
-            0.5,
-        ),
-        s(
-            "teapot.bpt",
-            "teapot 1024x768 1 px, eye (9,0,0.3)",
-            [9.0, 0.0, 0.3],
-            [0.0, 0.0, 1.0],
-            [1024, 768],
-            1.0,
-        ),
-        s(
-            "teapot.bpt",
-            "teapot 1024x768 0.5 px, eye (9,0,0.3)",
-            [9.0, 0.0, 0.3],
-            [0.0, 0.0, 1.0],
-            [1024, 768],
-            0.5,
-        ),
-        s(
-            "teapot.bpt",
-            "teapot close-up 1024x768 1 px, eye (2.2,-1.5,2.6)",
-            [2.2, -1.5, 2.6],
-            [0.0, 0.0, 1.5],
-            [1024, 768],
-            1.0,
-        ),
-        s(
-            "gumbo.bpt",
-            "Gumbo 1024x768 1 px, eye (60,-50,40)",
-            [60.0, -50.0, 40.0],
-            [12.0, 7.0, 9.7],
-            [1024, 768],
-            1.0,
-        ),
-        Case {
-            name: "teapot object 0.02".into(),
-            model: "teapot.bpt",
-            look: Look::Object { rel: 0.02 / 7.0 },
-        },
-    ];
+    let mut v: Vec<Case> = ERROR_VIEWS
+        .iter()
+        .map(|w| Case {
+            name: w.name.to_string(),
+            model: w.model,
+            look: Look::Screen {
+                eye: w.eye,
+                target: w.target,
+                viewport: w.viewport,
+                tol: w.tol,
+            },
+        })
+        .collect();
+    v.extend([Case {
+        name: "teapot object 0.02".into(),
+        model: "teapot.bpt",
+        look: Look::Object { rel: 0.02 / 7.0 },
+    }]);
     for model in [
         "teapot.bpt",
         "teapot_orig28.bpt",

@@ -27,7 +27,7 @@ use std::collections::HashMap;
 
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
-use host_tests::screen::{grid_size, Measure, Meter};
+use host_tests::screen::{grid_size, Measure, Meter, ERROR_VIEWS};
 use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
 
 /// Barycentric steps per side of a measured triangle (as `error_figures`).
@@ -36,75 +36,6 @@ const DENSE: usize = 12;
 const GRID_DENSE: usize = 8;
 /// Vertex slots per patch; no case comes near.
 const VERTICES: usize = 1 << 14;
-
-/// A view: model, name, eye, target, viewport, tolerance in pixels.
-type Case = (
-    &'static str,
-    &'static str,
-    [f64; 3],
-    [f64; 3],
-    [u32; 2],
-    f64,
-);
-
-const CASES: [Case; 7] = [
-    (
-        "teapot.bpt",
-        "teapot 240x240 1 px, eye (8,-8,5)",
-        [8.0, -8.0, 5.0],
-        [0.0, 0.0, 1.2],
-        [240, 240],
-        1.0,
-    ),
-    (
-        "teapot.bpt",
-        "teapot 1024x768 1 px, eye (6,-6,4)",
-        [6.0, -6.0, 4.0],
-        [0.0, 0.0, 1.2],
-        [1024, 768],
-        1.0,
-    ),
-    (
-        "teapot.bpt",
-        "teapot 1024x768 0.5 px, eye (6,-6,4)",
-        [6.0, -6.0, 4.0],
-        [0.0, 0.0, 1.2],
-        [1024, 768],
-        0.5,
-    ),
-    (
-        "teapot.bpt",
-        "teapot 1024x768 1 px, eye (9,0,0.3)",
-        [9.0, 0.0, 0.3],
-        [0.0, 0.0, 1.0],
-        [1024, 768],
-        1.0,
-    ),
-    (
-        "teapot.bpt",
-        "teapot 1024x768 0.5 px, eye (9,0,0.3)",
-        [9.0, 0.0, 0.3],
-        [0.0, 0.0, 1.0],
-        [1024, 768],
-        0.5,
-    ),
-    (
-        "teapot.bpt",
-        "teapot close-up 1024x768 1 px, eye (2.2,-1.5,2.6)",
-        [2.2, -1.5, 2.6],
-        [0.0, 0.0, 1.5],
-        [1024, 768],
-        1.0,
-    ),
-    (
-        "gumbo.bpt",
-        "Gumbo 1024x768 1 px, eye (60,-50,40)",
-        [60.0, -50.0, 40.0],
-        [12.0, 7.0, 9.7],
-        [1024, 768],
-        1.0,
-    ),
-];
 
 /// A triangle's largest error and where it is, in (u,v).
 #[derive(Clone, Copy)]
@@ -180,7 +111,10 @@ fn main() {
     println!("| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid |");
     println!("|---|---|---|---|---|---|");
     let mut loaded: Vec<(&str, ModelFile)> = Vec::new();
-    for (model, name, eye, target, viewport, tol) in CASES {
+    for view in ERROR_VIEWS {
+        let (model, name, viewport) = (view.model, view.name, view.viewport);
+        let [eye, target] = [view.eye, view.target].map(|p| p.map(|c| c as f64));
+        let tol = view.tol as f64;
         if !loaded.iter().any(|(m, _)| *m == model) {
             let path = host_tests::models_dir().join(model);
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");

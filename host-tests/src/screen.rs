@@ -225,3 +225,83 @@ pub fn grid_size(
     }
     Some(hi)
 }
+
+/// A camera view of the error-control figures: a model file (under the models folder), a
+/// name for the table, the eye and the point it looks at (up is `+z`, 40 degree vertical
+/// field of view), the viewport and the tolerance in pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct ScreenView {
+    /// Model file.
+    pub model: &'static str,
+    /// Name in the tables.
+    pub name: &'static str,
+    /// Eye.
+    pub eye: [f32; 3],
+    /// The point looked at.
+    pub target: [f32; 3],
+    /// Viewport in pixels.
+    pub viewport: [u32; 2],
+    /// Tolerance in pixels.
+    pub tol: f32,
+}
+
+/// The camera views the error-control issue names, which `error_figures` and
+/// `oracle_selection` both measure.
+pub const ERROR_VIEWS: [ScreenView; 7] = [
+    ScreenView {
+        model: "teapot.bpt",
+        name: "teapot 240x240 1 px, eye (8,-8,5)",
+        eye: [8.0, -8.0, 5.0],
+        target: [0.0, 0.0, 1.2],
+        viewport: [240, 240],
+        tol: 1.0,
+    },
+    ScreenView {
+        model: "teapot.bpt",
+        name: "teapot 1024x768 1 px, eye (6,-6,4)",
+        eye: [6.0, -6.0, 4.0],
+        target: [0.0, 0.0, 1.2],
+        viewport: [1024, 768],
+        tol: 1.0,
+    },
+    ScreenView {
+        model: "teapot.bpt",
+        name: "teapot 1024x768 0.5 px, eye (6,-6,4)",
+        eye: [6.0, -6.0, 4.0],
+        target: [0.0, 0.0, 1.2],
+        viewport: [1024, 768],
+        tol: 0.5,
+    },
+    ScreenView {
+        model: "teapot.bpt",
+        name: "teapot 1024x768 1 px, eye (9,0,0.3)",
+        eye: [9.0, 0.0, 0.3],
+        target: [0.0, 0.0, 1.0],
+        viewport: [1024, 768],
+        tol: 1.0,
+    },
+    ScreenView {
+        model: "teapot.bpt",
+        name: "teapot 1024x768 0.5 px, eye (9,0,0.3)",
+        eye: [9.0, 0.0, 0.3],
+        target: [0.0, 0.0, 1.0],
+        viewport: [1024, 768],
+        tol: 0.5,
+    },
+    ScreenView {
+        model: "teapot.bpt",
+        name: "teapot close-up 1024x768 1 px, eye (2.2,-1.5,2.6)",
+        eye: [2.2, -1.5, 2.6],
+        target: [0.0, 0.0, 1.5],
+        viewport: [1024, 768],
+        tol: 1.0,
+    },
+    ScreenView {
+        model: "gumbo.bpt",
+        name: "Gumbo 1024x768 1 px, eye (60,-50,40)",
+        eye: [60.0, -50.0, 40.0],
+        target: [12.0, 7.0, 9.7],
+        viewport: [1024, 768],
+        tol: 1.0,
+    },
+];
