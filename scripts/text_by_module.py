@@ -46,7 +46,7 @@ def module_of(name):
     m = re.search(r"spline_tess::([a-z_0-9]+)(?:::([a-z_0-9]+))?", name)
     if m:
         top, sub = m.group(1), m.group(2)
-        if top == "tessellator" and sub and sub[0].islower() and sub != "Tessellator":
+        if top == "tessellator" and sub and sub[0].islower():
             return f"tessellator::{sub}"
         return top
     if name.startswith("fw_teapot::") or name.startswith("<fw_teapot::"):

@@ -83,8 +83,7 @@ fn oracle(r: &RefPatch, meter: &Meter, tol: f64, nested: bool) -> usize {
     let unit = |p: GridPoint| [p.u, p.v].map(|c| c as f64 / GridPoint::MAX as f64);
     loop {
         let (mut on_screen, mut next): (f64, Option<Worst>) = (0.0, None);
-        let current: Vec<[u16; 3]> = mesh.triangles().collect();
-        for ids in current {
+        for ids in mesh.triangles() {
             let mut key = ids.map(|id| mesh.point(id).expect("a vertex of the mesh"));
             key.sort_by_key(|p| (p.u, p.v));
             let (screen, object) = *measured
