@@ -215,17 +215,22 @@ The same with a bake at 2.5e-4 of the diagonal (`BAKE_REL=2.5e-4`): views at 1 p
 
 {read("error_2.5e-4.md")}
 
-How far a selection of this kind could go, with an exact error measure in place of a bound:
-`cargo run --release -p host-tests --example oracle_selection` (its module docs say exactly
-what is measured). Two oracles triangulate each patch apart (cracks allowed, as the grid's),
-by Delaunay insertion in (u,v), checking each triangle as the table above does. *Adaptive*
-inserts the worst point of the triangle worst on screen until all are within the tolerance:
-each triangle judged by its own projection. *Nested* inserts in the order of largest
-object-space error, as a bake records it, and stops at the shortest prefix within the
-tolerance on screen: the per-patch prefix of Chhugani & Kumar, without a bound's margin.
-Neither is sound, and greedy is not optimal: they show what a sound, crack-free tessellator
-that selects the same way can hope for, before a bound's margin and shared boundaries.
-
+How far a selection of this kind could go: `cargo run --release -p host-tests --example
+oracle_selection` (its module docs say exactly what is measured). Four oracles triangulate
+each patch apart (cracks allowed, as the grid's), by Delaunay insertion in (u,v). *Adaptive*
+inserts the worst point of the triangle worst on screen, checked as the table above does,
+until all are within the tolerance: each triangle judged by its own projection. *Nested*
+inserts in the order of largest object-space error, as a bake records it, and stops at the
+shortest prefix within the tolerance on screen: the per-patch prefix of Chhugani & Kumar,
+without a bound's margin. Neither is sound. The last two select as *adaptive* does but judge
+each triangle by a computed bound on screen (`host-tests/src/screen_bound.rs` derives both):
+*isotropic*, the bound in model units times the projection's largest scale over the triangle
+(the kernel's form); *directional*, the lattice's deviation vectors projected one by one at
+the view rays of the triangle's corners, plus the remainder, so a deviation along the line of
+sight counts for what it moves on screen. Both are sound; the last column checks the
+directional one against the deviation sampled at 24 steps per side. Greedy is not optimal:
+these show what a sound, crack-free tessellator that selects the same way can hope for,
+before shared boundaries.
 {read("oracle.md")}
 
 ## Run time

@@ -1,6 +1,6 @@
-//! How few triangles a selection of this kind could reach, with a perfect error measure:
-//! two oracle tessellators beside the verified uniform grid, on the views of the
-//! error-control table. Prints a Markdown table.
+//! How few triangles a selection of this kind could reach: oracle tessellators beside the
+//! verified uniform grid, on the views of the error-control table, two with a perfect error
+//! measure and two with a sound bound. Prints a Markdown table.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example oracle_selection
@@ -22,16 +22,31 @@
 //!   order a bake records) and stops at the shortest prefix whose every triangle is within
 //!   the tolerance on screen: Chhugani & Kumar's per-patch prefix, with an exact measure in
 //!   place of a bound and no curve sampled apart.
+//!
+//! The other two select as *adaptive* does, but judge each triangle by a computed bound of its
+//! deviation on screen (`host_tests::screen_bound`, where both are derived) instead of the
+//! sampled error, and stop when every bound is within the tolerance: a selection that is
+//! sound, still without shared boundaries.
+//!
+//! - *Isotropic bound*: the triangle's bound in model units times the largest scale of the
+//!   projection over the triangle, the form the kernel's run time uses.
+//! - *Directional bound*: the deviation vectors of the triangle's lattice projected one by one
+//!   at the corners' view rays, plus the remainder: a deviation along the line of sight moves
+//!   no pixel, and this bound sees it. Its last column checks it: the bound over the triangle's
+//!   deviation on screen sampled at 24 steps per side (a sound bound is at least 1).
 
 use std::collections::HashMap;
 
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
-use host_tests::screen::{grid_size, Measure, Meter, ERROR_VIEWS};
+use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
+use host_tests::screen_bound::{screen_bound, ScreenBound};
 use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
 
 /// Barycentric steps per side of a measured triangle (as `error_figures`).
 const DENSE: usize = 12;
+/// Barycentric steps per side when a bound is checked.
+const CHECK_DENSE: usize = 24;
 /// Steps per side of a grid triangle (as `error_figures`).
 const GRID_DENSE: usize = 8;
 /// Vertex slots per patch; no case comes near.
@@ -42,6 +57,19 @@ const VERTICES: usize = 1 << 14;
 struct Worst {
     error: f64,
     at: [f64; 2],
+}
+
+/// How an oracle judges a triangle and picks the next point.
+#[derive(Clone, Copy, PartialEq)]
+enum Selection {
+    /// The sampled error on screen.
+    Adaptive,
+    /// The prefix of the order of the sampled error in model units.
+    Nested,
+    /// The isotropic bound on screen.
+    Isotropic,
+    /// The directional bound on screen.
+    Directional,
 }
 
 /// The largest projected and object-space errors of the triangle with corner parameters
@@ -74,41 +102,108 @@ fn measure(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> (Worst, Worst) {
     (screen, object)
 }
 
-/// Triangles of one oracle on patch `r` (`nested`: the prefix of the object-space order).
-fn oracle(r: &RefPatch, meter: &Meter, tol: f64, nested: bool) -> usize {
-    let mut vertices = vec![MeshVertex::default(); VERTICES];
-    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
-    let mut mesh = DomainMesh::new(&mut vertices, &mut triangles).expect("room for the square");
-    let mut measured: HashMap<[GridPoint; 3], (Worst, Worst)> = HashMap::new();
-    let unit = |p: GridPoint| [p.u, p.v].map(|c| c as f64 / GridPoint::MAX as f64);
-    loop {
-        let (mut on_screen, mut next): (f64, Option<Worst>) = (0.0, None);
-        for ids in mesh.triangles() {
-            let mut key = ids.map(|id| mesh.point(id).expect("a vertex of the mesh"));
-            key.sort_by_key(|p| (p.u, p.v));
-            let (screen, object) = *measured
-                .entry(key)
-                .or_insert_with(|| measure(r, key.map(unit), meter));
-            on_screen = on_screen.max(screen.error);
-            let order = if nested { object } else { screen };
-            if next.is_none_or(|n| order.error > n.error) {
-                next = Some(order);
-            }
+/// How one triangle is judged: the value held against the tolerance, and the value and
+/// point that order the insertions.
+fn judge(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter, selection: Selection) -> (f64, Worst) {
+    let bounded = |b: ScreenBound, error: f64| (error, Worst { error, at: b.at });
+    match selection {
+        Selection::Adaptive | Selection::Nested => {
+            let (screen, object) = measure(r, uv, meter);
+            let order = if selection == Selection::Nested {
+                object
+            } else {
+                screen
+            };
+            (screen.error, order)
         }
-        let Some(next) = next.filter(|_| on_screen > tol) else {
-            return mesh.triangle_count();
-        };
-        let [u, v] = next.at.map(|c| (c * GridPoint::MAX as f64).round() as u16);
-        if mesh.insert(GridPoint { u, v }).is_err() {
-            eprintln!("a patch stopped at {on_screen:.3} px: its worst point is a vertex");
-            return mesh.triangle_count();
+        Selection::Isotropic | Selection::Directional => {
+            let b = screen_bound(r, uv, meter).expect("a polynomial patch");
+            let error = if selection == Selection::Isotropic {
+                b.isotropic
+            } else {
+                b.hull
+            };
+            bounded(b, error)
         }
     }
 }
 
+/// The final triangles of one oracle on patch `r`, as corner parameters.
+fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<[[f64; 2]; 3]> {
+    let mut vertices = vec![MeshVertex::default(); VERTICES];
+    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
+    let mut mesh = DomainMesh::new(&mut vertices, &mut triangles).expect("room for the square");
+    let mut judged: HashMap<[GridPoint; 3], (f64, Worst)> = HashMap::new();
+    let unit = |p: GridPoint| [p.u, p.v].map(|c| c as f64 / GridPoint::MAX as f64);
+    let keys = |mesh: &DomainMesh<'_>| -> Vec<[GridPoint; 3]> {
+        mesh.triangles()
+            .map(|ids| {
+                let mut key = ids.map(|id| mesh.point(id).expect("a vertex of the mesh"));
+                key.sort_by_key(|p| (p.u, p.v));
+                key
+            })
+            .collect()
+    };
+    loop {
+        let (mut worst, mut next): (f64, Option<(Worst, [GridPoint; 3])>) = (0.0, None);
+        for key in keys(&mesh) {
+            let (held, order) = *judged
+                .entry(key)
+                .or_insert_with(|| judge(r, key.map(unit), meter, selection));
+            worst = worst.max(held);
+            // The nested order runs over every triangle; the others refine one over.
+            let candidate = selection == Selection::Nested || held > tol;
+            if candidate && next.is_none_or(|(n, _)| order.error > n.error) {
+                next = Some((order, key));
+            }
+        }
+        let done = |mesh: &DomainMesh<'_>| keys(mesh).iter().map(|k| k.map(unit)).collect();
+        let Some((next, key)) = next.filter(|_| worst > tol) else {
+            return done(&mesh);
+        };
+        let [u, v] = next.at.map(|c| (c * GridPoint::MAX as f64).round() as u16);
+        let midpoint = |(a, b): (GridPoint, GridPoint)| GridPoint {
+            u: ((a.u as u32 + b.u as u32) / 2) as u16,
+            v: ((a.v as u32 + b.v as u32) / 2) as u16,
+        };
+        let edges = [(0, 1), (1, 2), (2, 0)].map(|(i, j)| (key[i], key[j]));
+        // Where the worst point rounds to a vertex (a sliver), the longest edge's midpoint.
+        let longest = edges
+            .into_iter()
+            .max_by_key(|(a, b)| {
+                (a.u.abs_diff(b.u) as u32).pow(2) + (a.v.abs_diff(b.v) as u32).pow(2)
+            })
+            .map(midpoint)
+            .expect("three edges");
+        let first = GridPoint { u, v };
+        if mesh.insert(first).is_err() && mesh.insert(longest).is_err() {
+            eprintln!("a patch stopped at {worst:.3} px: no point left to insert");
+            return done(&mesh);
+        }
+    }
+}
+
+/// Directional bound over sampled deviation, on screen, of every triangle with something on
+/// screen.
+fn bound_over_true(r: &RefPatch, triangles: &[[[f64; 2]; 3]], meter: &Meter) -> Vec<f64> {
+    triangles
+        .iter()
+        .filter_map(|&uv| {
+            let corners = uv.map(|[u, v]| r.point(u, v));
+            let sampled = triangle_deviation(r, uv, corners, CHECK_DENSE, Measure::Screen(meter));
+            let bound = screen_bound(r, uv, meter).expect("a polynomial patch").hull;
+            (sampled.worst > 0.0).then(|| bound / sampled.worst)
+        })
+        .collect()
+}
+
 fn main() {
-    println!("| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid |");
-    println!("|---|---|---|---|---|---|");
+    println!(
+        "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
+         | isotropic bound | isotropic / grid | directional bound | directional / grid \
+         | directional bound / sampled: min, median |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut loaded: Vec<(&str, ModelFile)> = Vec::new();
     for view in ERROR_VIEWS {
         let (model, name, viewport) = (view.model, view.name, view.viewport);
@@ -126,17 +221,36 @@ fn main() {
         let near = (0.01 * diag) as f64;
         let meter = Meter::new(eye, target, [0.0, 0.0, 1.0], 40.0, near, viewport);
         let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
-        let (mut grid, mut adaptive, mut nested) = (0, 0, 0);
+        let mut grid = 0;
+        let mut counts = [0usize; 4];
+        let mut ratios: Vec<f64> = Vec::new();
+        let selections = [
+            Selection::Adaptive,
+            Selection::Nested,
+            Selection::Isotropic,
+            Selection::Directional,
+        ];
         for r in &refs {
             grid += grid_size(r, tol, GRID_DENSE, 512, Measure::Screen(&meter))
                 .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1));
-            adaptive += oracle(r, &meter, tol, false);
-            nested += oracle(r, &meter, tol, true);
+            for (count, &selection) in counts.iter_mut().zip(&selections) {
+                let triangles = oracle(r, &meter, tol, selection);
+                *count += triangles.len();
+                if selection == Selection::Directional {
+                    ratios.extend(bound_over_true(r, &triangles, &meter));
+                }
+            }
         }
+        ratios.sort_by(f64::total_cmp);
+        let cells: Vec<String> = counts
+            .iter()
+            .map(|&c| format!("{c} | {:.2}", c as f64 / grid as f64))
+            .collect();
         println!(
-            "| {name} | {grid} | {adaptive} | {:.2} | {nested} | {:.2} |",
-            adaptive as f64 / grid as f64,
-            nested as f64 / grid as f64
+            "| {name} | {grid} | {} | {:.3}, {:.3} |",
+            cells.join(" | "),
+            ratios.first().copied().unwrap_or(f64::NAN),
+            ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
         );
     }
 }

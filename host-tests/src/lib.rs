@@ -16,6 +16,7 @@ pub mod runtime;
 #[path = "../../examples/common/runtime_storage.rs"]
 pub mod runtime_storage;
 pub mod screen;
+pub mod screen_bound;
 pub mod seeds;
 
 use std::path::PathBuf;

@@ -50,14 +50,70 @@ impl Meter {
         self.eye
     }
 
-    /// View coordinates `(right, up, depth)`.
-    fn view(&self, p: V3) -> V3 {
-        let d = sub(p, self.eye);
+    /// Pixels per model unit at depth 1 (the focal length in pixels).
+    pub fn focal(&self) -> f64 {
+        self.focal
+    }
+
+    /// Depth of the near plane.
+    pub fn near(&self) -> f64 {
+        self.near
+    }
+
+    /// A direction in view coordinates `(right, up, depth)`.
+    pub fn rotate(&self, d: V3) -> V3 {
         [
             dot(d, self.basis[0]),
             dot(d, self.basis[1]),
             dot(d, self.basis[2]),
         ]
+    }
+
+    /// A point in view coordinates `(right, up, depth)`.
+    pub fn view(&self, p: V3) -> V3 {
+        self.rotate(sub(p, self.eye))
+    }
+
+    /// Signed distances of a point in view coordinates beyond the view's planes: near, left,
+    /// right, bottom, top (positive outside; the side planes' normalised).
+    pub fn beyond_planes(&self, v: V3) -> [f64; 5] {
+        let sx = 0.5 * self.viewport[0] as f64 / self.focal;
+        let sy = 0.5 * self.viewport[1] as f64 / self.focal;
+        let (nx, ny) = ((1.0 + sx * sx).sqrt(), (1.0 + sy * sy).sqrt());
+        [
+            self.near - v[2],
+            (-v[0] - sx * v[2]) / nx,
+            (v[0] - sx * v[2]) / nx,
+            (-v[1] - sy * v[2]) / ny,
+            (v[1] - sy * v[2]) / ny,
+        ]
+    }
+
+    /// The part of the convex polygon `points` (view coordinates) in front of the near plane
+    /// and within `margin` of the side planes, by clipping one plane after another.
+    pub fn clip(&self, points: &[V3], margin: f64) -> Vec<V3> {
+        let mut polygon = points.to_vec();
+        for k in 0..5 {
+            let limit = if k == 0 { 0.0 } else { margin };
+            let outside = |v: &V3| self.beyond_planes(*v)[k] - limit;
+            let mut kept = Vec::with_capacity(polygon.len() + 1);
+            for (i, &a) in polygon.iter().enumerate() {
+                let b = polygon[(i + 1) % polygon.len()];
+                let (da, db) = (outside(&a), outside(&b));
+                if da <= 0.0 {
+                    kept.push(a);
+                }
+                if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+                    let t = da / (da - db);
+                    kept.push([0, 1, 2].map(|c| a[c] + t * (b[c] - a[c])));
+                }
+            }
+            polygon = kept;
+            if polygon.is_empty() {
+                break;
+            }
+        }
+        polygon
     }
 
     /// Pixel position of view coordinates in front of the eye.
