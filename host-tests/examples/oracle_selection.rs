@@ -40,7 +40,7 @@ use std::collections::HashMap;
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
-use host_tests::screen_bound::{screen_bound, ScreenBound};
+use host_tests::screen_bound::screen_bound;
 use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
 
 /// Barycentric steps per side of a measured triangle (as `error_figures`).
@@ -105,7 +105,6 @@ fn measure(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> (Worst, Worst) {
 /// How one triangle is judged: the value held against the tolerance, and the value and
 /// point that order the insertions.
 fn judge(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter, selection: Selection) -> (f64, Worst) {
-    let bounded = |b: ScreenBound, error: f64| (error, Worst { error, at: b.at });
     match selection {
         Selection::Adaptive | Selection::Nested => {
             let (screen, object) = measure(r, uv, meter);
@@ -123,13 +122,14 @@ fn judge(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter, selection: Selection) -
             } else {
                 b.hull
             };
-            bounded(b, error)
+            (error, Worst { error, at: b.at })
         }
     }
 }
 
-/// The final triangles of one oracle on patch `r`, as corner parameters.
-fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<[[f64; 2]; 3]> {
+/// The final triangles of one oracle on patch `r`: corner parameters, and the value each was
+/// held to (its bound, for the bounded selections).
+fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<Judged> {
     let mut vertices = vec![MeshVertex::default(); VERTICES];
     let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
     let mut mesh = DomainMesh::new(&mut vertices, &mut triangles).expect("room for the square");
@@ -157,7 +157,10 @@ fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<[[
                 next = Some((order, key));
             }
         }
-        let done = |mesh: &DomainMesh<'_>| keys(mesh).iter().map(|k| k.map(unit)).collect();
+        let done = |mesh: &DomainMesh<'_>| {
+            let held = |k: &[GridPoint; 3]| judged[k].0;
+            keys(mesh).iter().map(|k| (k.map(unit), held(k))).collect()
+        };
         let Some((next, key)) = next.filter(|_| worst > tol) else {
             return done(&mesh);
         };
@@ -175,23 +178,24 @@ fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<[[
             })
             .map(midpoint)
             .expect("three edges");
-        let first = GridPoint { u, v };
-        if mesh.insert(first).is_err() && mesh.insert(longest).is_err() {
+        if mesh.insert(GridPoint { u, v }).is_err() && mesh.insert(longest).is_err() {
             eprintln!("a patch stopped at {worst:.3} px: no point left to insert");
             return done(&mesh);
         }
     }
 }
 
-/// Directional bound over sampled deviation, on screen, of every triangle with something on
-/// screen.
-fn bound_over_true(r: &RefPatch, triangles: &[[[f64; 2]; 3]], meter: &Meter) -> Vec<f64> {
+/// A final triangle's corner parameters and the value it was held to.
+type Judged = ([[f64; 2]; 3], f64);
+
+/// Bound over sampled deviation, on screen, of every triangle (held to its bound) with
+/// something on screen.
+fn bound_over_true(r: &RefPatch, triangles: &[Judged], meter: &Meter) -> Vec<f64> {
     triangles
         .iter()
-        .filter_map(|&uv| {
+        .filter_map(|&(uv, bound)| {
             let corners = uv.map(|[u, v]| r.point(u, v));
             let sampled = triangle_deviation(r, uv, corners, CHECK_DENSE, Measure::Screen(meter));
-            let bound = screen_bound(r, uv, meter).expect("a polynomial patch").hull;
             (sampled.worst > 0.0).then(|| bound / sampled.worst)
         })
         .collect()

@@ -125,25 +125,13 @@ impl Meter {
         ]
     }
 
-    /// Signed distances of `p` beyond the view's planes: near, left, right, bottom, top
-    /// (positive outside; the side planes' unnormalised).
-    pub fn beyond(&self, p: V3) -> [f64; 5] {
-        let v = self.view(p);
-        let sx = 0.5 * self.viewport[0] as f64 / self.focal;
-        let sy = 0.5 * self.viewport[1] as f64 / self.focal;
-        [
-            self.near - v[2],
-            -v[0] - sx * v[2],
-            v[0] - sx * v[2],
-            -v[1] - sy * v[2],
-            v[1] - sy * v[2],
-        ]
-    }
-
     /// True when every point of `points` lies beyond one and the same plane of the view (so
     /// their convex hull is out of sight).
     pub fn outside_one_plane(&self, points: &[V3]) -> bool {
-        let d: Vec<[f64; 5]> = points.iter().map(|&p| self.beyond(p)).collect();
+        let d: Vec<[f64; 5]> = points
+            .iter()
+            .map(|&p| self.beyond_planes(self.view(p)))
+            .collect();
         (0..5).any(|k| d.iter().all(|x| x[k] > 0.0))
     }
 

@@ -204,9 +204,10 @@ pub fn screen_bound(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> Option<Sc
     let remainder = curvature_term(derivatives, uv) / (n * n) as f64;
     let corners: [V3; 3] = uv.map(|[u, v]| r.point(u, v));
     let flat = corners.map(|p| meter.view(p));
-    let (mut deviations, mut largest) = (Vec::with_capacity(28), 0.0f64);
+    let mut deviations = Vec::with_capacity(28);
+    // The lattice point of the largest deviation, and its length.
     let centroid = [0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0);
-    let mut at_object = (centroid, 0.0);
+    let (mut at, mut largest) = (centroid, 0.0f64);
     for i in 0..=n {
         for j in 0..=n - i {
             let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
@@ -216,14 +217,12 @@ pub fn screen_bound(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> Option<Sc
             let s = r.point(x[0], x[1]);
             let e = [0, 1, 2].map(|k| s[k] - l[k]);
             let length = dot(e, e).sqrt();
-            largest = largest.max(length);
-            if length > at_object.1 {
-                at_object = (x, length);
+            if length > largest {
+                (at, largest) = (x, length);
             }
             deviations.push(meter.rotate(e));
         }
     }
-    let at = at_object.0;
     let object = largest + remainder;
     // Where a sample counts, `l` is in front of the near plane and within `m` of the screen.
     let front = meter.clip(&flat, object);
