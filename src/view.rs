@@ -238,6 +238,17 @@ impl Camera {
         self.rotate_to_view(p - self.eye())
     }
 
+    /// Pixels per unit of screen slope (perspective) or per object unit (orthographic).
+    pub(crate) fn focal(&self) -> f32 {
+        self.focal
+    }
+
+    /// Largest visible `|x/z|` and `|y/z|` (perspective), and the lengths of the side planes'
+    /// normals `(1, -s)` by which a distance beyond them is divided.
+    pub(crate) fn side_planes(&self) -> ([f32; 2], [f32; 2]) {
+        (self.slope, self.side_norm)
+    }
+
     /// Direction `d` in view coordinates (rotation only).
     pub(crate) fn rotate_to_view(&self, d: Vec3) -> Vec3 {
         Vec3::new(

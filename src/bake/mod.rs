@@ -18,7 +18,8 @@ mod load;
 mod model;
 
 pub use crate::deviation::{
-    chord_bound, triangle_bound, ChordBound, PatchBounds, TriangleBound, LATTICE, SAMPLED_FACTORS,
+    chord_bound, triangle_bound, triangle_screen_bound, ChordBound, PatchBounds, TriangleBound,
+    LATTICE, SAMPLED_FACTORS,
 };
 pub use curve::{
     sample_curve, CurveSample, CurveSampleError, CurveSampling, CurveSegment, StopReason,

@@ -67,8 +67,10 @@
 use crate::domain::GridPoint;
 use crate::math::{length, max, sqrt};
 use crate::patch::{BezierPatch, Side};
+use crate::view::Camera;
 
 mod patch_bounds;
+mod screen;
 
 pub use patch_bounds::PatchBounds;
 pub(crate) use patch_bounds::PreparedBounds;
@@ -130,6 +132,24 @@ pub fn triangle_bound(patch: &BezierPatch<'_>, corners: [GridPoint; 3]) -> Trian
     let uv = corners.map(GridPoint::to_unit);
     let local = PatchBounds::around(patch, uv);
     lattice.bound(local.curvature_term(uv), local.slack, true)
+}
+
+/// The bound, in pixels, of the deviation on `camera`'s screen of the domain triangle
+/// `corners` of `patch`: its lattice's deviation vectors projected one by one at the view rays
+/// of the part of the triangle that can show, with the remainder of [`triangle_bound`] (see
+/// the derivation in `deviation/screen.rs`). At most [`triangle_bound`]'s bound times the
+/// projection's largest scale over the triangle, and far below it where the deviation runs
+/// along the line of sight.
+pub fn triangle_screen_bound(
+    patch: &BezierPatch<'_>,
+    corners: [GridPoint; 3],
+    camera: &Camera,
+) -> f32 {
+    let mut lattice = Lattice::coarse(patch, corners);
+    lattice.complete(patch);
+    let uv = corners.map(GridPoint::to_unit);
+    let local = PatchBounds::around(patch, uv);
+    lattice.screen_bound(camera, local.curvature_term(uv), local.slack)
 }
 
 /// The surface on a triangle's lattice: its samples, and the largest sampled deviations of
