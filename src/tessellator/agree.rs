@@ -15,7 +15,7 @@
 //! curve factors have not changed since it was last checked, and a pattern keeps its bound for
 //! the frame once computed.
 
-use super::pieces::{piece_bound, refined_bound};
+use super::pieces::{factor_for, piece_bound, refined_bound};
 use super::refine::{own_threshold, threshold};
 use super::{FrameStats, Tessellator};
 use crate::deviation::PatchBounds;
@@ -180,15 +180,25 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     .patch_view_with(p, sides)
                     .map(|view_p| [0, 1, 2].map(|i| view_p.edge_factor(t, v, n, i)));
                 let uniform = edges.is_none_or(|e| e == [f; 3]);
+                // (For a triangle left uncut by its bound on screen and cut after all.)
+                let mut isotropic = None;
                 if !uniform {
                     // Its pieces are judged at its own depth, not at its patch's nearest: a
                     // cut triangle by its own bound (which chose its factor), an uncut one by
                     // the threshold it was judged with, or, for a baked prefix triangle, the
                     // one the recorded bound gives at its corners.
+                    // One left uncut by its bound on screen and cut after all has its
+                    // pieces held to the threshold of its own object-space bound.
                     if f > 1 {
                         let b = self.bound_of(p, to + t, &patch, corners, stats);
                         state.threshold = threshold(view, tol, &b);
                         bound = Some(b);
+                    } else if state.on_screen() {
+                        // Its own threshold is the one its own bound gives (its margin),
+                        // computed again each round: uncut, it keeps the one its bound on
+                        // screen implies.
+                        let points = self.bound_entry(p, to + t, corners).corner_points(&patch);
+                        isotropic = Some(own_threshold(view, tol, points, state.margin));
                     } else if !state.judged() {
                         let points = self.bound_entry(p, to + t, corners).corner_points(&patch);
                         // (Every triangle of a patch without states is within `plain`.)
@@ -197,7 +207,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                         state.threshold = math::max(slot.c, own);
                     }
                 }
-                let c = state.threshold;
+                let c = isotropic.unwrap_or(state.threshold);
                 // Pieces of a non-uniform pattern, each bounded on its own.
                 // (A pattern already bounded this frame keeps its bound.)
                 let mut pieces = None;
@@ -248,6 +258,12 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                                 // A halving that was not enough: the uniform cut its own
                                 // bound chose.
                                 2
+                            } else if state.on_screen() {
+                                // Left uncut by its bound on screen, over its own threshold:
+                                // the uniform cut its own bound chooses (whose pieces are
+                                // within it).
+                                let b = self.bound_of(p, to + t, &patch, corners, stats);
+                                factor_for(&b, c, max).max(2)
                             } else if grow >= max as f32 {
                                 max
                             } else {
@@ -326,6 +342,10 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             return;
         };
         state.threshold = threshold(view, tol, &b);
+        state.set_on_screen(false);
+        // Cut uniformly, its pieces are within this (a round that finds it in a non-uniform
+        // pattern bounds that pattern's pieces instead).
+        state.pieces = refined_bound(&b, f);
         state.factor = f;
         self.storage.patches[p].settled = false;
         let s = &mut self.storage.patches[p];

@@ -20,6 +20,19 @@
 //!    second derivatives give the tighter `½ ρ² / n²` for the pieces. Only this one chooses a
 //!    factor above 1.
 //!
+//! 5. its bound on screen ([`crate::deviation`]'s `screen`: the same samples' deviation
+//!    vectors projected at the view rays of the part of the triangle that can show), tried
+//!    where step 4 asks for a factor of 2: a deviation along the line of sight moves no pixel,
+//!    so a triangle facing the eye is often within the tolerance on screen while its
+//!    object-space bound is not. It leaves the triangle uncut where that bound is within the
+//!    tolerance; its threshold is then the one that puts its own bound at the same ratio (so
+//!    the frame's statistics report the bound on screen). On the teapot at 1024x768 it
+//!    leaves a third to four fifths of the factors of 2 uncut, about one in thirty of the
+//!    factors of 3 and none above (measured 2026-11-24), so larger factors do not try it.
+//!    Where a neighbour's factor cuts such a triangle after all (a non-uniform pattern), its
+//!    pieces are held to the threshold of its own object-space bound, and where they are
+//!    over, it takes the factor that bound chooses (see `agree`).
+//!
 //! Steps 1 to 3 leave a triangle uncut where their bound is within the threshold it implies.
 //! Each step's value depends on the triangle alone, and the values computed are cached per
 //! triangle slot while the triangle stays; the steps are always tried in the same order, so
@@ -92,6 +105,34 @@ pub(super) fn threshold(view: &View, tol: f32, b: &TriangleBound) -> f32 {
     own_threshold(view, tol, b.points, b.bound())
 }
 
+/// What judging a triangle found.
+struct Judged {
+    /// Its factor.
+    factor: u8,
+    /// The bound of its pieces (object units).
+    pieces: f32,
+    /// The threshold it was judged against (infinite: off the view, with its surface piece).
+    threshold: f32,
+    /// Its own bound where used, with the bounds of the patch cut to its box where they were
+    /// computed.
+    own: Option<(TriangleBound, Option<PreparedBounds>)>,
+    /// Left uncut by its bound on screen: `threshold` is the one that bound implies.
+    on_screen: bool,
+}
+
+impl Judged {
+    /// Uncut by a bound `bound` within threshold `c`.
+    fn uncut(bound: f32, c: f32) -> Judged {
+        Judged {
+            factor: 1,
+            pieces: bound,
+            threshold: c,
+            own: None,
+            on_screen: false,
+        }
+    }
+}
+
 impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
     /// The own bound of triangle `corners` of patch `patch` (index `p`), computed when the
     /// cache does not hold it.
@@ -141,12 +182,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         tol: f32,
         max: u8,
         stats: &mut FrameStats,
-    ) -> (
-        u8,
-        f32,
-        f32,
-        Option<(TriangleBound, Option<PreparedBounds>)>,
-    ) {
+    ) -> Judged {
         let uv = corners.map(GridPoint::to_unit);
         let state = self.bound_entry(p, slot, corners);
         let points = state.corner_points_memo(patch, ids, memo);
@@ -163,7 +199,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         // 1. A bound at hand.
         let c = own_threshold(at_hand);
         if at_hand <= c {
-            return (1, at_hand, c, None);
+            return Judged::uncut(at_hand, c);
         }
         // 2. The coarse lattice. One lattice, sampled in place once (and completed) where a
         // step needs it: steps 3 and 4 build on the samples of step 2.
@@ -175,7 +211,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         }
         let c = own_threshold(state.coarse);
         if state.coarse <= c {
-            return (1, state.coarse, c, None);
+            return Judged::uncut(state.coarse, c);
         }
         // 3. The full lattice, with the whole patch's remainder.
         if state.known & KNOW_WHOLE == 0 {
@@ -186,7 +222,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         }
         let c = own_threshold(state.whole);
         if state.whole <= c {
-            return (1, state.whole, c, None);
+            return Judged::uncut(state.whole, c);
         }
         // 4. Its own bound: the factor.
         let (b, local) = match state.cached() {
@@ -204,7 +240,35 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
         // (`b.points` are `points`: the same threshold as `threshold(view, tol, &b)`.)
         let c = own_threshold(b.bound());
         let f = factor_for(&b, c, max);
-        (f, refined_bound(&b, f), c, Some((b, local)))
+        // 5. Its bound on screen, from the same samples (see the module docs).
+        if let (2, View::Screen { camera, .. }) = (f, view) {
+            lattice.sample_coarse_once(patch, corners, points);
+            lattice.complete(patch);
+            let on_screen = lattice.screen_bound(camera, b.curvature, b.slack);
+            if on_screen <= view.tolerance() {
+                // The threshold that puts the bound at its ratio to the tolerance.
+                // (Finite: an infinite threshold says the triangle is off the view.)
+                let implied = if on_screen > 0.0 {
+                    math::min(b.bound() * (view.tolerance() / on_screen), f32::MAX)
+                } else {
+                    f32::MAX
+                };
+                return Judged {
+                    factor: 1,
+                    pieces: b.bound(),
+                    threshold: implied,
+                    own: Some((b, local)),
+                    on_screen: true,
+                };
+            }
+        }
+        Judged {
+            factor: f,
+            pieces: refined_bound(&b, f),
+            threshold: c,
+            own: Some((b, local)),
+            on_screen: false,
+        }
     }
 
     /// Chooses every triangle's and curve's refinement factor for `view` (factors 1 when
@@ -303,7 +367,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                     if let (false, Some(r)) = (near_extra, own) {
                         at_hand = math::min(at_hand, r);
                     }
-                    let (f, pieces, c, own_bound) = self.judge(
+                    let judged = self.judge(
                         p,
                         slot.triangle_offset as usize + t,
                         &patch,
@@ -319,6 +383,9 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
                         max,
                         stats,
                     );
+                    let (f, pieces, c, own_bound) =
+                        (judged.factor, judged.pieces, judged.threshold, judged.own);
+                    state.set_on_screen(judged.on_screen);
                     state.threshold = c;
                     state.pieces = pieces;
                     // (An infinite threshold: the triangle, within the bound that judged

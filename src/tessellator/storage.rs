@@ -167,6 +167,10 @@ const HIDDEN: u8 = 2;
 /// halved this frame beyond the triangle's own factor (a bisection where a uniform cut would
 /// overshoot).
 const HALVED: u8 = 4;
+/// [`TriangleSlot`] flag: it was left uncut by its bound on screen (see `refine`), and its
+/// `threshold` is the one that bound implies, not one an object-space bound may be held to
+/// (a piece of it, where it is cut after all, is judged by its own isotropic threshold).
+const ON_SCREEN: u8 = 32;
 
 impl TriangleSlot {
     fn set_flag(&mut self, flag: u8, on: bool) {
@@ -185,6 +189,16 @@ impl TriangleSlot {
     /// Sets [`TriangleSlot::judged`].
     pub(super) fn set_judged(&mut self, on: bool) {
         self.set_flag(JUDGED, on);
+    }
+
+    /// Whether it was left uncut by its bound on screen this frame.
+    pub(super) fn on_screen(&self) -> bool {
+        self.flags & ON_SCREEN != 0
+    }
+
+    /// Sets [`TriangleSlot::on_screen`].
+    pub(super) fn set_on_screen(&mut self, on: bool) {
+        self.set_flag(ON_SCREEN, on);
     }
 
     /// Whether it is off the view this frame (not written).
