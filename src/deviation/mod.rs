@@ -380,13 +380,11 @@ impl Lattice {
         let n = LATTICE as usize;
         let s = &self.s;
         let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
-        let inv = 1.0 / n as f32;
         let (mut worst, mut at) = (0.0f32, (2, 2));
         for i in (0..=n).step_by(2) {
             for j in (0..=n - i).step_by(2) {
-                let k = n - i - j;
-                let linear = (q0 * k as f32 + q1 * i as f32 + q2 * j as f32) * inv;
-                let d = (s[i][j] - linear).dot(s[i][j] - linear);
+                let e = self.deviation(i, j);
+                let d = e.dot(e);
                 if d > worst {
                     (worst, at) = (d, (i, j));
                 }
@@ -421,22 +419,17 @@ impl Lattice {
         for ((i, j), point) in FINE.into_iter().zip(sampled) {
             self.s[i][j] = Sample::from_array(point.to_array());
         }
-        let s = &self.s;
-        let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
-        let inv = 1.0 / n as f32;
         // The first point of the largest deviation `length` gives (as rounded): a root is
         // taken only for a squared length above the best one's (the root is monotone, so no
         // other can be larger).
         let mut best = (-1.0f32, (1usize, 1usize));
         let mut best_squared = -1.0f32;
-        for (i, row) in s.iter().enumerate() {
-            for (j, &point) in row.iter().enumerate().take(n + 1 - i) {
-                let k = n - i - j;
-                if i == n || j == n || k == n {
+        for i in 0..=n {
+            for j in 0..=n - i {
+                if i == n || j == n || i + j == 0 {
                     continue;
                 }
-                let linear = (q0 * k as f32 + q1 * i as f32 + q2 * j as f32) * inv;
-                let e = point - linear;
+                let e = self.deviation(i, j);
                 let squared = e.dot(e);
                 if squared > best_squared {
                     let d = sqrt(squared);
@@ -449,6 +442,16 @@ impl Lattice {
         }
         self.worst[0] = max(best.0, 0.0);
         self.at = best.1;
+    }
+
+    /// `e_k` at lattice point `(i, j)`: its sample less the corners' interpolant there.
+    #[inline(always)]
+    fn deviation(&self, i: usize, j: usize) -> Sample {
+        let n = LATTICE as usize;
+        let s = &self.s;
+        let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
+        let linear = (q0 * (n - i - j) as f32 + q1 * i as f32 + q2 * j as f32) * (1.0 / n as f32);
+        s[i][j] - linear
     }
 
     /// The largest deviations of the pieces of a uniform refinement by 2 and 3, each against

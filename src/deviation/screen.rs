@@ -114,18 +114,16 @@ impl Lattice {
         let n = LATTICE as usize;
         let s = &self.s;
         let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
-        let inv = 1.0 / n as f32;
         let r = curvature * (1.0 / (n * n) as f32) + slack;
         // The deviation vectors in view coordinates, and the longest one.
         let mut e = [Vec3::ZERO; INNER];
         let (mut k, mut big) = (0, 0.0f32);
-        for (i, row) in s.iter().enumerate() {
-            for (j, &point) in row.iter().enumerate().take(n + 1 - i) {
+        for i in 0..=n {
+            for j in 0..=n - i {
                 if i == n || j == n || i + j == 0 {
                     continue;
                 }
-                let linear = (q0 * (n - i - j) as f32 + q1 * i as f32 + q2 * j as f32) * inv;
-                let d = Vec3::from_array((point - linear).to_array());
+                let d = Vec3::from_array(self.deviation(i, j).to_array());
                 big = max(big, length(d));
                 e[k] = camera.rotate_to_view(d);
                 k += 1;
