@@ -1,15 +1,16 @@
 //! How few triangles a selection of this kind could reach: oracle tessellators beside the
-//! verified uniform grid, on the views of the error-control table, two with a perfect error
-//! measure and two with a sound bound. Prints a Markdown table.
+//! verified uniform grid, on the views of the error-control table: two with a perfect error
+//! measure, two with a sound bound, and two that select per sample from the kernel's own bake
+//! with the kernel's own bound. Prints a Markdown table.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example oracle_selection
 //! ```
 //!
-//! Both oracles triangulate each patch on its own (as the grid does: no shared boundaries, so
+//! The oracles triangulate each patch on its own (as the grid does: no shared boundaries, so
 //! cracks), by Delaunay insertion in (u,v) with the kernel's `DomainMesh`, starting from the
-//! square's two triangles, and both measure a triangle's error exactly as `error_figures`
-//! does: the surface against the triangle's linear interpolant at the same (u,v), 12 steps
+//! square's two triangles. The first two measure a triangle's error exactly as
+//! `error_figures` does: the surface against the triangle's linear interpolant at the same (u,v), 12 steps
 //! per side with the `f64` reference, projected, only samples on screen counting. Neither is
 //! sound (sampled, not bounded) nor crack-free, and greedy insertion is not optimal: they show
 //! what a tessellator that is both, selecting the same way, can hope for before a bound's
@@ -34,14 +35,31 @@
 //!   at the corners' view rays, plus the remainder: a deviation along the line of sight moves
 //!   no pixel, and this bound sees it. Its last column checks it: the bound over the triangle's
 //!   deviation on screen sampled at 24 steps per side (a sound bound is at least 1).
+//!
+//! The last two take the points a bake recorded instead of choosing their own: the kernel's
+//! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
+//! on screen (`bake::triangle_screen_bound`), so they show what a run time built from the
+//! kernel's parts could reach with *per-sample* selection (still without shared curves):
+//!
+//! - *Baked per sample*: a step is kept when its deviation at its own point, before it went
+//!   in (the surface against the triangle of the baked steps before it that held the point),
+//!   shows more than the tolerance on screen; the kept steps are triangulated. Then, in
+//!   rounds, every triangle whose bound is over the tolerance takes the first baked step
+//!   inside it that it does not hold (all of a round's steps go in together, in order, so the
+//!   result depends on the view alone); what is still over once no such step is left is cut
+//!   uniformly, each triangle by the smallest factor whose pieces are all within the
+//!   tolerance.
 
 use std::collections::HashMap;
 
-use host_tests::model_file::ModelFile;
+use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use host_tests::screen_bound::screen_bound;
-use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex};
+use spline_tess::bake::{triangle_screen_bound, BakeSettings, BakedModel, Tolerance};
+use spline_tess::{
+    BezierPatch, Camera, DomainMesh, GridPoint, MeshTriangle, MeshVertex, Projection, Vec3,
+};
 
 /// Barycentric steps per side of a measured triangle (as `error_figures`).
 const DENSE: usize = 12;
@@ -49,6 +67,10 @@ const DENSE: usize = 12;
 const CHECK_DENSE: usize = 24;
 /// Steps per side of a grid triangle (as `error_figures`).
 const GRID_DENSE: usize = 8;
+/// The bakes the per-sample oracle reads (relative tolerances; the caps of `error_figures`).
+const BAKES: [f32; 2] = [1e-3, 2.5e-4];
+/// Largest uniform factor the per-sample oracle tries on a triangle (no case comes near).
+const MAX_FACTOR: u32 = 32;
 /// Vertex slots per patch; no case comes near.
 const VERTICES: usize = 1 << 14;
 
@@ -201,32 +223,203 @@ fn bound_over_true(r: &RefPatch, triangles: &[Judged], meter: &Meter) -> Vec<f64
         .collect()
 }
 
+/// Barycentric coordinates of `q` in the domain triangle `t` (exact enough: grid units in
+/// `f64`).
+fn barycentric(t: [GridPoint; 3], q: GridPoint) -> [f64; 3] {
+    let [a, b, c, q] = [t[0], t[1], t[2], q].map(|g| [g.u as f64, g.v as f64]);
+    let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+    let l1 = ((q[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (q[1] - a[1])) / det;
+    let l2 = ((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1])) / det;
+    [1.0 - l1 - l2, l1, l2]
+}
+
+/// Whether `q` lies in the closed domain triangle `t`.
+fn holds(t: [GridPoint; 3], q: GridPoint) -> bool {
+    barycentric(t, q).iter().all(|&l| l >= -1e-12)
+}
+
+/// The domain triangles of `mesh`, by their corners.
+fn domain_triangles(mesh: &DomainMesh<'_>) -> Vec<[GridPoint; 3]> {
+    mesh.triangles()
+        .map(|ids| ids.map(|id| mesh.point(id).expect("a vertex of the mesh")))
+        .collect()
+}
+
+/// A fresh domain mesh over `vertices` and `triangles`.
+fn square<'a>(vertices: &'a mut [MeshVertex], triangles: &'a mut [MeshTriangle]) -> DomainMesh<'a> {
+    DomainMesh::new(vertices, triangles).expect("room for the square")
+}
+
+/// The deviation on screen of each baked step at its own point before it went in: the
+/// steps replayed in order, each measured against the triangle that held it.
+fn step_deviations(r: &RefPatch, steps: &[GridPoint], meter: &Meter) -> Vec<f64> {
+    let mut vertices = vec![MeshVertex::default(); VERTICES];
+    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
+    let mut mesh = square(&mut vertices, &mut triangles);
+    let unit = |g: GridPoint| [g.u, g.v].map(|c| c as f64 / GridPoint::MAX as f64);
+    let point = |g: GridPoint| {
+        let [u, v] = unit(g);
+        r.point(u, v)
+    };
+    let mut deviations = Vec::with_capacity(steps.len());
+    for &q in steps {
+        let held = domain_triangles(&mesh).into_iter().find(|&t| holds(t, q));
+        let deviation = held.map_or(0.0, |t| {
+            let l = barycentric(t, q);
+            let corners = t.map(point);
+            let linear = [0, 1, 2].map(|k| (0..3).map(|i| l[i] * corners[i][k]).sum());
+            meter.deviation(point(q), linear).unwrap_or(0.0)
+        });
+        deviations.push(deviation);
+        // (A step that is already a vertex changes nothing.)
+        let _ = mesh.insert(q);
+    }
+    deviations
+}
+
+/// The smallest uniform factor whose pieces of `t` are all within `tol` by `bound`, with its
+/// piece count (`MAX_FACTOR`'s when none is).
+fn uniform_pieces(
+    t: [GridPoint; 3],
+    tol: f64,
+    bound: &mut impl FnMut([GridPoint; 3]) -> f32,
+) -> usize {
+    for f in 2..=MAX_FACTOR {
+        let at = |i: u32, j: u32| {
+            let (a, b) = (i as f64 / f as f64, j as f64 / f as f64);
+            let c = 1.0 - a - b;
+            let mix = |x: [f64; 3]| (c * x[0] + a * x[1] + b * x[2]).round() as u16;
+            GridPoint {
+                u: mix(t.map(|g| g.u as f64)),
+                v: mix(t.map(|g| g.v as f64)),
+            }
+        };
+        let within = (0..f).all(|i| {
+            (0..f - i).all(|j| {
+                let up = [at(i, j), at(i + 1, j), at(i, j + 1)];
+                let down = [at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                bound(up) as f64 <= tol && (i + j + 1 == f || bound(down) as f64 <= tol)
+            })
+        });
+        if within {
+            return (f * f) as usize;
+        }
+    }
+    (MAX_FACTOR * MAX_FACTOR) as usize
+}
+
+/// The triangles of the per-sample oracle on `patch` with the baked `steps`.
+fn per_sample(
+    patch: &BezierPatch<'_>,
+    r: &RefPatch,
+    steps: &[GridPoint],
+    meter: &Meter,
+    camera: &Camera,
+    tol: f64,
+) -> usize {
+    let deviations = step_deviations(r, steps, meter);
+    let mut vertices = vec![MeshVertex::default(); VERTICES];
+    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
+    let mut mesh = square(&mut vertices, &mut triangles);
+    let mut held = vec![false; steps.len()];
+    for (k, &q) in steps.iter().enumerate() {
+        if deviations[k] > tol {
+            held[k] = true;
+            let _ = mesh.insert(q);
+        }
+    }
+    let mut bounds: HashMap<[GridPoint; 3], f32> = HashMap::new();
+    let mut bound = |t: [GridPoint; 3]| {
+        let mut key = t;
+        key.sort_by_key(|g| (g.u, g.v));
+        *bounds
+            .entry(key)
+            .or_insert_with(|| triangle_screen_bound(patch, t, camera))
+    };
+    loop {
+        let mut round: Vec<usize> = domain_triangles(&mesh)
+            .into_iter()
+            .filter(|&t| bound(t) as f64 > tol)
+            .filter_map(|t| (0..steps.len()).find(|&k| !held[k] && holds(t, steps[k])))
+            .collect();
+        if round.is_empty() {
+            break;
+        }
+        round.sort_unstable();
+        round.dedup();
+        for k in round {
+            held[k] = true;
+            let _ = mesh.insert(steps[k]);
+        }
+    }
+    domain_triangles(&mesh)
+        .into_iter()
+        .map(|t| {
+            if bound(t) as f64 <= tol {
+                1
+            } else {
+                uniform_pieces(t, tol, &mut bound)
+            }
+        })
+        .sum()
+}
+
 fn main() {
     println!(
         "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
-         | directional bound / sampled: min, median |"
+         | directional bound / sampled: min, median \
+         | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    let mut loaded: Vec<(&str, ModelFile)> = Vec::new();
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut loaded: Vec<(&str, ModelFile, Vec<Vec<u8>>)> = Vec::new();
     for view in ERROR_VIEWS {
         let (model, name, viewport) = (view.model, view.name, view.viewport);
         let [eye, target] = [view.eye, view.target].map(|p| p.map(|c| c as f64));
         let tol = view.tol as f64;
-        if !loaded.iter().any(|(m, _)| *m == model) {
+        if !loaded.iter().any(|(m, _, _)| *m == model) {
             let path = host_tests::models_dir().join(model);
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-            loaded.push((model, file));
+            let bakes = BAKES
+                .map(|rel| {
+                    let settings = BakeSettings {
+                        tolerance: Tolerance::Relative(rel),
+                        max_curve_samples: 256,
+                        max_interior_samples: 4096,
+                    };
+                    file.with_model(|m| bake_to_vec(m, &settings))
+                        .expect("a topology")
+                        .expect("a bake")
+                })
+                .to_vec();
+            loaded.push((model, file, bakes));
         }
-        let (_, file) = loaded.iter().find(|(m, _)| *m == model).expect("loaded");
+        let (_, file, bakes) = loaded.iter().find(|(m, _, _)| *m == model).expect("loaded");
+        let baked: Vec<BakedModel<'_>> = bakes
+            .iter()
+            .map(|b| BakedModel::from_bytes(b).expect("a fresh bake reads back"))
+            .collect();
         let patches = file.patches();
         let diag = patches.aabb().expect("patches").diagonal();
         // The near plane of `error_figures`, rounded to f32 as its camera's is.
         let near = (0.01 * diag) as f64;
         let meter = Meter::new(eye, target, [0.0, 0.0, 1.0], 40.0, near, viewport);
+        // The kernel's camera, as `error_figures` makes it.
+        let camera = Camera::new(
+            Vec3::from_array(view.eye),
+            Vec3::from_array(view.target),
+            Vec3::Z,
+            Projection::Perspective {
+                fov_y_degrees: 40.0,
+            },
+            0.01 * diag,
+            viewport,
+        )
+        .expect("a valid camera");
         let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
         let mut grid = 0;
         let mut counts = [0usize; 4];
+        let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
             Selection::Adaptive,
@@ -234,7 +427,18 @@ fn main() {
             Selection::Isotropic,
             Selection::Directional,
         ];
-        for r in &refs {
+        for (p, r) in refs.iter().enumerate() {
+            let patch = patches.patch(p).expect("a patch");
+            for (count, b) in baked_counts.iter_mut().zip(&baked) {
+                let steps: Vec<GridPoint> = b
+                    .patch(p)
+                    .expect("a baked patch")
+                    .samples
+                    .iter()
+                    .map(|s| s.point)
+                    .collect();
+                *count += per_sample(&patch, r, &steps, &meter, &camera, tol);
+            }
             grid += grid_size(r, tol, GRID_DENSE, 512, Measure::Screen(&meter))
                 .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1));
             for (count, &selection) in counts.iter_mut().zip(&selections) {
@@ -246,15 +450,18 @@ fn main() {
             }
         }
         ratios.sort_by(f64::total_cmp);
-        let cells: Vec<String> = counts
-            .iter()
-            .map(|&c| format!("{c} | {:.2}", c as f64 / grid as f64))
-            .collect();
+        let cells = |counts: &[usize]| -> Vec<String> {
+            counts
+                .iter()
+                .map(|&c| format!("{c} | {:.2}", c as f64 / grid as f64))
+                .collect()
+        };
         println!(
-            "| {name} | {grid} | {} | {:.3}, {:.3} |",
-            cells.join(" | "),
+            "| {name} | {grid} | {} | {:.3}, {:.3} | {} |",
+            cells(&counts).join(" | "),
             ratios.first().copied().unwrap_or(f64::NAN),
             ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
+            cells(&baked_counts).join(" | "),
         );
     }
 }
