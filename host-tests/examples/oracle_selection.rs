@@ -10,8 +10,9 @@
 //! The oracles triangulate each patch on its own (as the grid does: no shared boundaries, so
 //! cracks), by Delaunay insertion in (u,v) with the kernel's `DomainMesh`, starting from the
 //! square's two triangles. The first two measure a triangle's error exactly as
-//! `error_figures` does: the surface against the triangle's linear interpolant at the same (u,v), 12 steps
-//! per side with the `f64` reference, projected, only samples on screen counting. Neither is
+//! `error_figures` does: the surface against the triangle's linear interpolant at the same
+//! (u,v), 12 steps per side with the `f64` reference, projected, only samples on screen
+//! counting. Neither is
 //! sound (sampled, not bounded) nor crack-free, and greedy insertion is not optimal: they show
 //! what a tessellator that is both, selecting the same way, can hope for before a bound's
 //! margin and shared boundaries.
@@ -152,19 +153,11 @@ fn judge(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter, selection: Selection) -
 /// The final triangles of one oracle on patch `r`: corner parameters, and the value each was
 /// held to (its bound, for the bounded selections).
 fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<Judged> {
-    let mut vertices = vec![MeshVertex::default(); VERTICES];
-    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
-    let mut mesh = DomainMesh::new(&mut vertices, &mut triangles).expect("room for the square");
+    let mut room = MeshRoom::new();
+    let mut mesh = room.square();
     let mut judged: HashMap<[GridPoint; 3], (f64, Worst)> = HashMap::new();
-    let unit = |p: GridPoint| [p.u, p.v].map(|c| c as f64 / GridPoint::MAX as f64);
     let keys = |mesh: &DomainMesh<'_>| -> Vec<[GridPoint; 3]> {
-        mesh.triangles()
-            .map(|ids| {
-                let mut key = ids.map(|id| mesh.point(id).expect("a vertex of the mesh"));
-                key.sort_by_key(|p| (p.u, p.v));
-                key
-            })
-            .collect()
+        domain_triangles(mesh).into_iter().map(key).collect()
     };
     loop {
         let (mut worst, mut next): (f64, Option<(Worst, [GridPoint; 3])>) = (0.0, None);
@@ -245,18 +238,42 @@ fn domain_triangles(mesh: &DomainMesh<'_>) -> Vec<[GridPoint; 3]> {
         .collect()
 }
 
-/// A fresh domain mesh over `vertices` and `triangles`.
-fn square<'a>(vertices: &'a mut [MeshVertex], triangles: &'a mut [MeshTriangle]) -> DomainMesh<'a> {
-    DomainMesh::new(vertices, triangles).expect("room for the square")
+/// A domain triangle's corners in one order (its key whichever corner comes first).
+fn key(mut t: [GridPoint; 3]) -> [GridPoint; 3] {
+    t.sort_by_key(|p| (p.u, p.v));
+    t
+}
+
+/// A grid point's (u,v) in the unit square.
+fn unit(p: GridPoint) -> [f64; 2] {
+    [p.u, p.v].map(|c| c as f64 / GridPoint::MAX as f64)
+}
+
+/// Room for one patch's domain mesh.
+struct MeshRoom {
+    vertices: Vec<MeshVertex>,
+    triangles: Vec<MeshTriangle>,
+}
+
+impl MeshRoom {
+    fn new() -> MeshRoom {
+        MeshRoom {
+            vertices: vec![MeshVertex::default(); VERTICES],
+            triangles: vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)],
+        }
+    }
+
+    /// A fresh mesh of the square's two triangles.
+    fn square(&mut self) -> DomainMesh<'_> {
+        DomainMesh::new(&mut self.vertices, &mut self.triangles).expect("room for the square")
+    }
 }
 
 /// The deviation on screen of each baked step at its own point before it went in: the
 /// steps replayed in order, each measured against the triangle that held it.
 fn step_deviations(r: &RefPatch, steps: &[GridPoint], meter: &Meter) -> Vec<f64> {
-    let mut vertices = vec![MeshVertex::default(); VERTICES];
-    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
-    let mut mesh = square(&mut vertices, &mut triangles);
-    let unit = |g: GridPoint| [g.u, g.v].map(|c| c as f64 / GridPoint::MAX as f64);
+    let mut room = MeshRoom::new();
+    let mut mesh = room.square();
     let point = |g: GridPoint| {
         let [u, v] = unit(g);
         r.point(u, v)
@@ -318,9 +335,8 @@ fn per_sample(
     tol: f64,
 ) -> usize {
     let deviations = step_deviations(r, steps, meter);
-    let mut vertices = vec![MeshVertex::default(); VERTICES];
-    let mut triangles = vec![MeshTriangle::default(); DomainMesh::triangles_for(VERTICES)];
-    let mut mesh = square(&mut vertices, &mut triangles);
+    let mut room = MeshRoom::new();
+    let mut mesh = room.square();
     let mut held = vec![false; steps.len()];
     for (k, &q) in steps.iter().enumerate() {
         if deviations[k] > tol {
@@ -330,10 +346,8 @@ fn per_sample(
     }
     let mut bounds: HashMap<[GridPoint; 3], f32> = HashMap::new();
     let mut bound = |t: [GridPoint; 3]| {
-        let mut key = t;
-        key.sort_by_key(|g| (g.u, g.v));
         *bounds
-            .entry(key)
+            .entry(key(t))
             .or_insert_with(|| triangle_screen_bound(patch, t, camera))
     };
     loop {
