@@ -29,8 +29,8 @@ mod expected {
 
 use settings::{CURVE_CAP, INTERIOR_CAP, SETTINGS};
 use spline_tess::bake::{
-    bake_model, BakeError, BakeScratch, BakeSummary, CurveSample, CurveSegment, InteriorSample,
-    TriangleDeviation,
+    bake_model, baked_size, BakeError, BakeScratch, BakeSummary, CurveSample, CurveSegment,
+    InteriorSample, TriangleDeviation,
 };
 use spline_tess::{BoundaryCurve, DomainMesh, EdgeLink, MeshTriangle, MeshVertex, Model, PatchSet};
 
@@ -38,7 +38,7 @@ const VERTICES: usize = 4 + 4 * CURVE_CAP + INTERIOR_CAP;
 const TRIANGLES: usize = DomainMesh::triangles_for(VERTICES);
 /// Room for the largest bake these caps allow: header, 4 curves, 1 patch, all samples (the
 /// patch's steps: its interior samples and its curve requests).
-const OUT: usize = 40 + 4 * 16 + 28 + 4 * CURVE_CAP * 6 + (INTERIOR_CAP + 4 * CURVE_CAP) * 8;
+const OUT: usize = baked_size(1, 4, 4 * CURVE_CAP, INTERIOR_CAP + 4 * CURVE_CAP);
 
 /// Bakes the patch into `out`; returns the summary.
 fn bake(out: &mut [u8; OUT]) -> Result<BakeSummary, BakeError> {

@@ -5,7 +5,9 @@
 //! triangulation after that step (dense f64 sampling, 64x64 barycentric points per triangle,
 //! with the reference evaluator), and within 10% of it on the median over all models; the lists are
 //! non-increasing; a curve request inserts its side's next curve sample; interior samples keep
-//! the boundary margin; the stop reason is honest.
+//! the boundary margin; the stop reason is honest; each step's stored surface point and offset
+//! (the surface against the triangle that held the point before it) match the reference's
+//! within what their encoding allows.
 
 use std::collections::HashMap;
 
@@ -13,7 +15,9 @@ use host_tests::baked::{on_side, triangle_max, unit};
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::RefPatch;
 use host_tests::{bpt_models, name, nurbs_fixtures};
-use spline_tess::bake::{BakeSettings, BakedModel, StopReason, Tolerance, BOUNDARY_MARGIN};
+use spline_tess::bake::{
+    BakeSettings, BakedModel, InteriorSample, PointBox, StopReason, Tolerance, BOUNDARY_MARGIN,
+};
 use spline_tess::{DomainMesh, EdgeLink, GridPoint, MeshTriangle, MeshVertex, Side};
 
 const DENSE: usize = 64;
@@ -27,6 +31,55 @@ const SETTINGS: BakeSettings = BakeSettings {
 struct Report {
     samples: usize,
     ratios: Vec<f64>,
+    /// Largest error of a stored surface point or offset over what its encoding allows.
+    stored: f64,
+}
+
+/// How far step `s`'s stored surface point and offset are from the reference's (the surface
+/// at its point, and that minus the linear interpolant of the triangle of `mesh` holding it),
+/// as a share of what their encodings allow: the point within `extent / 131070` per axis of
+/// its box, the offset within `1 / 32768` of its largest component; both plus `f32`
+/// evaluation (`1e-6` of the box's size).
+fn stored_error(r: &RefPatch, mesh: &DomainMesh<'_>, s: InteriorSample, frame: PointBox) -> f64 {
+    let orient = |a: GridPoint, b: GridPoint, c: GridPoint| {
+        let (ax, ay, bx, by, cx, cy) = [a.u, a.v, b.u, b.v, c.u, c.v].map(|x| x as i64).into();
+        (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    };
+    let q = s.point;
+    let held = mesh
+        .triangles()
+        .map(|t| t.map(|v| mesh.point(v).unwrap()))
+        .find(|&[a, b, c]| orient(b, c, q) >= 0 && orient(c, a, q) >= 0 && orient(a, b, q) >= 0)
+        .expect("a triangle holds every step");
+    let [a, b, c] = held;
+    let area = orient(a, b, c) as f64;
+    let weights = [orient(q, b, c), orient(a, q, c), orient(a, b, q)].map(|w| w as f64 / area);
+    let at = |g: GridPoint| {
+        let (u, v) = unit(g);
+        r.point(u, v)
+    };
+    let corners = held.map(at);
+    let surface = at(q);
+    let linear: [f64; 3] =
+        std::array::from_fn(|i| (0..3).map(|k| weights[k] * corners[k][i]).sum());
+    let offset: [f64; 3] = std::array::from_fn(|i| surface[i] - linear[i]);
+    let size = (0..3)
+        .map(|i| {
+            frame.min[i]
+                .abs()
+                .max((frame.min[i] + frame.extent[i]).abs()) as f64
+        })
+        .fold(0.0, f64::max);
+    let slack = 1e-6 * size;
+    let largest = offset.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    (0..3)
+        .map(|i| {
+            let point = (s.surface[i] as f64 - surface[i]).abs()
+                / (frame.extent[i] as f64 / 131070.0 + slack);
+            let off = (s.offset[i] as f64 - offset[i]).abs() / (largest / 32768.0 + slack);
+            point.max(off)
+        })
+        .fold(0.0, f64::max)
 }
 
 fn check_model(path: &std::path::Path) -> Report {
@@ -42,6 +95,7 @@ fn check_model(path: &std::path::Path) -> Report {
     let mut report = Report {
         samples: 0,
         ratios: Vec::new(),
+        stored: 0.0,
     };
     let inside = BOUNDARY_MARGIN..=GridPoint::MAX - BOUNDARY_MARGIN;
     for k in 0..baked.patch_count() {
@@ -107,6 +161,9 @@ fn check_model(path: &std::path::Path) -> Report {
             );
             let new_minimum = j == 0 || s.deviation < last;
             last = s.deviation;
+            report.stored = report
+                .stored
+                .max(stored_error(&r, &mesh, s, bp.samples.point_box()));
             mesh.insert(s.point).unwrap();
             if new_minimum {
                 let truth = current(&mesh);
@@ -146,10 +203,17 @@ fn check_model(path: &std::path::Path) -> Report {
         .copied()
         .unwrap_or(1.0);
     eprintln!(
-        "{label}: {} patches, {} steps, recorded / true: min {:.3}, median {median:.3}",
+        "{label}: {} patches, {} steps, recorded / true: min {:.3}, median {median:.3}; \
+         stored point and offset error / allowed {:.3}",
         baked.patch_count(),
         report.samples,
         report.ratios.first().copied().unwrap_or(1.0),
+        report.stored,
+    );
+    assert!(
+        report.stored <= 1.0,
+        "{label}: a stored point or offset is {:.3} times what its encoding allows",
+        report.stored
     );
 
     report

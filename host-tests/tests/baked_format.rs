@@ -122,11 +122,18 @@ fn versions_trailing_bytes_and_malformed_records() {
         BakedModel::from_bytes(&v1),
         Err(LoadError::UnsupportedVersion { found: 1 })
     );
-    let mut v3 = bytes.clone();
-    v3[4] = 3;
+    // Version 2 stored no surface point or offset per step.
+    let mut v2 = bytes.clone();
+    v2[4] = 2;
     assert_eq!(
-        BakedModel::from_bytes(&v3),
-        Err(LoadError::UnsupportedVersion { found: 3 })
+        BakedModel::from_bytes(&v2),
+        Err(LoadError::UnsupportedVersion { found: 2 })
+    );
+    let mut v4 = bytes.clone();
+    v4[4] = 4;
+    assert_eq!(
+        BakedModel::from_bytes(&v4),
+        Err(LoadError::UnsupportedVersion { found: 4 })
     );
     let mut long = bytes.clone();
     long.push(0);
@@ -140,10 +147,11 @@ fn versions_trailing_bytes_and_malformed_records() {
     // A valid checksum over bad content: an increasing deviation in patch 0's samples.
     let baked = BakedModel::from_bytes(&bytes).unwrap();
     let curves = baked.curve_count();
-    let samples_start = 40 + 16 * curves + 28 * baked.patch_count();
+    let patches_start = 40 + 16 * curves;
+    let samples_start = patches_start + 52 * baked.patch_count();
     let interior_start = samples_start + 6 * baked.curve_sample_count();
     let mut bad = bytes.clone();
-    bad[interior_start + 8 + 4..interior_start + 8 + 8].copy_from_slice(&1e9f32.to_le_bytes());
+    bad[interior_start + 21 + 4..interior_start + 21 + 8].copy_from_slice(&1e9f32.to_le_bytes());
     reseal(&mut bad);
     assert_eq!(
         BakedModel::from_bytes(&bad),
@@ -156,6 +164,29 @@ fn versions_trailing_bytes_and_malformed_records() {
     assert_eq!(
         BakedModel::from_bytes(&bad),
         Err(LoadError::Malformed(Part::Curve(0)))
+    );
+    // A point box with a negative extent, or one whose far corner overflows.
+    for (at, value) in [(40, -1.0f32), (28, f32::MAX)] {
+        let mut bad = bytes.clone();
+        let extent_x = patches_start + at;
+        bad[extent_x..extent_x + 4].copy_from_slice(&value.to_le_bytes());
+        if at == 28 {
+            bad[extent_x + 12..extent_x + 16].copy_from_slice(&value.to_le_bytes());
+        }
+        reseal(&mut bad);
+        assert_eq!(
+            BakedModel::from_bytes(&bad),
+            Err(LoadError::Malformed(Part::Patch(0))),
+            "box field at {at}"
+        );
+    }
+    // An offset exponent whose mantissas would decode past `f32`'s range.
+    let mut bad = bytes.clone();
+    bad[interior_start + 20] = 120;
+    reseal(&mut bad);
+    assert_eq!(
+        BakedModel::from_bytes(&bad),
+        Err(LoadError::Malformed(Part::Patch(0)))
     );
     // An interior sample inside the boundary margin.
     let mut bad = bytes.clone();

@@ -1,16 +1,16 @@
 //! The compact baked format: bytes that can live in flash and are read in place.
 //!
 //! Everything is little-endian and read byte by byte, so a `static [u8; N]` needs no alignment.
-//! Version 2 (version 1 recorded sampled deviations instead of bounds, and a patch's steps were
-//! interior samples only):
+//! Version 3 (version 1 recorded sampled deviations instead of bounds, and a patch's steps were
+//! interior samples only; version 2 stored no surface point or offset per step):
 //!
 //! | bytes | content |
 //! |---|---|
 //! | 40 | header: magic `STBK`, version `u16`, header length `u16` (40), patches `u32`, curves `u32`, curve samples `u32`, interior samples `u32`, tolerance `f32`, model fingerprint `u32`, reserved `u32` (0), checksum `u32` |
 //! | 16 per curve | owner patch `u32`, owner side `u8`, stop reason `u8`, samples `u16`, first sample `u32`, initial deviation `f32` |
-//! | 28 per patch | four edge links `u32` (curve index, bit 31 set when reversed, `u32::MAX` when collapsed), first sample `u32`, samples `u16`, stop reason `u8`, Delaunay metric `u8` (u factor - 1 in the high nibble, v factor - 1 in the low one), initial deviation `f32` |
+//! | 52 per patch | four edge links `u32` (curve index, bit 31 set when reversed, `u32::MAX` when collapsed), first sample `u32`, samples `u16`, stop reason `u8`, Delaunay metric `u8` (u factor - 1 in the high nibble, v factor - 1 in the low one), initial deviation `f32`, the [`PointBox`] of its steps' points: minimum `3 × f32`, extent `3 × f32` |
 //! | 6 per curve sample | `t` `u16`, deviation `f32` |
-//! | 8 per patch step | `u` `u16`, `v` `u16`, deviation bound `f32`; a point on the boundary requests the next sample of that side's curve (and is that sample's point) |
+//! | 21 per patch step | `u` `u16`, `v` `u16`, deviation bound `f32`, surface point `3 × u16` (in the patch's box), offset mantissas `3 × i16` and exponent `i8` (see [`quantize`](super::quantize)); a point on the boundary requests the next sample of that side's curve (and is that sample's point) |
 //!
 //! The checksum is 32-bit FNV-1a over every byte except its own four, so any change to a
 //! single byte is detected. [`BakedModel::from_bytes`] (in `load`) checks every byte's place
@@ -20,6 +20,7 @@ use core::fmt;
 
 use super::curve::{CurveSample, StopReason};
 use super::interior::InteriorSample;
+use super::quantize::{decode_offset, PointBox};
 use crate::domain::{GridPoint, Metric};
 use crate::model::{EdgeLink, PatchSet};
 use crate::patch::Side;
@@ -27,13 +28,13 @@ use crate::patch::Side;
 /// The four bytes every baked model starts with.
 pub const MAGIC: [u8; 4] = *b"STBK";
 /// The format version this crate writes and reads.
-pub const VERSION: u16 = 2;
+pub const VERSION: u16 = 3;
 
 pub(crate) const HEADER_LEN: usize = 40;
 pub(crate) const CURVE_RECORD: usize = 16;
-pub(crate) const PATCH_RECORD: usize = 28;
+pub(crate) const PATCH_RECORD: usize = 52;
 pub(crate) const CURVE_SAMPLE: usize = 6;
-pub(crate) const INTERIOR_SAMPLE: usize = 8;
+pub(crate) const INTERIOR_SAMPLE: usize = 21;
 pub(super) const CHECKSUM_AT: usize = 36;
 const COLLAPSED: u32 = u32::MAX;
 const REVERSED: u32 = 1 << 31;
@@ -95,6 +96,40 @@ pub(crate) fn f32_at(b: &[u8], at: usize) -> f32 {
     f32::from_bits(u32_at(b, at))
 }
 
+/// Offset of a patch record's [`PointBox`]: minimum, then extent.
+pub(crate) const BOX_AT: usize = 28;
+
+/// The [`PointBox`] stored at `at`.
+pub(crate) fn point_box_at(b: &[u8], at: usize) -> PointBox {
+    PointBox {
+        min: [0, 1, 2].map(|i| f32_at(b, at + 4 * i)),
+        extent: [0, 1, 2].map(|i| f32_at(b, at + 12 + 4 * i)),
+    }
+}
+
+/// Writes `sample`'s record into `out` (`INTERIOR_SAMPLE` bytes), its point in `frame`.
+pub(crate) fn put_step(out: &mut [u8], sample: &InteriorSample, frame: &PointBox) {
+    let (m, e) = super::quantize::encode_offset(sample.offset);
+    let q = frame.encode(sample.surface);
+    let mut at = 0;
+    let mut put = |bytes: &[u8]| {
+        if let Some(dst) = out.get_mut(at..at + bytes.len()) {
+            dst.copy_from_slice(bytes);
+        }
+        at += bytes.len();
+    };
+    put(&sample.point.u.to_le_bytes());
+    put(&sample.point.v.to_le_bytes());
+    put(&sample.deviation.to_le_bytes());
+    for x in q {
+        put(&x.to_le_bytes());
+    }
+    for x in m {
+        put(&x.to_le_bytes());
+    }
+    put(&[e as u8]);
+}
+
 pub(crate) fn stop_code(stop: StopReason) -> u8 {
     match stop {
         StopReason::Tolerance => 0,
@@ -150,6 +185,31 @@ pub(crate) fn baked_len(
         .checked_add(patches.checked_mul(PATCH_RECORD)?)?
         .checked_add(curve_samples.checked_mul(CURVE_SAMPLE)?)?
         .checked_add(interior_samples.checked_mul(INTERIOR_SAMPLE)?)
+}
+
+/// The byte length of a baked model with these counts (saturating at `usize::MAX`): room to
+/// give [`bake_model`](super::bake_model), e.g. for the largest bake a set of caps allows.
+///
+/// ```
+/// use spline_tess::bake::baked_size;
+///
+/// // One patch, four curves of at most 32 samples, at most 128 interior samples (the patch's
+/// // steps also request each curve sample).
+/// const OUT: usize = baked_size(1, 4, 4 * 32, 128 + 4 * 32);
+/// let out = [0u8; OUT];
+/// assert_eq!(out.len(), 40 + 4 * 16 + 52 + 4 * 32 * 6 + 256 * 21);
+/// ```
+pub const fn baked_size(
+    patches: usize,
+    curves: usize,
+    curve_samples: usize,
+    steps: usize,
+) -> usize {
+    HEADER_LEN
+        .saturating_add(curves.saturating_mul(CURVE_RECORD))
+        .saturating_add(patches.saturating_mul(PATCH_RECORD))
+        .saturating_add(curve_samples.saturating_mul(CURVE_SAMPLE))
+        .saturating_add(steps.saturating_mul(INTERIOR_SAMPLE))
 }
 
 /// A baked model, read in place from its bytes (e.g. a `static` in flash).
@@ -212,6 +272,7 @@ pub struct CurveSamples<'a> {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct InteriorSamples<'a> {
     bytes: &'a [u8],
+    frame: PointBox,
 }
 
 impl<'a> CurveSamples<'a> {
@@ -260,7 +321,23 @@ impl<'a> InteriorSamples<'a> {
             .map(|b| InteriorSample {
                 point: GridPoint::new(u16_at(b, 0), u16_at(b, 2)),
                 deviation: f32_at(b, 4),
+                surface: self.frame.decode([0, 1, 2].map(|i| u16_at(b, 8 + 2 * i))),
+                offset: decode_offset([0, 1, 2].map(|i| u16_at(b, 14 + 2 * i) as i16), b[20] as i8),
             })
+    }
+
+    /// Sample `k`'s recorded bound ([`InteriorSample::deviation`]) alone, without decoding
+    /// the rest (what the prefix search reads).
+    pub fn bound(&self, k: usize) -> Option<f32> {
+        let at = k.checked_mul(INTERIOR_SAMPLE)?;
+        self.bytes
+            .get(at..at + INTERIOR_SAMPLE)
+            .map(|b| f32_at(b, 4))
+    }
+
+    /// The box the samples' surface points are stored in.
+    pub fn point_box(&self) -> PointBox {
+        self.frame
     }
 
     /// The samples in order.
@@ -285,7 +362,12 @@ impl<'a> BakedModel<'a> {
         }
     }
 
-    pub(super) fn interior_samples_of(&self, first: usize, count: usize) -> InteriorSamples<'a> {
+    pub(super) fn interior_samples_of(
+        &self,
+        first: usize,
+        count: usize,
+        frame: PointBox,
+    ) -> InteriorSamples<'a> {
         let start = self.patch_record(self.patches)
             + self.curve_samples * CURVE_SAMPLE
             + first * INTERIOR_SAMPLE;
@@ -294,7 +376,14 @@ impl<'a> BakedModel<'a> {
                 .bytes
                 .get(start..start + count * INTERIOR_SAMPLE)
                 .unwrap_or_default(),
+            frame,
         }
+    }
+
+    /// The raw step records `first..first + count` (empty when out of range).
+    pub(super) fn interior_step_bytes(&self, first: usize, count: usize) -> &'a [u8] {
+        self.interior_samples_of(first, count, PointBox::default())
+            .bytes
     }
 
     /// The bytes, as given to [`BakedModel::from_bytes`].
@@ -364,8 +453,11 @@ impl<'a> BakedModel<'a> {
             stop: stop_from(b[r + 22]).unwrap_or(StopReason::Tolerance),
             initial_deviation: f32_at(b, r + 24),
             metric: metric_from(b[r + 23]),
-            samples: self
-                .interior_samples_of(u32_at(b, r + 16) as usize, u16_at(b, r + 20) as usize),
+            samples: self.interior_samples_of(
+                u32_at(b, r + 16) as usize,
+                u16_at(b, r + 20) as usize,
+                point_box_at(b, r + BOX_AT),
+            ),
         })
     }
 

@@ -48,7 +48,9 @@ use core::fmt;
 
 use super::curve::{CurveSample, StopReason};
 use super::model::boundary_point;
+use super::quantize::{decode_offset, encode_offset, PointBox};
 use crate::deviation::{chord_bound, triangle_bound};
+use crate::domain::orient;
 use crate::domain::{DomainMesh, GridPoint, InsertError, Metric};
 use crate::math::length;
 use crate::patch::{BezierPatch, Side};
@@ -67,6 +69,13 @@ pub struct InteriorSample {
     /// Largest deviation bound of the patch's triangulation once this step and all before it
     /// are in.
     pub deviation: f32,
+    /// The surface at `point`, as stored (in the patch's [`PointBox`]).
+    pub surface: [f32; 3],
+    /// The surface at `point` minus the linear interpolant there of the triangle that held it
+    /// before this step, as stored: how far the step moves the triangulation at its own point
+    /// (three 15-bit mantissas and a shared exponent). Not a bound: the run time uses it to
+    /// choose steps.
+    pub offset: [f32; 3],
 }
 
 impl InteriorSample {
@@ -295,6 +304,37 @@ fn worst(mesh: &DomainMesh<'_>, scratch: &[TriangleDeviation]) -> (u16, Triangle
     best
 }
 
+/// The surface at `point` and its offset from the linear interpolant of the domain triangle
+/// `held` (which holds it), both rounded as the format stores them (in `frame`).
+fn step_offset(
+    patch: &BezierPatch<'_>,
+    frame: &PointBox,
+    held: [GridPoint; 3],
+    point: GridPoint,
+) -> ([f32; 3], [f32; 3]) {
+    let at = |g: GridPoint| {
+        let (u, v) = g.to_unit();
+        patch.position(u, v)
+    };
+    let [a, b, c] = held;
+    // Barycentric weights from the exact integer areas.
+    let area = orient(a, b, c) as f32;
+    let weights = if area > 0.0 {
+        [
+            orient(point, b, c) as f32 / area,
+            orient(a, point, c) as f32 / area,
+            orient(a, b, point) as f32 / area,
+        ]
+    } else {
+        [1.0 / 3.0; 3]
+    };
+    let linear = at(a) * weights[0] + at(b) * weights[1] + at(c) * weights[2];
+    let surface = frame.decode(frame.encode(at(point).to_array()));
+    let offset = at(point) - linear;
+    let (m, e) = encode_offset(offset.to_array());
+    (surface, decode_offset(m, e))
+}
+
 /// One side's boundary curve as [`sample_patch`] reads it: the curve's samples in their order,
 /// and whether the side runs against the curve.
 #[derive(Clone, Copy, Debug)]
@@ -368,6 +408,7 @@ pub fn sample_patch(
         }
     }
     let initial_deviation = worst(mesh, scratch).1.deviation;
+    let frame = PointBox::of_points(patch.points());
     let mut cursor = [0usize; 4];
     let (mut count, mut interior) = (0usize, 0usize);
     let stop = loop {
@@ -410,10 +451,16 @@ pub fn sample_patch(
                 ));
             }
         }
+        // The triangle that holds a point before it goes in.
+        let mut held = [GridPoint::default(); 3];
+        let mut insert = |mesh: &mut DomainMesh<'_>, point: GridPoint| {
+            held = mesh.holding(point);
+            mesh.insert(point).map(|id| (id, point))
+        };
         let inserted = match request {
             Some((side, point, _)) => {
                 cursor[side.index()] += 1;
-                mesh.insert(point).map(|id| (id, point))
+                insert(mesh, point)
             }
             None => {
                 let centroid = {
@@ -423,11 +470,9 @@ pub fn sample_patch(
                     };
                     inside_margin(GridPoint::new(mean(|p| p.u), mean(|p| p.v)))
                 };
-                match mesh.insert(w.at) {
-                    Err(InsertError::Duplicate { .. }) => {
-                        mesh.insert(centroid).map(|id| (id, centroid))
-                    }
-                    other => other.map(|id| (id, w.at)),
+                match insert(mesh, w.at) {
+                    Err(InsertError::Duplicate { .. }) => insert(mesh, centroid),
+                    other => other,
                 }
                 .inspect(|_| interior += 1)
             }
@@ -437,9 +482,12 @@ pub fn sample_patch(
                 for t in mesh.star(id) {
                     scratch[t as usize] = analyse(patch, mesh, t);
                 }
+                let (surface, offset) = step_offset(patch, &frame, held, point);
                 out[count] = InteriorSample {
                     point,
                     deviation: worst(mesh, scratch).1.deviation,
+                    surface,
+                    offset,
                 };
                 count += 1;
             }

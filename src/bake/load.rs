@@ -1,16 +1,17 @@
 //! Loading a baked model: [`BakedModel::from_bytes`] checks the length, magic, version and
 //! checksum, then the structure (indices in range, sample ranges contiguous, deviations finite
 //! and non-increasing, parameters on the curve or inside the boundary margin, each curve
-//! request the side's next curve sample), so every read afterwards is in bounds and no input
+//! request the side's next curve sample, point boxes and offsets that decode to finite numbers), so every read afterwards is in bounds and no input
 //! makes it panic. The layout is in [`format`](super::format).
 
 use core::fmt;
 
 use super::format::{
-    baked_len, checksum, f32_at, link_from, stop_from, u16_at, u32_at, BakedModel, CHECKSUM_AT,
-    CURVE_RECORD, HEADER_LEN, MAGIC, VERSION,
+    baked_len, checksum, f32_at, link_from, point_box_at, stop_from, u16_at, u32_at, BakedModel,
+    BOX_AT, CHECKSUM_AT, CURVE_RECORD, HEADER_LEN, INTERIOR_SAMPLE, MAGIC, VERSION,
 };
 use super::interior::BOUNDARY_MARGIN;
+use super::quantize::MAX_OFFSET_EXPONENT;
 use crate::domain::GridPoint;
 use crate::model::EdgeLink;
 
@@ -227,8 +228,20 @@ impl<'a> BakedModel<'a> {
             if next > interior_samples {
                 return bad;
             }
-            let samples = self.interior_samples_of(first, count);
+            let frame = point_box_at(b, r + BOX_AT);
+            if !frame.is_valid() {
+                return bad;
+            }
+            let samples = self.interior_samples_of(first, count, frame);
             if !non_increasing(samples.iter().map(|s| s.deviation)) {
+                return bad;
+            }
+            // Every offset decodes to finite numbers.
+            let step_bytes = self.interior_step_bytes(first, count);
+            if step_bytes
+                .chunks_exact(INTERIOR_SAMPLE)
+                .any(|s| s[INTERIOR_SAMPLE - 1] as i8 > MAX_OFFSET_EXPONENT)
+            {
                 return bad;
             }
             // Interior samples keep the margin; a boundary step is its side's next curve sample.

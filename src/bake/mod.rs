@@ -16,6 +16,7 @@ mod format;
 mod interior;
 mod load;
 mod model;
+mod quantize;
 
 pub use crate::deviation::{
     chord_bound, triangle_bound, triangle_screen_bound, ChordBound, PatchBounds, TriangleBound,
@@ -25,8 +26,8 @@ pub use curve::{
     sample_curve, CurveSample, CurveSampleError, CurveSampling, CurveSegment, StopReason,
 };
 pub use format::{
-    model_fingerprint, write_rust_source, BakedCurve, BakedModel, BakedPatch, CurveSamples,
-    InteriorSamples, MAGIC, VERSION,
+    baked_size, model_fingerprint, write_rust_source, BakedCurve, BakedModel, BakedPatch,
+    CurveSamples, InteriorSamples, MAGIC, VERSION,
 };
 pub use interior::{
     patch_metric, sample_patch, triangle_deviation, InteriorSample, InteriorSampleError,
@@ -37,3 +38,4 @@ pub(crate) use model::boundary_point;
 pub use model::{
     bake_model, BakeError, BakeScratch, BakeScratchSize, BakeSettings, BakeSummary, Tolerance,
 };
+pub use quantize::PointBox;

@@ -5,12 +5,13 @@ use core::fmt;
 
 use super::curve::{sample_curve, CurveSample, CurveSampleError, CurveSegment};
 use super::format::{
-    baked_len, checksum, link_code, metric_code, model_fingerprint, stop_code, CURVE_RECORD,
-    CURVE_SAMPLE, HEADER_LEN, INTERIOR_SAMPLE, MAGIC, PATCH_RECORD, VERSION,
+    baked_len, checksum, link_code, metric_code, model_fingerprint, put_step, stop_code, BOX_AT,
+    CURVE_RECORD, CURVE_SAMPLE, HEADER_LEN, INTERIOR_SAMPLE, MAGIC, PATCH_RECORD, VERSION,
 };
 use super::interior::{
     patch_metric, sample_patch, InteriorSample, InteriorSampleError, SideCurve, TriangleDeviation,
 };
+use super::quantize::PointBox;
 use crate::domain::{DomainMesh, GridPoint, InsertError, MeshTriangle, MeshVertex};
 use crate::math::length;
 use crate::model::{EdgeLink, Model};
@@ -408,11 +409,15 @@ pub fn bake_model(
         w.put(at + 20, &(s.samples as u16).to_le_bytes());
         w.put(at + 22, &[stop_code(s.stop), metric_code(metric)]);
         w.put(at + 24, &s.initial_deviation.to_le_bytes());
+        let frame = PointBox::of_points(patch.points());
+        for (i, x) in frame.min.into_iter().chain(frame.extent).enumerate() {
+            w.put(at + BOX_AT + 4 * i, &x.to_le_bytes());
+        }
         for (j, sample) in interior_samples[..s.samples].iter().enumerate() {
             let at = interior_start + (summary.interior_samples + j) * INTERIOR_SAMPLE;
-            w.put(at, &sample.point.u.to_le_bytes());
-            w.put(at + 2, &sample.point.v.to_le_bytes());
-            w.put(at + 4, &sample.deviation.to_le_bytes());
+            let mut record = [0u8; INTERIOR_SAMPLE];
+            put_step(&mut record, sample, &frame);
+            w.put(at, &record);
         }
         summary.interior_samples += s.samples;
         summary.stops[stop_code(s.stop) as usize] += 1;

@@ -335,6 +335,11 @@ impl<'a, Ix: DomainIndex> DomainMesh<'a, Ix> {
         t
     }
 
+    /// The corners of a live triangle that holds `p` (inside or on its boundary).
+    pub(crate) fn holding(&self, p: GridPoint) -> [GridPoint; 3] {
+        self.tri_points(self.locate(p))
+    }
+
     /// The vertex at `p`, if any.
     pub fn find(&self, p: GridPoint) -> Option<u16> {
         let t = self.locate(p);

@@ -93,7 +93,7 @@ impl<Ix: DomainIndex> Tessellator<'_, '_, Ix> {
             let n = prefix(
                 bp.initial_deviation,
                 steps.len(),
-                |i| steps.get(i).map_or(0.0, |s| s.deviation),
+                |i| steps.bound(i).unwrap_or(0.0),
                 c,
             )
             .min(slot.step_cap as usize);

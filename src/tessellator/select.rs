@@ -62,7 +62,7 @@ pub(super) fn prefix(initial: f32, len: usize, bound: impl Fn(usize) -> f32, c: 
 pub(super) fn recorded(bp: &BakedPatch<'_>, n: usize) -> f32 {
     match n {
         0 => bp.initial_deviation,
-        _ => bp.samples.get(n - 1).map_or(0.0, |s| s.deviation),
+        _ => bp.samples.bound(n - 1).unwrap_or(0.0),
     }
 }
 
@@ -182,7 +182,7 @@ impl<'m, 's, Ix: DomainIndex> Tessellator<'m, 's, Ix> {
             let n = prefix(
                 bp.initial_deviation,
                 steps.len(),
-                |i| steps.get(i).map_or(0.0, |s| s.deviation),
+                |i| steps.bound(i).unwrap_or(0.0),
                 slot.c * scale,
             )
             .min(slot.step_cap as usize);
