@@ -329,10 +329,12 @@ fn step_offset(
         [1.0 / 3.0; 3]
     };
     let linear = at(a) * weights[0] + at(b) * weights[1] + at(c) * weights[2];
-    let surface = frame.decode(frame.encode(at(point).to_array()));
-    let offset = at(point) - linear;
-    let (m, e) = encode_offset(offset.to_array());
-    (surface, decode_offset(m, e))
+    let surface = at(point);
+    let (m, e) = encode_offset((surface - linear).to_array());
+    (
+        frame.decode(frame.encode(surface.to_array())),
+        decode_offset(m, e),
+    )
 }
 
 /// One side's boundary curve as [`sample_patch`] reads it: the curve's samples in their order,

@@ -1,8 +1,9 @@
 //! Loading a baked model: [`BakedModel::from_bytes`] checks the length, magic, version and
 //! checksum, then the structure (indices in range, sample ranges contiguous, deviations finite
 //! and non-increasing, parameters on the curve or inside the boundary margin, each curve
-//! request the side's next curve sample, point boxes and offsets that decode to finite numbers), so every read afterwards is in bounds and no input
-//! makes it panic. The layout is in [`format`](super::format).
+//! request the side's next curve sample, point boxes and offsets that decode to finite
+//! numbers), so every read afterwards is in bounds and no input makes it panic. The layout is
+//! in [`format`](super::format).
 
 use core::fmt;
 
