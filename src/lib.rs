@@ -116,8 +116,8 @@ pub use domain::{
 pub use facing::NormalCone;
 pub use frame::SurfacePoint;
 pub use model::{
-    BoundaryCurve, EdgeCounts, EdgeLink, Model, PatchHeader, PatchSet, PatchSetError, Topology,
-    TopologyError,
+    BoundaryCurve, EdgeCounts, EdgeLink, Model, PatchHeader, PatchSet, PatchSetError, SplitError,
+    SplitSize, Topology, TopologyError,
 };
 pub use nurbs::{
     DecomposeError, DecompositionSize, Direction, NurbsError, NurbsSurface, ParamRect,

@@ -135,3 +135,39 @@ pub fn bake_to_vec(model: &Model<'_>, settings: &BakeSettings) -> Result<Vec<u8>
         }
     }
 }
+
+impl ModelFile {
+    /// Every patch split into four ([`PatchSet::split`]): quarter `k` is a part of patch
+    /// `k / 4`, and the second value holds its rectangle of that patch's unit square.
+    pub fn split(&self) -> Result<(ModelFile, Vec<ParamRect>), String> {
+        let set = self.patches();
+        let n = set.split_size();
+        let mut headers = vec![PatchHeader::default(); n.patches];
+        let mut points = vec![[0.0; 3]; n.points];
+        let mut weights = vec![0.0; n.points];
+        let mut local = vec![ParamRect::default(); n.patches];
+        set.split(&mut headers, &mut points, &mut weights, &mut local)
+            .map_err(|e| e.to_string())?;
+        let domains = local
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let d = self.domains[k / 4];
+                let (du, dv) = (d.u1 - d.u0, d.v1 - d.v0);
+                ParamRect {
+                    u0: d.u0 + r.u0 * du,
+                    u1: d.u0 + r.u1 * du,
+                    v0: d.v0 + r.v0 * dv,
+                    v1: d.v0 + r.v1 * dv,
+                }
+            })
+            .collect();
+        let file = ModelFile {
+            headers,
+            points,
+            weights: self.weights.as_ref().map(|_| weights),
+            domains,
+        };
+        Ok((file, local))
+    }
+}

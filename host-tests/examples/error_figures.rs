@@ -21,6 +21,11 @@
 //! tessellator, its update and the indexed write, best of three; *Mtri/s* its triangles per
 //! second.
 //!
+//! With `SPLIT` set, the kernel tessellates the model with every patch split into four
+//! ([`spline_tess::PatchSet::split`]), baked at the same tolerance in the model's units; the
+//! grid is still counted on the model's own patches, and every triangle is checked against
+//! the model's own surface (a quarter's parameters mapped to its patch's).
+//!
 //! With `GLU_PEER` naming the binary built from `host-tests/glu/glu_peer.c` (as
 //! `scripts/figures.sh` does), every camera case also goes through libGLU's NURBS tessellator:
 //! the same Bezier patches, the same camera as OpenGL matrices, `GLU_PARAMETRIC_ERROR` at the
@@ -39,7 +44,7 @@ use host_tests::runtime::{streamed, RuntimeStorage};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::Settings;
-use spline_tess::{Camera, Projection, Vec3, Vertex, View};
+use spline_tess::{Camera, ParamRect, Projection, Vec3, Vertex, View};
 
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
@@ -69,6 +74,16 @@ enum Look {
         viewport: [u32; 2],
         tol: f32,
     },
+}
+
+/// A model as read, what the kernel tessellates (its patches split into four with `SPLIT`,
+/// quarter `k` being `pieces[k]` of patch `k / 4`), and the kernel's bake.
+struct Baked {
+    model: &'static str,
+    file: ModelFile,
+    kernel: ModelFile,
+    pieces: Option<Vec<ParamRect>>,
+    bytes: Vec<u8>,
 }
 
 struct Case {
@@ -167,34 +182,65 @@ fn main() {
             ""
         }
     );
-    let mut baked_cache: Vec<(&str, ModelFile, Vec<u8>)> = Vec::new();
+    let split = std::env::var("SPLIT").is_ok();
+    let mut baked_cache: Vec<Baked> = Vec::new();
     for case in cases() {
         if !only.is_empty() && !only.iter().any(|o| case.name.contains(o.as_str())) {
             continue;
         }
-        if !baked_cache.iter().any(|(m, _, _)| *m == case.model) {
+        if !baked_cache.iter().any(|b| b.model == case.model) {
             let path = host_tests::models_dir().join(case.model);
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
             let rel = std::env::var("BAKE_REL").ok().and_then(|s| s.parse().ok());
-            let bake = BakeSettings {
-                tolerance: rel.map_or(BAKE.tolerance, Tolerance::Relative),
-                ..BAKE
+            let (kernel, pieces) = if split {
+                let (quarters, pieces) = file.split().expect("a split");
+                (quarters, Some(pieces))
+            } else {
+                (file.clone(), None)
             };
-            let bytes = file
+            // Relative to the model's own diagonal, not the quarters' (a little smaller).
+            let diag = file.patches().aabb().expect("patches").diagonal();
+            let tolerance = match (rel, split) {
+                (Some(r), true) => Tolerance::Absolute(r * diag),
+                (None, true) => match BAKE.tolerance {
+                    Tolerance::Relative(r) => Tolerance::Absolute(r * diag),
+                    t => t,
+                },
+                (r, false) => r.map_or(BAKE.tolerance, Tolerance::Relative),
+            };
+            let bake = BakeSettings { tolerance, ..BAKE };
+            let bytes = kernel
                 .with_model(|m| bake_to_vec(m, &bake))
                 .expect("a topology")
                 .expect("a bake");
-            baked_cache.push((case.model, file, bytes));
+            baked_cache.push(Baked {
+                model: case.model,
+                file,
+                kernel,
+                pieces,
+                bytes,
+            });
         }
-        let (_, file, bytes) = baked_cache
+        let Baked {
+            file,
+            kernel,
+            pieces,
+            bytes,
+            ..
+        } = baked_cache
             .iter()
-            .find(|(m, _, _)| *m == case.model)
+            .find(|b| b.model == case.model)
             .expect("baked above");
         let baked = BakedModel::from_bytes(bytes).expect("a fresh bake reads back");
-        let patches = file.patches();
-        let aabb = patches.aabb().expect("patches");
+        let patches = kernel.patches();
+        let aabb = file.patches().aabb().expect("patches");
         let (center, diag) = (aabb.center(), aabb.diagonal());
-        let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
+        // The model's own patches: the reference for the grid and for every check.
+        let refs: Vec<RefPatch> = file
+            .patches()
+            .iter()
+            .map(|p| RefPatch::from_kernel(&p))
+            .collect();
         let near = 0.01 * diag;
         let mut placed: Option<([f32; 3], [f32; 3], [u32; 2])> = None;
         let (view, meter, tol) = match case.look {
@@ -288,8 +334,21 @@ fn main() {
         let (mut over, mut off) = (0usize, 0usize);
         let mut min_tight = f64::INFINITY;
         for t in &tris {
-            let r = &refs[t.patch as usize];
-            let uv = t.uv.map(|[u, v]| [u as f64, v as f64]);
+            // A quarter's parameters, as its patch's.
+            let (patch, uv) = match pieces {
+                Some(pieces) => {
+                    let q = pieces[t.patch as usize];
+                    let map = |[u, v]: [f32; 2]| {
+                        [
+                            q.u0 as f64 + u as f64 * (q.u1 - q.u0) as f64,
+                            q.v0 as f64 + v as f64 * (q.v1 - q.v0) as f64,
+                        ]
+                    };
+                    (t.patch as usize / 4, t.uv.map(map))
+                }
+                None => (t.patch as usize, t.uv.map(|[u, v]| [u as f64, v as f64])),
+            };
+            let r = &refs[patch];
             let corners = t.corners.map(|c| widen(c.position));
             let m = triangle_deviation(r, uv, corners, DENSE, measure);
             if !m.visible {

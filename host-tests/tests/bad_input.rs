@@ -5,8 +5,8 @@ use spline_tess::parse::{
     self, BptError, BptErrorKind, NurbsJsonBuffers, NurbsJsonErrorKind, NurbsJsonSize,
 };
 use spline_tess::{
-    BezierPatch, Direction, NurbsError, NurbsSurface, PatchError, PatchHeader, PatchSet,
-    PatchSetError,
+    BezierPatch, Direction, NurbsError, NurbsSurface, ParamRect, PatchError, PatchHeader, PatchSet,
+    PatchSetError, SplitError,
 };
 
 fn square() -> Vec<[f32; 3]> {
@@ -125,6 +125,54 @@ fn patch_sets_check_ranges_and_every_patch() {
             error: PatchError::DegreeOutOfRange { degree: 0 }
         }
     );
+}
+
+#[test]
+fn splits_refuse_short_buffers_and_points_past_f32() {
+    let pts = square();
+    let headers = [PatchHeader {
+        degree_u: 3,
+        degree_v: 3,
+        first_point: 0,
+    }];
+    let set = PatchSet::new(&headers, &pts, None).unwrap();
+    let (mut h, mut p, mut w, mut d) = (
+        [PatchHeader::default(); 4],
+        vec![[0.0; 3]; 64],
+        vec![0.0; 64],
+        [ParamRect::default(); 4],
+    );
+    let needed = set.split_size();
+    for short in [
+        (3, 64, 64, 4),
+        (4, 63, 64, 4),
+        (4, 64, 63, 4),
+        (4, 64, 64, 3),
+    ] {
+        let e = set
+            .split(
+                &mut h[..short.0],
+                &mut p[..short.1],
+                &mut w[..short.2],
+                &mut d[..short.3],
+            )
+            .unwrap_err();
+        assert_eq!(e, SplitError::BufferTooSmall { needed });
+        assert_eq!(
+            e.to_string(),
+            "buffers too small: need 4 patches and 64 control points and weights"
+        );
+    }
+    // Finite points near f32::MAX whose homogeneous coordinates overflow: a typed error.
+    let huge: Vec<[f32; 3]> = square()
+        .iter()
+        .map(|q| q.map(|c| f32::MAX * (0.5 + 0.1 * c)))
+        .collect();
+    let weights = vec![3.0; 16];
+    let set = PatchSet::new(&headers, &huge, Some(&weights)).unwrap();
+    let e = set.split(&mut h, &mut p, &mut w, &mut d).unwrap_err();
+    assert!(matches!(e, SplitError::Patch(_)), "{e:?}");
+    assert!(e.to_string().starts_with("a quarter is not a valid patch"));
 }
 
 #[test]

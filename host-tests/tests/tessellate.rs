@@ -265,6 +265,9 @@ enum Pool {
     /// Every baked step a mesh of `u8` slot numbers holds (at most 130 vertices a patch; the
     /// patches baked with more refine from there).
     Narrow,
+    /// Every baked step of the model with its patches split into four
+    /// ([`PatchSet::split`](spline_tess::PatchSet::split)).
+    Split,
 }
 
 fn run_model<Ix: DomainIndex>(path: &std::path::Path, pool: Pool) {
@@ -276,9 +279,13 @@ fn run_model<Ix: DomainIndex>(path: &std::path::Path, pool: Pool) {
             Pool::Part(f) => format!(" (pool {f})"),
             Pool::States(f) => format!(" (triangle states {f})"),
             Pool::Narrow => " (u8 pool)".to_string(),
+            Pool::Split => " (split)".to_string(),
         }
     );
-    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    let mut file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    if let Pool::Split = pool {
+        file = file.split().unwrap().0;
+    }
     let bytes = file.with_model(|m| bake_to_vec(m, &BAKE)).unwrap().unwrap();
     let uses: Vec<u32> = file
         .with_model(|m| m.topology.curves().iter().map(|c| c.uses).collect())
@@ -290,7 +297,7 @@ fn run_model<Ix: DomainIndex>(path: &std::path::Path, pool: Pool) {
     let (center, diag) = (aabb.center(), aabb.diagonal());
     let settings = Settings::default();
     let size = match pool {
-        Pool::Full => StorageSize::of(&baked, &settings),
+        Pool::Full | Pool::Split => StorageSize::of(&baked, &settings),
         Pool::Part(f) => {
             let (full, least) = (
                 StorageSize::of(&baked, &settings),
@@ -548,6 +555,15 @@ fn bpt_models_in_short_pools() {
     for path in bpt_models() {
         run_model::<u16>(&path, Pool::Part(0.25));
         run_model::<u16>(&path, Pool::Part(0.0));
+    }
+}
+
+/// Every patch split into four: the seams between quarters are shared curves like any other,
+/// and every property of the whole patches' frames holds.
+#[test]
+fn models_split_into_quarters() {
+    for path in bpt_models().into_iter().chain(nurbs_fixtures()) {
+        run_model::<u16>(&path, Pool::Split);
     }
 }
 

@@ -4,6 +4,7 @@
 //! small [`PatchHeader`] per patch, so a whole model can be three `static` arrays in flash.
 //! [`Topology`] records, for each patch edge, which boundary curve it is.
 
+mod split;
 mod topology;
 
 use core::fmt;
@@ -11,6 +12,7 @@ use core::fmt;
 use crate::bound::Aabb;
 use crate::patch::{check_degree, check_net, BezierPatch, PatchError};
 
+pub use split::{SplitError, SplitSize};
 pub use topology::{BoundaryCurve, EdgeCounts, EdgeLink, Topology, TopologyError};
 
 /// Where one patch's control net lies in a [`PatchSet`]'s point slice.
