@@ -15,7 +15,9 @@
 //! `ex ey ez tx ty tz ux uy uz fov`, applied in order to the same tessellator (incrementally);
 //! the OBJ is the last frame. `--budget N` fits the tolerance to at most N triangles per frame
 //! (unrefined, see the budget mode). `--near D` sets the near plane (default 1% of the model's
-//! diagonal).
+//! diagonal). `--split` tessellates the model with every patch split into four
+//! (`PatchSet::split`, baked on the fly): fewer triangles where a patch spans many depths; the
+//! OBJ's groups are then the quarters (`patch_K` is quarter K, a part of patch K / 4).
 //!
 //! OBJ: `v` and `vn` per vertex (vertices on shared curves are shared by index, so the mesh is
 //! welded), `vt` per face corner's own parameters (the patch's; for NURBS, the surface's), one
@@ -38,7 +40,7 @@ use spline_tess::{Camera, FrameStats, Projection, Vec3, Vertex, View};
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
                      --eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG --viewport WxH) \
                      [--budget N] [--path FILE] [--baked FILE.bin] [--bake-tolerance REL] \
-                     [--near D] --obj OUT.obj";
+                     [--near D] [--split] --obj OUT.obj";
 
 #[derive(Default)]
 struct Args {
@@ -55,6 +57,7 @@ struct Args {
     baked: Option<String>,
     bake_tolerance: Option<f32>,
     near: Option<f32>,
+    split: bool,
     obj: String,
 }
 
@@ -104,6 +107,7 @@ fn parse_args() -> Result<Args, String> {
             "--path" => a.path = Some(value(&x, args.next())?),
             "--baked" => a.baked = Some(value(&x, args.next())?),
             "--bake-tolerance" => a.bake_tolerance = Some(value(&x, args.next())?),
+            "--split" => a.split = true,
             "--near" => a.near = Some(value(&x, args.next())?),
             "--obj" => obj = Some(value::<String>(&x, args.next())?),
             "-h" | "--help" => return Err(USAGE.to_string()),
@@ -199,13 +203,24 @@ fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
 
 fn run() -> Result<(), String> {
     let args = parse_args()?;
-    let file = ModelFile::read(&args.model)?;
+    let read = ModelFile::read(&args.model)?;
+    // The bake tolerance and the default near plane are relative to the model's own diagonal.
+    let diag = read.patches().aabb().map_or(1.0, |b| b.diagonal());
+    let file = if args.split {
+        read.split()?.0
+    } else {
+        read
+    };
     let nurbs = args.model.ends_with(".json");
     let bytes = match &args.baked {
+        Some(_) if args.split => return Err("--split bakes on the fly: drop --baked".into()),
         Some(path) => std::fs::read(path).map_err(|e| format!("{path}: {e}"))?,
         None => {
             let settings = BakeSettings {
-                tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
+                tolerance: match args.bake_tolerance.unwrap_or(1e-3) {
+                    rel if args.split => Tolerance::Absolute(rel * diag),
+                    rel => Tolerance::Relative(rel),
+                },
                 max_curve_samples: 256,
                 max_interior_samples: 4096,
             };
@@ -215,7 +230,6 @@ fn run() -> Result<(), String> {
     };
     let baked = BakedModel::from_bytes(&bytes).map_err(|e| format!("baked model: {e}"))?;
     let patches = file.patches();
-    let diag = patches.aabb().map_or(1.0, |b| b.diagonal());
     let views = views(&args, diag)?;
     let settings = Settings::default();
     let mut storage = RuntimeStorage::new(&baked, &settings);
