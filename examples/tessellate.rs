@@ -206,11 +206,7 @@ fn run() -> Result<(), String> {
     let read = ModelFile::read(&args.model)?;
     // The bake tolerance and the default near plane are relative to the model's own diagonal.
     let diag = read.patches().aabb().map_or(1.0, |b| b.diagonal());
-    let file = if args.split {
-        read.split()?.0
-    } else {
-        read
-    };
+    let file = if args.split { read.split()?.0 } else { read };
     let nurbs = args.model.ends_with(".json");
     let bytes = match &args.baked {
         Some(_) if args.split => return Err("--split bakes on the fly: drop --baked".into()),
