@@ -114,7 +114,9 @@ impl<'a> PatchSet<'a> {
     /// Quarter `4 k + 2 i + j` is patch
     /// `k` over `u` in its half `i` and `v` in its half `j`; `domains` receives that rectangle
     /// of patch `k`'s unit square. Weights are written for every point (1 for a polynomial
-    /// patch); the returned set has weights only where `self` has.
+    /// patch); the returned set has weights only where `self` has. Its working nets (up to
+    /// 8 x 8 homogeneous points, 1 KiB each) take a few KiB of stack: a step for the host or
+    /// for start-up, before baking.
     ///
     /// ```
     /// use spline_tess::{ParamRect, PatchHeader, PatchSet};
