@@ -46,8 +46,10 @@ use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, ParamRect, Projection, Vec3, Vertex, View};
 
+/// The default bake tolerance, relative to the model's diagonal (`BAKE_REL` sets another).
+const BAKE_REL: f32 = 1e-3;
 const BAKE: BakeSettings = BakeSettings {
-    tolerance: Tolerance::Relative(1e-3),
+    tolerance: Tolerance::Relative(BAKE_REL),
     max_curve_samples: 256,
     max_interior_samples: 4096,
 };
@@ -191,7 +193,10 @@ fn main() {
         if !baked_cache.iter().any(|b| b.model == case.model) {
             let path = host_tests::models_dir().join(case.model);
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-            let rel = std::env::var("BAKE_REL").ok().and_then(|s| s.parse().ok());
+            let rel = std::env::var("BAKE_REL")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(BAKE_REL);
             let (kernel, pieces) = if split {
                 let (quarters, pieces) = file.split().expect("a split");
                 (quarters, Some(pieces))
@@ -200,13 +205,10 @@ fn main() {
             };
             // Relative to the model's own diagonal, not the quarters' (a little smaller).
             let diag = file.patches().aabb().expect("patches").diagonal();
-            let tolerance = match (rel, split) {
-                (Some(r), true) => Tolerance::Absolute(r * diag),
-                (None, true) => match BAKE.tolerance {
-                    Tolerance::Relative(r) => Tolerance::Absolute(r * diag),
-                    t => t,
-                },
-                (r, false) => r.map_or(BAKE.tolerance, Tolerance::Relative),
+            let tolerance = if split {
+                Tolerance::Absolute(rel * diag)
+            } else {
+                Tolerance::Relative(rel)
             };
             let bake = BakeSettings { tolerance, ..BAKE };
             let bytes = kernel
