@@ -5,7 +5,7 @@
 // teapot bake and settings of `fw_tessellate_frames.rs`, in its own storage: a pool of
 // domain-mesh slots sized for the far frames. `no_std`, no allocation. Hand-written.
 
-use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+use embedded_graphics::pixelcolor::Rgb888;
 use spline_tess::render::{ListSlot, RenderStats, Renderer, Shading, Style, Wireframe};
 use spline_tess::tessellator::FixedStorage;
 use spline_tess::{Camera, FrameStats, Projection, Vec3, View};
@@ -23,7 +23,7 @@ pub const HEIGHT: u32 = 240;
 /// per band it meets). The near frames, which stream most patches band by band, pay more:
 /// frame 3's render went from 27.6M to 39.8M.
 pub const BAND_ROWS: u32 = 4;
-/// Pixels of one band (depth values, and colours).
+/// Pixels of one band: depth values, and colours (two bytes each).
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
 /// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner). Frames 0 and 1
@@ -139,15 +139,16 @@ pub fn update(tess: &mut Tessellator<'_, '_>, k: usize) -> Option<FrameStats> {
     .ok()
 }
 
-/// Draws `tess`'s current frame as frame `k` onto `display`, band by band: `depth` and
-/// `colors` (`BAND` each) hold one band, `list` (may be empty) the frame's triangles. Not
+/// Draws `tess`'s current frame as frame `k` onto `display`, band by band: `depth` (`BAND`
+/// values) and `colors` (`2 * BAND` bytes, big-endian Rgb565) hold one band, each band's bytes
+/// are pushed as they are (as to a DMA transfer), `list` (may be empty) the frame's triangles. Not
 /// inlined: the renderer's locals then take the stack after the update's, not beside them.
 #[inline(never)]
 pub fn render(
     tess: &Tessellator<'_, '_>,
     k: usize,
     depth: &mut [u16],
-    colors: &mut [Rgb565],
+    colors: &mut [u8],
     list: &mut [ListSlot],
     display: &mut SpiDisplay,
 ) -> Option<RenderStats> {
@@ -155,6 +156,9 @@ pub fn render(
     let style = style(k)?;
     display.begin_frame();
     Renderer::with_triangle_list(depth, list)
-        .draw_bands(tess, &camera, &style, colors, display)
+        .draw_bands_rgb565(tess, &camera, &style, colors, |area, bytes| {
+            display.push_band(area, bytes);
+            Ok::<(), core::convert::Infallible>(())
+        })
         .ok()
 }

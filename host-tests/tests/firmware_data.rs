@@ -289,12 +289,10 @@ fn with_fw_teapot_tessellator<R>(f: impl FnOnce(&mut fw_teapot::Tessellator<'_, 
 /// list and once streamed band by band, which must agree; every frame pushes each pixel of
 /// the screen once.
 fn fw_teapot_frames() -> Vec<[u32; 3]> {
-    use embedded_graphics::pixelcolor::Rgb565;
-    use embedded_graphics::prelude::RgbColor;
     use spline_tess::render::ListSlot;
     with_fw_teapot_tessellator(|tess| {
         let mut depth = vec![0u16; fw_teapot::BAND];
-        let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
+        let mut colors = vec![0u8; 2 * fw_teapot::BAND];
         let mut list = vec![ListSlot::default(); fw_teapot::LIST];
         let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
         let bands = fw_teapot::HEIGHT.div_ceil(fw_teapot::BAND_ROWS);
@@ -364,12 +362,10 @@ fn fw_teapot_expected_source() -> String {
 /// places (a full list once wrote a triangle over a corner it shared).
 #[test]
 fn fw_teapot_lists_of_any_length_draw_the_same() {
-    use embedded_graphics::pixelcolor::Rgb565;
-    use embedded_graphics::prelude::RgbColor;
     use spline_tess::render::ListSlot;
     with_fw_teapot_tessellator(|tess| {
         let mut depth = vec![0u16; fw_teapot::BAND];
-        let mut colors = vec![Rgb565::BLACK; fw_teapot::BAND];
+        let mut colors = vec![0u8; 2 * fw_teapot::BAND];
         let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
         for f in 0..fw_teapot::FRAMES.len() {
             fw_teapot::update(tess, f).expect("frame updates");
