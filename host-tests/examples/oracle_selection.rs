@@ -50,6 +50,15 @@
 //!   result depends on the view alone); what is still over once no such step is left is cut
 //!   uniformly, each triangle by the smallest factor whose pieces are all within the
 //!   tolerance.
+//!
+//! Two settings from the environment, for the per-sample columns: `PER_SAMPLE_ROUNDS=N` stops
+//! the rounds after `N` (0: the kept steps alone, then uniform cuts), and `PER_SAMPLE_ONLY=1`
+//! leaves the first four oracles out (their columns print 0), which takes seconds instead of
+//! minutes:
+//!
+//! ```text
+//! PER_SAMPLE_ONLY=1 PER_SAMPLE_ROUNDS=1 cargo run --release -p host-tests --example oracle_selection
+//! ```
 
 use std::collections::HashMap;
 
@@ -325,6 +334,14 @@ fn uniform_pieces(
     (MAX_FACTOR * MAX_FACTOR) as usize
 }
 
+/// Rounds of the per-sample oracle at most: `PER_SAMPLE_ROUNDS`, or until none is left.
+fn per_sample_rounds() -> usize {
+    std::env::var("PER_SAMPLE_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(usize::MAX)
+}
+
 /// The triangles of the per-sample oracle on `patch` with the baked `steps`.
 fn per_sample(
     patch: &BezierPatch<'_>,
@@ -350,7 +367,7 @@ fn per_sample(
             .entry(key(t))
             .or_insert_with(|| triangle_screen_bound(patch, t, camera))
     };
-    loop {
+    for _ in 0..per_sample_rounds() {
         let mut round: Vec<usize> = domain_triangles(&mesh)
             .into_iter()
             .filter(|&t| bound(t) as f64 > tol)
@@ -455,7 +472,11 @@ fn main() {
             }
             grid += grid_size(r, tol, GRID_DENSE, 512, Measure::Screen(&meter))
                 .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1));
+            let per_sample_only = std::env::var_os("PER_SAMPLE_ONLY").is_some();
             for (count, &selection) in counts.iter_mut().zip(&selections) {
+                if per_sample_only {
+                    continue;
+                }
                 let triangles = oracle(r, &meter, tol, selection);
                 *count += triangles.len();
                 if selection == Selection::Directional {
