@@ -289,7 +289,9 @@ fn with_fw_teapot_tessellator<R>(f: impl FnOnce(&mut fw_teapot::Tessellator<'_, 
 /// list and once streamed band by band, which must agree; every frame pushes each pixel of
 /// the screen once.
 fn fw_teapot_frames() -> Vec<[u32; 3]> {
-    use spline_tess::render::ListSlot;
+    use embedded_graphics::pixelcolor::Rgb565;
+    use embedded_graphics::prelude::RgbColor;
+    use spline_tess::render::{ListSlot, Renderer};
     with_fw_teapot_tessellator(|tess| {
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![0u8; 2 * fw_teapot::BAND];
@@ -324,6 +326,21 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
                 assert_eq!(sum, again, "frame {f}: listed and streamed pixels differ");
                 assert_eq!(listed.pixels, streamed.pixels);
                 assert_eq!(streamed.passes, bands);
+                // The same frame as colours through the display model's `DrawTarget`
+                // (`draw_bands`, one `fill_contiguous` per band) sends the same bytes.
+                let (camera, style) = (fw_teapot::camera(f), fw_teapot::style(f));
+                let (camera, style) = (camera.expect("a camera"), style.expect("a style"));
+                display.begin_frame();
+                let mut typed = vec![Rgb565::BLACK; fw_teapot::BAND];
+                Renderer::with_triangle_list(&mut depth, &mut list)
+                    .draw_bands(tess, &camera, &style, &mut typed, &mut display)
+                    .expect("frame draws");
+                assert!(display.tiled_once(), "frame {f}: each pixel pushed once");
+                assert_eq!(
+                    display.checksum(),
+                    sum,
+                    "frame {f}: colours and bytes differ"
+                );
                 // The list holds the frame (one pass) or its first patches (one more pass
                 // per band for the rest).
                 assert!(listed.listed > 0);
