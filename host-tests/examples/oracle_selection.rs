@@ -342,7 +342,8 @@ fn per_sample_rounds() -> usize {
         .unwrap_or(usize::MAX)
 }
 
-/// The triangles of the per-sample oracle on `patch` with the baked `steps`.
+/// The triangles of the per-sample oracle on `patch` with the baked `steps`, after at most
+/// `rounds` rounds.
 fn per_sample(
     patch: &BezierPatch<'_>,
     r: &RefPatch,
@@ -350,6 +351,7 @@ fn per_sample(
     meter: &Meter,
     camera: &Camera,
     tol: f64,
+    rounds: usize,
 ) -> usize {
     let deviations = step_deviations(r, steps, meter);
     let mut room = MeshRoom::new();
@@ -367,7 +369,7 @@ fn per_sample(
             .entry(key(t))
             .or_insert_with(|| triangle_screen_bound(patch, t, camera))
     };
-    for _ in 0..per_sample_rounds() {
+    for _ in 0..rounds {
         let mut round: Vec<usize> = domain_triangles(&mesh)
             .into_iter()
             .filter(|&t| bound(t) as f64 > tol)
@@ -396,6 +398,10 @@ fn per_sample(
 }
 
 fn main() {
+    let (rounds, per_sample_only) = (
+        per_sample_rounds(),
+        std::env::var_os("PER_SAMPLE_ONLY").is_some(),
+    );
     println!(
         "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
@@ -468,11 +474,10 @@ fn main() {
                     .iter()
                     .map(|s| s.point)
                     .collect();
-                *count += per_sample(&patch, r, &steps, &meter, &camera, tol);
+                *count += per_sample(&patch, r, &steps, &meter, &camera, tol, rounds);
             }
             grid += grid_size(r, tol, GRID_DENSE, 512, Measure::Screen(&meter))
                 .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1));
-            let per_sample_only = std::env::var_os("PER_SAMPLE_ONLY").is_some();
             for (count, &selection) in counts.iter_mut().zip(&selections) {
                 if per_sample_only {
                     continue;
