@@ -244,9 +244,12 @@ bake of the model (at 1e-3 and at 2.5e-4 of the diagonal) and its bound on scree
 (`bake::triangle_screen_bound`). *Per sample* keeps each baked step whose deviation at its own
 point, before it went in, shows more than the tolerance; then every triangle whose bound is
 over takes, round by round, the first baked step inside it; what is left over is cut
-uniformly. Tried in the run time (branch `per-step`, not merged), it reaches these counts but
-costs several times a prefix frame, since it must start again from the kept steps each frame
-(per-patch prefixes cannot reach the issue's ratios even with an exact measure: see *nested*).
+uniformly. Tried in the run time (branch `per-sample`, not merged), it reaches these counts
+with the 2.5e-4 bake but must start again from the kept steps each frame to stay
+history-independent: on the teapot at 1024x768, 1 px, a cold frame costs about 4x a prefix
+frame and a frame that follows a moving eye about 27x (`host-tests/examples/frame_loop.rs`,
+cold and `ORBIT=1`, both builds in one run; figures in the branch's commit 6590ad8). Per-patch
+prefixes cannot reach the issue's ratios even with an exact measure: see *nested*.
 {read("oracle.md")}
 
 ## Run time

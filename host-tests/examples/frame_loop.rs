@@ -1,0 +1,109 @@
+//! One view's frames in a loop, for a profiler or for timing two builds against each other:
+//! the teapot at 1024x768, 1 px, eye (6,-6,4), baked at `BAKE_REL` (default 2.5e-4) of its
+//! diagonal. `FRAMES` frames (default 200), each a new tessellator's update and indexed write
+//! (a cold frame). With `ORBIT=1`, one tessellator follows the eye around the model a degree a
+//! frame instead (a warm frame: the update from the frame before, and the write; the first
+//! frame is not timed). Prints the last frame's triangles and the best and mean frame times.
+//! The bake happens before the loop and is not timed (a profile of the whole run includes it).
+//!
+//! ```text
+//! cargo run --release -p host-tests --example frame_loop
+//! ORBIT=1 BAKE_REL=1e-3 cargo run --release -p host-tests --example frame_loop
+//! perf record -g target/release/examples/frame_loop
+//! ```
+
+use std::time::Instant;
+
+use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::runtime::RuntimeStorage;
+use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::tessellator::Settings;
+use spline_tess::{Camera, Projection, Vec3, Vertex, View};
+
+fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+fn main() {
+    let rel: f32 = env("BAKE_REL", 2.5e-4);
+    let frames: usize = env("FRAMES", 200).max(1);
+    let path = host_tests::models_dir().join("teapot.bpt");
+    let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
+    let bake = BakeSettings {
+        tolerance: Tolerance::Relative(rel),
+        max_curve_samples: 256,
+        max_interior_samples: 4096,
+    };
+    let bytes = file
+        .with_model(|m| bake_to_vec(m, &bake))
+        .expect("a topology")
+        .expect("a bake");
+    let baked = BakedModel::from_bytes(&bytes).expect("a bake reads back");
+    let patches = file.patches();
+    let diag = patches.aabb().expect("patches").diagonal();
+    let orbit = std::env::var("ORBIT").is_ok_and(|v| v == "1");
+    let view_at = |frame: usize| {
+        let angle = if orbit {
+            (frame as f32).to_radians()
+        } else {
+            0.0
+        };
+        let (s, c) = angle.sin_cos();
+        let eye = Vec3::new(6.0 * c + 6.0 * s, 6.0 * s - 6.0 * c, 4.0);
+        let camera = Camera::new(
+            eye,
+            Vec3::new(0.0, 0.0, 1.2),
+            Vec3::Z,
+            Projection::Perspective {
+                fov_y_degrees: 40.0,
+            },
+            0.01 * diag,
+            [1024, 768],
+        )
+        .expect("a valid camera");
+        View::Screen {
+            camera,
+            tolerance_px: 1.0,
+        }
+    };
+    let settings = Settings::default();
+    let mut storage = RuntimeStorage::new(&baked, &settings);
+    let mut vertices = vec![Vertex::default(); 1 << 20];
+    let mut triangles = vec![[0u32; 3]; 1 << 21];
+    let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
+    let mut record = |ms: f64, triangles: usize| {
+        best = best.min(ms);
+        total += ms;
+        count = triangles;
+    };
+    let mut frame = |t: &mut spline_tess::tessellator::Tessellator<'_, '_>, view: &View| {
+        let stats = t.update(view).expect("an update");
+        t.write_mesh(&mut vertices, &mut triangles).expect("room");
+        stats.triangles
+    };
+    if orbit {
+        let mut t = storage.tessellator(patches, baked, settings);
+        frame(&mut t, &view_at(0));
+        for k in 1..=frames {
+            let view = view_at(k);
+            let start = Instant::now();
+            let n = frame(&mut t, &view);
+            record(start.elapsed().as_secs_f64() * 1e3, n);
+        }
+    } else {
+        let view = view_at(0);
+        for _ in 0..frames {
+            let start = Instant::now();
+            let mut t = storage.tessellator(patches, baked, settings);
+            let n = frame(&mut t, &view);
+            record(start.elapsed().as_secs_f64() * 1e3, n);
+        }
+    }
+    println!(
+        "triangles {count} best {best:.3} ms mean {:.3} ms",
+        total / frames as f64
+    );
+}
