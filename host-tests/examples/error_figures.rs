@@ -24,7 +24,8 @@
 //! With `SPLIT` set, the kernel tessellates the model with every patch split into four
 //! ([`spline_tess::PatchSet::split`]), baked at the same tolerance in the model's units; the
 //! grid is still counted on the model's own patches, and every triangle is checked against
-//! the model's own surface (a quarter's parameters mapped to its patch's).
+//! the model's own surface (a quarter's parameters mapped to its patch's). `SPLIT=2` splits
+//! the quarters again (16 pieces a patch), and so on.
 //!
 //! With `GLU_PEER` naming the binary built from `host-tests/glu/glu_peer.c` (as
 //! `scripts/figures.sh` does), every camera case also goes through libGLU's NURBS tessellator:
@@ -78,8 +79,9 @@ enum Look {
     },
 }
 
-/// A model as read, what the kernel tessellates (its patches split into four with `SPLIT`,
-/// quarter `k` being `pieces[k]` of patch `k / 4`), and the kernel's bake.
+/// A model as read, what the kernel tessellates (with `SPLIT`, its patches split into `4^L`
+/// pieces for `L` levels, piece `k` being `pieces[k]` of patch `k / 4^L`), and the kernel's
+/// bake.
 struct Baked {
     model: &'static str,
     file: ModelFile,
@@ -184,7 +186,11 @@ fn main() {
             ""
         }
     );
-    let split = std::env::var("SPLIT").is_ok();
+    // Levels of splitting: `SPLIT` unset 0, set 1 (or the number it gives).
+    let split_levels: u32 = std::env::var("SPLIT")
+        .ok()
+        .map_or(0, |v| v.parse().unwrap_or(1));
+    let split = split_levels > 0;
     let mut baked_cache: Vec<Baked> = Vec::new();
     for case in cases() {
         if !only.is_empty() && !only.iter().any(|o| case.name.contains(o.as_str())) {
@@ -198,8 +204,27 @@ fn main() {
                 .and_then(|s| s.parse().ok())
                 .unwrap_or(BAKE_REL);
             let (kernel, pieces) = if split {
-                let (quarters, pieces) = file.split().expect("a split");
-                (quarters, Some(pieces))
+                let (mut kernel, mut pieces) = file.split().expect("a split");
+                for _ in 1..split_levels {
+                    let (finer, local) = kernel.split().expect("a split");
+                    // Piece `k` of the finer set is `local[k]` of piece `k / 4` before.
+                    pieces = local
+                        .iter()
+                        .enumerate()
+                        .map(|(k, r)| {
+                            let q = pieces[k / 4];
+                            let (du, dv) = (q.u1 - q.u0, q.v1 - q.v0);
+                            ParamRect {
+                                u0: q.u0 + r.u0 * du,
+                                u1: q.u0 + r.u1 * du,
+                                v0: q.v0 + r.v0 * dv,
+                                v1: q.v0 + r.v1 * dv,
+                            }
+                        })
+                        .collect();
+                    kernel = finer;
+                }
+                (kernel, Some(pieces))
             } else {
                 (file.clone(), None)
             };
@@ -346,7 +371,7 @@ fn main() {
                             q.v0 as f64 + v as f64 * (q.v1 - q.v0) as f64,
                         ]
                     };
-                    (t.patch as usize / 4, t.uv.map(map))
+                    (t.patch as usize >> (2 * split_levels), t.uv.map(map))
                 }
                 None => (t.patch as usize, t.uv.map(|[u, v]| [u as f64, v as f64])),
             };
