@@ -21,7 +21,8 @@ pub const HEIGHT: u32 = 240;
 /// render instructions in frame 0 and 0.34M in frame 1; 4 rows instead of 8 save 3,840 more
 /// for 0.46M more in frame 0 (9.46M in all) and 0.55M in frame 1 (a triangle is set up once
 /// per band it meets). The near frames, which stream most patches band by band, pay more:
-/// frame 3's render went from 27.6M to 39.8M.
+/// frame 3's render then went from 27.6M to 39.8M (later work on the renderer brought it
+/// down again: README has today's figures).
 pub const BAND_ROWS: u32 = 4;
 /// Pixels of one band: depth values, and colours (two bytes each).
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;

@@ -173,18 +173,16 @@ pub(super) fn link_from(code: u32) -> EdgeLink {
     }
 }
 
-/// The byte length of a model with these counts, or `None` if it overflows `usize`.
+/// The byte length of a model with these counts, or `None` if it does not fit in `usize`
+/// ([`baked_size`] saturated: no buffer is `usize::MAX` bytes long).
 pub(crate) fn baked_len(
     patches: usize,
     curves: usize,
     curve_samples: usize,
     interior_samples: usize,
 ) -> Option<usize> {
-    HEADER_LEN
-        .checked_add(curves.checked_mul(CURVE_RECORD)?)?
-        .checked_add(patches.checked_mul(PATCH_RECORD)?)?
-        .checked_add(curve_samples.checked_mul(CURVE_SAMPLE)?)?
-        .checked_add(interior_samples.checked_mul(INTERIOR_SAMPLE)?)
+    let len = baked_size(patches, curves, curve_samples, interior_samples);
+    (len != usize::MAX).then_some(len)
 }
 
 /// The byte length of a baked model with these counts (saturating at `usize::MAX`): room to
