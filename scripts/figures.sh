@@ -251,8 +251,12 @@ uniformly. Tried in the run time (branch `per-sample`, not merged), it reaches t
 with the 2.5e-4 bake but must start again from the kept steps each frame to stay
 history-independent: on the teapot at 1024x768, 1 px, a cold frame costs about 4x a prefix
 frame and a frame that follows a moving eye about 27x (`host-tests/examples/frame_loop.rs`,
-cold and `ORBIT=1`, both builds in one run; figures in the branch's commit 6590ad8). Per-patch
-prefixes cannot reach the issue's ratios even with an exact measure: see *nested*.
+cold and `ORBIT=1`, both builds in one run; figures in the branch's commit 6590ad8). On the
+Cortex-M4F it is worse: every triangle needs a bound computed at run time (a prefix triangle
+has the bake's), so `fw_teapot`'s frame 0 update took 49.5M instructions instead of 2.69M
+(`scripts/fw_profile.py update 0` on each build) and a triangle state for each triangle, about
+16 KB more RAM than the 48 KiB budget has. Per-patch prefixes cannot reach the issue's ratios
+even with an exact measure: see *nested*.
 {read("oracle.md")}
 
 ## Run time
