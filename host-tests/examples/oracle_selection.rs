@@ -1,5 +1,5 @@
 //! How few triangles a selection of this kind could reach: oracle tessellators beside the
-//! verified uniform grid, on the views of the error-control table: two with a perfect error
+//! verified uniform grid, on the views of the error-control table: three with a perfect error
 //! measure, two with a sound bound, and two that select per sample from the kernel's own bake
 //! with the kernel's own bound. Prints a Markdown table.
 //!
@@ -9,10 +9,10 @@
 //!
 //! The oracles triangulate each patch on its own (as the grid does: no shared boundaries, so
 //! cracks), by Delaunay insertion in (u,v) with the kernel's `DomainMesh`, starting from the
-//! square's two triangles. The first two measure a triangle's error exactly as
+//! square's two triangles. The first three measure a triangle's error exactly as
 //! `error_figures` does: the surface against the triangle's linear interpolant at the same
 //! (u,v), 12 steps per side with the `f64` reference, projected, only samples on screen
-//! counting. Neither is
+//! counting. None is
 //! sound (sampled, not bounded) nor crack-free, and greedy insertion is not optimal: they show
 //! what a tessellator that is both, selecting the same way, can hope for before a bound's
 //! margin and shared boundaries.
@@ -24,6 +24,10 @@
 //!   order a bake records) and stops at the shortest prefix whose every triangle is within
 //!   the tolerance on screen: Chhugani & Kumar's per-patch prefix, with an exact measure in
 //!   place of a bound and no curve sampled apart.
+//! - *Nested, patch scale*: the same prefix, each triangle judged by its error in model units
+//!   times one scale for the whole patch (pixels per model unit at the nearest part of its
+//!   control net that can show): the kernel's form of the test, with the exact error in place
+//!   of its bound.
 //!
 //! The other two select as *adaptive* does, but judge each triangle by a computed bound of its
 //! deviation on screen (`host_tests::screen_bound`, where both are derived) instead of the
@@ -98,6 +102,9 @@ enum Selection {
     Adaptive,
     /// The prefix of the order of the sampled error in model units.
     Nested,
+    /// The same prefix, judged by the sampled error in model units times one scale for the
+    /// whole patch (the kernel's form, without a bound's margin).
+    NestedPatchScale,
     /// The isotropic bound on screen.
     Isotropic,
     /// The directional bound on screen.
@@ -136,8 +143,18 @@ fn measure(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> (Worst, Worst) {
 
 /// How one triangle is judged: the value held against the tolerance, and the value and
 /// point that order the insertions.
-fn judge(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter, selection: Selection) -> (f64, Worst) {
+fn judge(
+    r: &RefPatch,
+    uv: [[f64; 2]; 3],
+    meter: &Meter,
+    selection: Selection,
+    patch_scale: f64,
+) -> (f64, Worst) {
     match selection {
+        Selection::NestedPatchScale => {
+            let (_, object) = measure(r, uv, meter);
+            (object.error * patch_scale, object)
+        }
         Selection::Adaptive | Selection::Nested => {
             let (screen, object) = measure(r, uv, meter);
             let order = if selection == Selection::Nested {
@@ -165,6 +182,7 @@ fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<Ju
     let mut room = MeshRoom::new();
     let mut mesh = room.square();
     let mut judged: HashMap<[GridPoint; 3], (f64, Worst)> = HashMap::new();
+    let patch_scale = patch_scale(r, meter);
     let keys = |mesh: &DomainMesh<'_>| -> Vec<[GridPoint; 3]> {
         domain_triangles(mesh).into_iter().map(key).collect()
     };
@@ -173,10 +191,11 @@ fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<Ju
         for key in keys(&mesh) {
             let (held, order) = *judged
                 .entry(key)
-                .or_insert_with(|| judge(r, key.map(unit), meter, selection));
+                .or_insert_with(|| judge(r, key.map(unit), meter, selection, patch_scale));
             worst = worst.max(held);
             // The nested order runs over every triangle; the others refine one over.
-            let candidate = selection == Selection::Nested || held > tol;
+            let nested = matches!(selection, Selection::Nested | Selection::NestedPatchScale);
+            let candidate = nested || held > tol;
             if candidate && next.is_none_or(|(n, _)| order.error > n.error) {
                 next = Some((order, key));
             }
@@ -207,6 +226,36 @@ fn oracle(r: &RefPatch, meter: &Meter, tol: f64, selection: Selection) -> Vec<Ju
             return done(&mesh);
         }
     }
+}
+
+/// Pixels per model unit at the nearest part of patch `r`'s control net that can show: the
+/// focal length over the least depth of the net (at least the near plane's), times
+/// `sqrt(1 + |τ|²)` for the largest slope `τ` of a control point, the slopes clamped to the
+/// view's corners (the kernel's per-patch form, on the control net instead of its hull;
+/// zero when the whole net is beyond one of the view's planes: the patch stays two triangles).
+fn patch_scale(r: &RefPatch, meter: &Meter) -> f64 {
+    if meter.outside_one_plane(&r.pts) {
+        return 0.0;
+    }
+    let v: Vec<V3> = r.pts.iter().map(|&p| meter.view(p)).collect();
+    if v.is_empty() {
+        return 0.0;
+    }
+    let z_min = v
+        .iter()
+        .map(|p| p[2])
+        .fold(f64::INFINITY, f64::min)
+        .max(meter.near());
+    let [w, h] = meter.viewport().map(|x| 0.5 * x as f64 / meter.focal());
+    let slope = v
+        .iter()
+        .map(|p| {
+            let z = p[2].max(meter.near());
+            let (tx, ty) = ((p[0] / z).clamp(-w, w), (p[1] / z).clamp(-h, h));
+            (1.0 + tx * tx + ty * ty).sqrt()
+        })
+        .fold(1.0f64, f64::max);
+    meter.focal() / z_min * slope
 }
 
 /// A final triangle's corner parameters and the value it was held to.
@@ -404,11 +453,12 @@ fn main() {
     );
     println!(
         "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
+         | nested, patch scale | nested, patch scale / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
          | directional bound / sampled: min, median \
          | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut loaded: Vec<(&str, ModelFile, Vec<Vec<u8>>)> = Vec::new();
     for view in ERROR_VIEWS {
         let (model, name, viewport) = (view.model, view.name, view.viewport);
@@ -455,12 +505,13 @@ fn main() {
         .expect("a valid camera");
         let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
         let mut grid = 0;
-        let mut counts = [0usize; 4];
+        let mut counts = [0usize; 5];
         let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
             Selection::Adaptive,
             Selection::Nested,
+            Selection::NestedPatchScale,
             Selection::Isotropic,
             Selection::Directional,
         ];

@@ -55,6 +55,11 @@ impl Meter {
         self.focal
     }
 
+    /// The viewport, pixels.
+    pub fn viewport(&self) -> [u32; 2] {
+        self.viewport
+    }
+
     /// Depth of the near plane.
     pub fn near(&self) -> f64 {
         self.near
