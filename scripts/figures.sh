@@ -228,28 +228,36 @@ model's own surface (GLU columns left out: they are the table's above):
 {read("error_split_2.5e-4.md")}
 
 How far a selection of this kind could go: `cargo run --release -p host-tests --example
-oracle_selection` (its module docs say exactly what is measured). Seven oracles triangulate
-each patch apart (cracks allowed, as the grid's), by Delaunay insertion in (u,v). *Adaptive*
-inserts the worst point of the triangle worst on screen, checked as the table above does,
-until all are within the tolerance: each triangle judged by its own projection. *Nested*
-inserts in the order of largest object-space error, as a bake records it, and stops at the
-shortest prefix within the tolerance on screen: the per-patch prefix of Chhugani & Kumar,
-without a bound's margin. *Nested, patch scale* is the same prefix judged as the kernel
-judges a prefix: each triangle's error in model units times one scale for the whole patch
-(at the nearest part of its control net that can show), still without a bound's margin. The
-kernel's own counts (the 2.5e-4 table above) are close to this column but for the close-up
-(where one scale is useless for a patch that reaches the near plane), so a prefix loses its
-triangles mostly to the patch's one scale, not to the bound's margin. None of the three is
-sound. The last two select as *adaptive* does but judge each triangle by a computed bound
-on screen (`host-tests/src/screen_bound.rs` derives both): *isotropic*, the bound in model units times the projection's largest scale over the triangle
-(the kernel's form); *directional*, the lattice's deviation vectors projected one by one at
-the view rays of the triangle's corners, plus the remainder, so a deviation along the line of
-sight counts for what it moves on screen. Both are sound; the last column checks the
-directional one against the deviation sampled at 24 steps per side. Greedy is not optimal:
-these show what a sound, crack-free tessellator that selects the same way can hope for,
-before shared boundaries. The last four columns are built from the kernel's own parts: its
-bake of the model (at 1e-3 and at 2.5e-4 of the diagonal) and its bound on screen
-(`bake::triangle_screen_bound`). *Per sample* keeps each baked step whose deviation at its own
+oracle_selection` (its module docs say exactly what is measured). Nine oracles triangulate
+each patch apart (cracks allowed, as the grid's). *Adaptive* inserts (Delaunay, in (u,v)) the
+worst point of the triangle worst on screen, checked as the table above does, until all are
+within the tolerance: each triangle judged by its own projection. *Nested* inserts in the
+order of largest object-space error, as a bake records it, and stops at the shortest prefix
+within the tolerance on screen: the per-patch prefix of Chhugani & Kumar, without a bound's
+margin. *Nested, patch scale* is the same prefix judged as the kernel judges a prefix: each
+triangle's error in model units times one scale for the whole patch (at the nearest part of
+its control net that can show), still without a bound's margin. The kernel's own counts (the
+2.5e-4 table above) are close to this column but for the close-up (where one scale is
+useless for a patch that reaches the near plane), so a prefix loses its triangles mostly to
+the patch's one scale, not to the bound's margin. *Bintree* halves triangles at their
+hypotenuse instead of inserting points (longest-edge bisection, kept conforming: the meshes
+of ROAM and of right-triangulated irregular networks), judged by the same sampled error on
+screen. These four are not sound. *Isotropic* and *directional bound* select as *adaptive*
+does but judge each triangle by a computed bound on screen (`host-tests/src/screen_bound.rs`
+derives both): *isotropic*, the bound in model units times the projection's largest scale
+over the triangle (the kernel's form); *directional*, the lattice's deviation vectors
+projected one by one at the view rays of the triangle's corners, plus the remainder, so a
+deviation along the line of sight counts for what it moves on screen. Both are sound; the
+column after them checks the directional one against the deviation sampled at 24 steps per
+side. *Bintree, kernel's bound* judges the bintree by the kernel's own sound bound on screen
+(`bake::triangle_screen_bound`). Every triangle a bisection mesh can have is fixed in
+advance, so a bake could hold a bound for each and the run time would evaluate none; with
+the kernel's bound it stays within the issue's ratios on these views (teapot 0.72-0.76,
+Gumbo 0.58), before shared boundaries. Greedy is not optimal: these show what a sound,
+crack-free tessellator that selects the same way can hope for, before shared boundaries.
+The last four columns are built from the kernel's own parts: its bake of the model (at 1e-3
+and at 2.5e-4 of the diagonal) and its bound on screen (`bake::triangle_screen_bound`). *Per
+sample* keeps each baked step whose deviation at its own
 point, before it went in, shows more than the tolerance; then every triangle whose bound is
 over takes, round by round, the first baked step inside it; what is left over is cut
 uniformly. Tried in the run time (branch `per-sample`, not merged), it reaches these counts

@@ -1,7 +1,7 @@
 //! How few triangles a selection of this kind could reach: oracle tessellators beside the
-//! verified uniform grid, on the views of the error-control table: three with a perfect error
-//! measure, two with a sound bound, and two that select per sample from the kernel's own bake
-//! with the kernel's own bound. Prints a Markdown table.
+//! verified uniform grid, on the views of the error-control table: four with a perfect error
+//! measure, three with a sound bound, and two that select per sample from the kernel's own
+//! bake with the kernel's own bound. Prints a Markdown table.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example oracle_selection
@@ -9,13 +9,12 @@
 //!
 //! The oracles triangulate each patch on its own (as the grid does: no shared boundaries, so
 //! cracks), by Delaunay insertion in (u,v) with the kernel's `DomainMesh`, starting from the
-//! square's two triangles. The first three measure a triangle's error exactly as
-//! `error_figures` does: the surface against the triangle's linear interpolant at the same
-//! (u,v), 12 steps per side with the `f64` reference, projected, only samples on screen
-//! counting. None is
-//! sound (sampled, not bounded) nor crack-free, and greedy insertion is not optimal: they show
-//! what a tessellator that is both, selecting the same way, can hope for before a bound's
-//! margin and shared boundaries.
+//! square's two triangles (the bintrees: by bisection). The first four measure a triangle's
+//! error exactly as `error_figures` does: the surface against the triangle's linear
+//! interpolant at the same (u,v), 12 steps per side with the `f64` reference, projected, only
+//! samples on screen counting. None is sound (sampled, not bounded) nor crack-free, and greedy
+//! insertion is not optimal: they show what a tessellator that is both, selecting the same
+//! way, can hope for before a bound's margin and shared boundaries.
 //!
 //! - *Adaptive*: inserts the worst point of the triangle with the largest projected error
 //!   until every triangle is within the tolerance. Each triangle is judged by its own
@@ -28,6 +27,11 @@
 //!   times one scale for the whole patch (pixels per model unit at the nearest part of its
 //!   control net that can show): the kernel's form of the test, with the exact error in place
 //!   of its bound.
+//! - *Bintree*: no Delaunay insertion, but longest-edge bisection of the square's two right
+//!   triangles (a triangle over the tolerance is halved at its hypotenuse's midpoint, and the
+//!   one across the hypotenuse too, so the mesh stays conforming), judged by the same sampled
+//!   error on screen. Every triangle such a mesh can have is fixed in advance, so a bake could
+//!   store a bound for each (see *bintree, kernel's bound* below).
 //!
 //! The other two select as *adaptive* does, but judge each triangle by a computed bound of its
 //! deviation on screen (`host_tests::screen_bound`, where both are derived) instead of the
@@ -40,6 +44,10 @@
 //!   at the corners' view rays, plus the remainder: a deviation along the line of sight moves
 //!   no pixel, and this bound sees it. Its last column checks it: the bound over the triangle's
 //!   deviation on screen sampled at 24 steps per side (a sound bound is at least 1).
+//!
+//! *Bintree, kernel's bound* is the bintree judged by the kernel's own bound on screen
+//! (`bake::triangle_screen_bound`, directional and sound; corners rounded to the kernel's
+//! parameter grid): a sound selection, still without shared boundaries.
 //!
 //! The last two take the points a bake recorded instead of choosing their own: the kernel's
 //! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
@@ -57,14 +65,14 @@
 //!
 //! Two settings from the environment, for the per-sample columns: `PER_SAMPLE_ROUNDS=N` stops
 //! the rounds after `N` (0: the kept steps alone, then uniform cuts), and `PER_SAMPLE_ONLY=1`
-//! leaves the first four oracles out (their columns print 0), which takes seconds instead of
-//! minutes:
+//! leaves every other oracle out (their columns print 0), which takes a few seconds instead
+//! of half a minute:
 //!
 //! ```text
 //! PER_SAMPLE_ONLY=1 PER_SAMPLE_ROUNDS=1 cargo run --release -p host-tests --example oracle_selection
 //! ```
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::{dist, RefPatch, V3};
@@ -256,6 +264,115 @@ fn patch_scale(r: &RefPatch, meter: &Meter) -> f64 {
         })
         .fold(1.0f64, f64::max);
     meter.focal() / z_min * slope
+}
+
+/// A triangle of the bintree oracle: its right-angle corner, then the ends of its hypotenuse,
+/// counter-clockwise, on a grid of `1 << BINTREE_BITS` steps per side.
+type Bin = [[u32; 2]; 3];
+
+/// Steps per side of the bintree oracle's grid, as a power of two (its deepest triangles).
+const BINTREE_BITS: u32 = 14;
+
+/// Triangle count of a bintree oracle on one patch: the square's two right triangles, and
+/// every triangle whose `error` (corners on the grid of `1 << BINTREE_BITS` steps per side) is
+/// over `tol` split at its hypotenuse's midpoint, with the triangle across the hypotenuse
+/// split too (and those it needs first), so the mesh stays conforming: the longest-edge
+/// bisection of ROAM and of right-triangulated irregular networks. The result is the coarsest
+/// conforming bisection mesh whose triangles are all within `tol`, whatever the order of the
+/// splits.
+fn bintree(tol: f64, error: impl Fn(Bin) -> f64) -> usize {
+    let m = 1u32 << BINTREE_BITS;
+    let mut mesh = Bisection::default();
+    for t in [[[0, 0], [m, 0], [0, m]], [[m, m], [0, m], [m, 0]]] {
+        mesh.add(t);
+    }
+    let mut judged: HashMap<Bin, bool> = HashMap::new();
+    let mut over = |t: Bin| *judged.entry(t).or_insert_with(|| error(t) > tol);
+    // Any order gives the same mesh: a triangle is split exactly when it or a finer
+    // neighbour needs it.
+    let mut queue: BTreeSet<Bin> = mesh.leaves.iter().copied().filter(|&t| over(t)).collect();
+    while let Some(t) = queue.pop_first() {
+        let mut made = Vec::new();
+        mesh.split(t, &mut made);
+        for c in made {
+            if mesh.leaves.contains(&c) && over(c) {
+                queue.insert(c);
+            }
+        }
+    }
+    mesh.leaves.len()
+}
+
+/// An edge of a bintree triangle, its ends in order.
+type Edge = ([u32; 2], [u32; 2]);
+
+/// The leaves of a bisection mesh, and the leaves on each edge.
+#[derive(Default)]
+struct Bisection {
+    leaves: HashSet<Bin>,
+    by_edge: HashMap<Edge, Vec<Bin>>,
+}
+
+impl Bisection {
+    fn edge(a: [u32; 2], b: [u32; 2]) -> Edge {
+        if a < b {
+            (a, b)
+        } else {
+            (b, a)
+        }
+    }
+
+    fn add(&mut self, t: Bin) {
+        self.leaves.insert(t);
+        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+            self.by_edge
+                .entry(Self::edge(t[i], t[j]))
+                .or_default()
+                .push(t);
+        }
+    }
+
+    fn remove(&mut self, t: Bin) {
+        self.leaves.remove(&t);
+        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+            if let Some(v) = self.by_edge.get_mut(&Self::edge(t[i], t[j])) {
+                v.retain(|&x| x != t);
+            }
+        }
+    }
+
+    /// The leaf other than `t` on `t`'s hypotenuse, if any.
+    fn across(&self, t: Bin) -> Option<Bin> {
+        let hypotenuse = Self::edge(t[1], t[2]);
+        self.by_edge
+            .get(&hypotenuse)
+            .and_then(|v| v.iter().copied().find(|&x| x != t))
+    }
+
+    /// Halves leaf `t` at its hypotenuse's midpoint, and the leaf across it (split first where
+    /// it is coarser, so that one of its halves shares the hypotenuse); pushes the new leaves
+    /// on `made`. A triangle whose hypotenuse is one grid step long stays.
+    fn split(&mut self, t: Bin, made: &mut Vec<Bin>) {
+        if !self.leaves.contains(&t) || t[1][0].abs_diff(t[2][0]) + t[1][1].abs_diff(t[2][1]) < 2 {
+            return;
+        }
+        let hypotenuse = Self::edge(t[1], t[2]);
+        if let Some(n) = self.across(t) {
+            if Self::edge(n[1], n[2]) != hypotenuse {
+                self.split(n, made);
+            }
+        }
+        let pair = self.across(t);
+        for x in [Some(t), pair].into_iter().flatten() {
+            self.remove(x);
+            let [a, b, c] = x;
+            let mid = [(b[0] + c[0]) / 2, (b[1] + c[1]) / 2];
+            for child in [[mid, a, b], [mid, c, a]] {
+                self.add(child);
+                made.push(child);
+            }
+        }
+    }
 }
 
 /// A final triangle's corner parameters and the value it was held to.
@@ -453,12 +570,15 @@ fn main() {
     );
     println!(
         "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
-         | nested, patch scale | nested, patch scale / grid \
+         | nested, patch scale | nested, patch scale / grid | bintree | bintree / grid \
+         | bintree, kernel's bound | bintree, bound / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
          | directional bound / sampled: min, median \
          | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!(
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
     let mut loaded: Vec<(&str, ModelFile, Vec<Vec<u8>>)> = Vec::new();
     for view in ERROR_VIEWS {
         let (model, name, viewport) = (view.model, view.name, view.viewport);
@@ -506,6 +626,7 @@ fn main() {
         let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
         let mut grid = 0;
         let mut counts = [0usize; 5];
+        let mut bins = [0usize; 2];
         let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
@@ -529,6 +650,19 @@ fn main() {
             }
             grid += grid_size(r, tol, GRID_DENSE, 512, Measure::Screen(&meter))
                 .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1));
+            if !per_sample_only {
+                let m = (1u32 << BINTREE_BITS) as f64;
+                bins[0] += bintree(tol, |t| {
+                    let uv = t.map(|[u, v]| [u as f64 / m, v as f64 / m]);
+                    measure(r, uv, &meter).0.error
+                });
+                bins[1] += bintree(tol, |t| {
+                    let g = t.map(|[u, v]| {
+                        GridPoint::from_unit((u as f64 / m) as f32, (v as f64 / m) as f32)
+                    });
+                    triangle_screen_bound(&patch, g, &camera) as f64
+                });
+            }
             for (count, &selection) in counts.iter_mut().zip(&selections) {
                 if per_sample_only {
                     continue;
@@ -548,8 +682,10 @@ fn main() {
                 .collect()
         };
         println!(
-            "| {name} | {grid} | {} | {:.3}, {:.3} | {} |",
-            cells(&counts).join(" | "),
+            "| {name} | {grid} | {} | {} | {} | {:.3}, {:.3} | {} |",
+            cells(&counts[..3]).join(" | "),
+            cells(&bins).join(" | "),
+            cells(&counts[3..]).join(" | "),
             ratios.first().copied().unwrap_or(f64::NAN),
             ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
             cells(&baked_counts).join(" | "),
