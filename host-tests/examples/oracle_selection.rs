@@ -1,6 +1,6 @@
 //! How few triangles a selection of this kind could reach: oracle tessellators beside the
 //! verified uniform grid, on the views of the error-control table: four with a perfect error
-//! measure, three with a sound bound, and two that select per sample from the kernel's own
+//! measure, four with a sound bound, and two that select per sample from the kernel's own
 //! bake with the kernel's own bound. Prints a Markdown table.
 //!
 //! ```text
@@ -8,7 +8,7 @@
 //! ```
 //!
 //! The oracles triangulate each patch on its own (as the grid does: no shared boundaries, so
-//! cracks), by Delaunay insertion in (u,v) with the kernel's `DomainMesh`, starting from the
+//! cracks; all but the last bintree), by Delaunay insertion in (u,v) with the kernel's `DomainMesh`, starting from the
 //! square's two triangles (the bintrees: by bisection). The first four measure a triangle's
 //! error exactly as `error_figures` does: the surface against the triangle's linear
 //! interpolant at the same (u,v), 12 steps per side with the `f64` reference, projected, only
@@ -47,7 +47,10 @@
 //!
 //! *Bintree, kernel's bound* is the bintree judged by the kernel's own bound on screen
 //! (`bake::triangle_screen_bound`, directional and sound; corners rounded to the kernel's
-//! parameter grid): a sound selection, still without shared boundaries.
+//! parameter grid): a sound selection, still without shared boundaries. *Bintree, bound,
+//! shared curves* is the same over the whole model at once: a triangle across a curve two
+//! patches share (its corners found by their points in model space) conforms too, so the
+//! mesh has no crack; the column says what shared boundaries cost this selection.
 //!
 //! The last two take the points a bake recorded instead of choosing their own: the kernel's
 //! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
@@ -266,25 +269,40 @@ fn patch_scale(r: &RefPatch, meter: &Meter) -> f64 {
     meter.focal() / z_min * slope
 }
 
-/// A triangle of the bintree oracle: its right-angle corner, then the ends of its hypotenuse,
-/// counter-clockwise, on a grid of `1 << BINTREE_BITS` steps per side.
-type Bin = [[u32; 2]; 3];
+/// A triangle of the bintree oracles: its patch, then its right-angle corner and the ends of
+/// its hypotenuse, counter-clockwise, on a grid of `1 << BINTREE_BITS` steps per side.
+type Bin = (usize, [[u32; 2]; 3]);
 
-/// Steps per side of the bintree oracle's grid, as a power of two (its deepest triangles).
+/// Steps per side of the bintree oracles' grid, as a power of two (their deepest triangles).
 const BINTREE_BITS: u32 = 14;
 
-/// Triangle count of a bintree oracle on one patch: the square's two right triangles, and
-/// every triangle whose `error` (corners on the grid of `1 << BINTREE_BITS` steps per side) is
-/// over `tol` split at its hypotenuse's midpoint, with the triangle across the hypotenuse
-/// split too (and those it needs first), so the mesh stays conforming: the longest-edge
-/// bisection of ROAM and of right-triangulated irregular networks. The result is the coarsest
-/// conforming bisection mesh whose triangles are all within `tol`, whatever the order of the
-/// splits.
-fn bintree(tol: f64, error: impl Fn(Bin) -> f64) -> usize {
+/// Where a bintree corner is: a key two triangles share exactly when they share the corner.
+type Spot = [i64; 3];
+
+/// Triangle count of a bintree oracle on `patches` patches: each patch's square as two right
+/// triangles, and every triangle whose `error` is over `tol` split at its hypotenuse's
+/// midpoint, with the triangle across the hypotenuse split too (and those it needs first), so
+/// the mesh stays conforming: the longest-edge bisection of ROAM and of right-triangulated
+/// irregular networks. `spot` says where a corner is: with one spot per patch and grid point,
+/// each patch is meshed on its own; with spots in model space, triangles across a curve that
+/// two patches share conform too. The result is the coarsest conforming bisection mesh whose
+/// triangles are all within `tol`, whatever the order of the splits.
+fn bintree(
+    patches: usize,
+    tol: f64,
+    spot: impl Fn(usize, [u32; 2]) -> Spot,
+    error: impl Fn(Bin) -> f64,
+) -> usize {
     let m = 1u32 << BINTREE_BITS;
-    let mut mesh = Bisection::default();
-    for t in [[[0, 0], [m, 0], [0, m]], [[m, m], [0, m], [m, 0]]] {
-        mesh.add(t);
+    let mut mesh = Bisection {
+        leaves: HashSet::new(),
+        by_edge: HashMap::new(),
+        spot: &spot,
+    };
+    for p in 0..patches {
+        for t in [[[0, 0], [m, 0], [0, m]], [[m, m], [0, m], [m, 0]]] {
+            mesh.add((p, t));
+        }
     }
     let mut judged: HashMap<Bin, bool> = HashMap::new();
     let mut over = |t: Bin| *judged.entry(t).or_insert_with(|| error(t) > tol);
@@ -303,39 +321,37 @@ fn bintree(tol: f64, error: impl Fn(Bin) -> f64) -> usize {
     mesh.leaves.len()
 }
 
-/// An edge of a bintree triangle, its ends in order.
-type Edge = ([u32; 2], [u32; 2]);
+/// An edge of a bintree triangle: the spots of its ends, in order.
+type Edge = (Spot, Spot);
 
 /// The leaves of a bisection mesh, and the leaves on each edge.
-#[derive(Default)]
-struct Bisection {
+struct Bisection<'a> {
     leaves: HashSet<Bin>,
     by_edge: HashMap<Edge, Vec<Bin>>,
+    spot: &'a dyn Fn(usize, [u32; 2]) -> Spot,
 }
 
-impl Bisection {
-    fn edge(a: [u32; 2], b: [u32; 2]) -> Edge {
-        if a < b {
-            (a, b)
-        } else {
-            (b, a)
-        }
+impl Bisection<'_> {
+    /// The edge from corner `i` to corner `j` of `t`, or `None` when its ends are one spot (a
+    /// collapsed side), which has nothing across.
+    fn edge(&self, t: Bin, i: usize, j: usize) -> Option<Edge> {
+        let (a, b) = ((self.spot)(t.0, t.1[i]), (self.spot)(t.0, t.1[j]));
+        (a != b).then(|| if a < b { (a, b) } else { (b, a) })
     }
 
     fn add(&mut self, t: Bin) {
         self.leaves.insert(t);
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-            self.by_edge
-                .entry(Self::edge(t[i], t[j]))
-                .or_default()
-                .push(t);
+            if let Some(e) = self.edge(t, i, j) {
+                self.by_edge.entry(e).or_default().push(t);
+            }
         }
     }
 
     fn remove(&mut self, t: Bin) {
         self.leaves.remove(&t);
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-            if let Some(v) = self.by_edge.get_mut(&Self::edge(t[i], t[j])) {
+            if let Some(v) = self.edge(t, i, j).and_then(|e| self.by_edge.get_mut(&e)) {
                 v.retain(|&x| x != t);
             }
         }
@@ -343,7 +359,7 @@ impl Bisection {
 
     /// The leaf other than `t` on `t`'s hypotenuse, if any.
     fn across(&self, t: Bin) -> Option<Bin> {
-        let hypotenuse = Self::edge(t[1], t[2]);
+        let hypotenuse = self.edge(t, 1, 2)?;
         self.by_edge
             .get(&hypotenuse)
             .and_then(|v| v.iter().copied().find(|&x| x != t))
@@ -353,23 +369,23 @@ impl Bisection {
     /// it is coarser, so that one of its halves shares the hypotenuse); pushes the new leaves
     /// on `made`. A triangle whose hypotenuse is one grid step long stays.
     fn split(&mut self, t: Bin, made: &mut Vec<Bin>) {
-        if !self.leaves.contains(&t) || t[1][0].abs_diff(t[2][0]) + t[1][1].abs_diff(t[2][1]) < 2 {
+        let [_, b, c] = t.1;
+        if !self.leaves.contains(&t) || b[0].abs_diff(c[0]) + b[1].abs_diff(c[1]) < 2 {
             return;
         }
-        let hypotenuse = Self::edge(t[1], t[2]);
         if let Some(n) = self.across(t) {
-            if Self::edge(n[1], n[2]) != hypotenuse {
+            if self.edge(n, 1, 2) != self.edge(t, 1, 2) {
                 self.split(n, made);
             }
         }
         let pair = self.across(t);
         for x in [Some(t), pair].into_iter().flatten() {
             self.remove(x);
-            let [a, b, c] = x;
+            let [a, b, c] = x.1;
             let mid = [(b[0] + c[0]) / 2, (b[1] + c[1]) / 2];
             for child in [[mid, a, b], [mid, c, a]] {
-                self.add(child);
-                made.push(child);
+                self.add((x.0, child));
+                made.push((x.0, child));
             }
         }
     }
@@ -572,6 +588,7 @@ fn main() {
         "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
          | nested, patch scale | nested, patch scale / grid | bintree | bintree / grid \
          | bintree, kernel's bound | bintree, bound / grid \
+         | bintree, bound, shared curves | bintree, shared / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
          | directional bound / sampled: min, median \
          | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
@@ -626,7 +643,7 @@ fn main() {
         let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
         let mut grid = 0;
         let mut counts = [0usize; 5];
-        let mut bins = [0usize; 2];
+        let mut bins = [0usize; 3];
         let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
@@ -650,19 +667,6 @@ fn main() {
             }
             grid += grid_size(r, tol, GRID_DENSE, 512, Measure::Screen(&meter))
                 .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1));
-            if !per_sample_only {
-                let m = (1u32 << BINTREE_BITS) as f64;
-                bins[0] += bintree(tol, |t| {
-                    let uv = t.map(|[u, v]| [u as f64 / m, v as f64 / m]);
-                    measure(r, uv, &meter).0.error
-                });
-                bins[1] += bintree(tol, |t| {
-                    let g = t.map(|[u, v]| {
-                        GridPoint::from_unit((u as f64 / m) as f32, (v as f64 / m) as f32)
-                    });
-                    triangle_screen_bound(&patch, g, &camera) as f64
-                });
-            }
             for (count, &selection) in counts.iter_mut().zip(&selections) {
                 if per_sample_only {
                     continue;
@@ -673,6 +677,32 @@ fn main() {
                     ratios.extend(bound_over_true(r, &triangles, &meter));
                 }
             }
+        }
+        if !per_sample_only {
+            let m = (1u32 << BINTREE_BITS) as f64;
+            let unit = |[u, v]: [u32; 2]| [u as f64 / m, v as f64 / m];
+            let apart = |p: usize, [u, v]: [u32; 2]| [p as i64, u as i64, v as i64];
+            // Model space, to 2^-30 of the diagonal: a shared curve's point computed from
+            // either patch lands on one spot.
+            let q = diag as f64 / (1u64 << 30) as f64;
+            let shared = |p: usize, g: [u32; 2]| {
+                let [u, v] = unit(g);
+                refs[p].point(u, v).map(|x| (x / q).round() as i64)
+            };
+            let sampled = |(p, t): Bin| measure(&refs[p], t.map(unit), &meter).0.error;
+            let grid_points = |t: [[u32; 2]; 3]| {
+                t.map(|g| {
+                    let [u, v] = unit(g);
+                    GridPoint::from_unit(u as f32, v as f32)
+                })
+            };
+            let bounded = |(p, t): Bin| {
+                let patch = patches.patch(p).expect("a patch");
+                triangle_screen_bound(&patch, grid_points(t), &camera) as f64
+            };
+            bins[0] = bintree(refs.len(), tol, apart, sampled);
+            bins[1] = bintree(refs.len(), tol, apart, bounded);
+            bins[2] = bintree(refs.len(), tol, shared, bounded);
         }
         ratios.sort_by(f64::total_cmp);
         let cells = |counts: &[usize]| -> Vec<String> {
