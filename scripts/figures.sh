@@ -255,7 +255,12 @@ advance, so a bake could hold a bound for each and the run time would evaluate n
 the kernel's bound it stays within the issue's ratios on these views (teapot 0.72-0.76,
 Gumbo 0.58). *Bintree, bound, shared curves* meshes the whole model at once, a triangle
 across a curve that two patches share conforming too (no crack): shared boundaries cost it
-about 1% (teapot 0.72-0.76, Gumbo 0.59). Greedy is not optimal: these show what a sound,
+about 1% (teapot 0.72-0.76, Gumbo 0.59). Two numbers per triangle are not enough for
+such a bake: judged by its largest deviation along its flat triangle's normal and across it,
+each times the largest screen length of a unit in that direction, the same bintree took
+1.05-1.25 of the grid on the teapot views and 0.82 on Gumbo (one run, with the shared-curve
+bintree; the code is not kept), since the deviation at the same (u,v) has a large part
+across the normal; the directional bound's counts need the lattice's deviation vectors. Greedy is not optimal: these show what a sound,
 crack-free tessellator that selects the same way can hope for, before shared boundaries.
 The last four columns are built from the kernel's own parts: its bake of the model (at 1e-3
 and at 2.5e-4 of the diagonal) and its bound on screen (`bake::triangle_screen_bound`). *Per
