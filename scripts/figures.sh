@@ -255,7 +255,8 @@ advance, so a bake could hold a bound for each and the run time would evaluate n
 the kernel's bound it stays within the issue's ratios on these views (teapot 0.72-0.76,
 Gumbo 0.58). *Bintree, bound, shared curves* meshes the whole model at once, a triangle
 across a curve that two patches share conforming too (no crack): shared boundaries cost it
-about 1% (teapot 0.72-0.76, Gumbo 0.59). Two numbers per triangle are not enough for
+about 1% (teapot 0.72-0.76, Gumbo 0.59), and the median error of its triangles is about
+half the tolerance (the kernel's: 0.10 to 0.42 at the default bake). Two numbers per triangle are not enough for
 such a bake: judged by its largest deviation along its flat triangle's normal and across it,
 each times the largest screen length of a unit in that direction, the same bintree took
 1.05-1.25 of the grid on the teapot views and 0.82 on Gumbo (one run, with the shared-curve

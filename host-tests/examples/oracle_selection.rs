@@ -50,7 +50,9 @@
 //! parameter grid): a sound selection, still without shared boundaries. *Bintree, bound,
 //! shared curves* is the same over the whole model at once: a triangle across a curve two
 //! patches share (its corners found by their points in model space) conforms too, so the
-//! mesh has no crack; the column says what shared boundaries cost this selection.
+//! mesh has no crack; the column says what shared boundaries cost this selection. Its next
+//! column is the median of its triangles' sampled error on screen over the tolerance (those
+//! with a sample on screen), as `error_figures` reports the kernel's.
 //!
 //! The last two take the points a bake recorded instead of choosing their own: the kernel's
 //! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
@@ -279,7 +281,7 @@ const BINTREE_BITS: u32 = 14;
 /// Where a bintree corner is: a key two triangles share exactly when they share the corner.
 type Spot = [i64; 3];
 
-/// Triangle count of a bintree oracle on `patches` patches: each patch's square as two right
+/// The triangles of a bintree oracle on `patches` patches: each patch's square as two right
 /// triangles, and every triangle whose `error` is over `tol` split at its hypotenuse's
 /// midpoint, with the triangle across the hypotenuse split too (and those it needs first), so
 /// the mesh stays conforming: the longest-edge bisection of ROAM and of right-triangulated
@@ -292,7 +294,7 @@ fn bintree(
     tol: f64,
     spot: impl Fn(usize, [u32; 2]) -> Spot,
     error: impl Fn(Bin) -> f64,
-) -> usize {
+) -> Vec<Bin> {
     let m = 1u32 << BINTREE_BITS;
     let mut mesh = Bisection {
         leaves: HashSet::new(),
@@ -318,7 +320,9 @@ fn bintree(
             }
         }
     }
-    mesh.leaves.len()
+    let mut leaves: Vec<Bin> = mesh.leaves.into_iter().collect();
+    leaves.sort_unstable();
+    leaves
 }
 
 /// An edge of a bintree triangle: the spots of its ends, in order.
@@ -588,7 +592,7 @@ fn main() {
         "| case | grid | adaptive oracle | adaptive / grid | nested oracle | nested / grid \
          | nested, patch scale | nested, patch scale / grid | bintree | bintree / grid \
          | bintree, kernel's bound | bintree, bound / grid \
-         | bintree, bound, shared curves | bintree, shared / grid \
+         | bintree, bound, shared curves | bintree, shared / grid | bintree, shared: median error / tol \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
          | directional bound / sampled: min, median \
          | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
@@ -644,6 +648,7 @@ fn main() {
         let mut grid = 0;
         let mut counts = [0usize; 5];
         let mut bins = [0usize; 3];
+        let mut shared_median = f64::NAN;
         let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
@@ -700,9 +705,18 @@ fn main() {
                 let patch = patches.patch(p).expect("a patch");
                 triangle_screen_bound(&patch, grid_points(t), &camera) as f64
             };
-            bins[0] = bintree(refs.len(), tol, apart, sampled);
-            bins[1] = bintree(refs.len(), tol, apart, bounded);
-            bins[2] = bintree(refs.len(), tol, shared, bounded);
+            bins[0] = bintree(refs.len(), tol, apart, sampled).len();
+            bins[1] = bintree(refs.len(), tol, apart, bounded).len();
+            let leaves = bintree(refs.len(), tol, shared, bounded);
+            bins[2] = leaves.len();
+            // The median error on screen over the tolerance, of the triangles that show.
+            let mut errors: Vec<f64> = leaves
+                .iter()
+                .map(|&(p, t)| measure(&refs[p], t.map(unit), &meter).0.error / tol)
+                .filter(|&e| e > 0.0)
+                .collect();
+            errors.sort_by(f64::total_cmp);
+            shared_median = errors.get(errors.len() / 2).copied().unwrap_or(f64::NAN);
         }
         ratios.sort_by(f64::total_cmp);
         let cells = |counts: &[usize]| -> Vec<String> {
@@ -712,7 +726,7 @@ fn main() {
                 .collect()
         };
         println!(
-            "| {name} | {grid} | {} | {} | {} | {:.3}, {:.3} | {} |",
+            "| {name} | {grid} | {} | {} | {shared_median:.2} | {} | {:.3}, {:.3} | {} |",
             cells(&counts[..3]).join(" | "),
             cells(&bins).join(" | "),
             cells(&counts[3..]).join(" | "),
