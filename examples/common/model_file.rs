@@ -4,7 +4,7 @@
 
 use spline_tess::bake::{
     bake_model, BakeError, BakeScratch, BakeSettings, CurveSample, CurveSegment, InteriorSample,
-    TriangleDeviation,
+    Tolerance, TriangleDeviation,
 };
 use spline_tess::parse::{self, NurbsJsonBuffers};
 use spline_tess::{
@@ -103,6 +103,29 @@ impl ModelFile {
         let model = Model::build(patches, &mut edges, &mut curves).map_err(|e| e.to_string())?;
         Ok(f(&model))
     }
+
+    /// Bakes the model at `rel` of its diagonal with the caps the figures use (256 samples a
+    /// curve, 4096 steps a patch); returns the bytes.
+    pub fn bake_relative(&self, rel: f32) -> Result<Vec<u8>, String> {
+        let settings = BakeSettings {
+            tolerance: Tolerance::Relative(rel),
+            max_curve_samples: 256,
+            max_interior_samples: 4096,
+        };
+        self.with_model(|m| bake_to_vec(m, &settings))?
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// The rectangle `inner` of `outer`'s unit square, as a rectangle of what `outer` is in.
+pub fn within(outer: ParamRect, inner: ParamRect) -> ParamRect {
+    let (du, dv) = (outer.u1 - outer.u0, outer.v1 - outer.v0);
+    ParamRect {
+        u0: outer.u0 + inner.u0 * du,
+        u1: outer.u0 + inner.u1 * du,
+        v0: outer.v0 + inner.v0 * dv,
+        v1: outer.v0 + inner.v1 * dv,
+    }
 }
 
 /// Bakes `model` with heap scratch of the sizes the settings ask for; returns the bytes.
@@ -151,16 +174,7 @@ impl ModelFile {
         let domains = local
             .iter()
             .enumerate()
-            .map(|(k, r)| {
-                let d = self.domains[k / 4];
-                let (du, dv) = (d.u1 - d.u0, d.v1 - d.v0);
-                ParamRect {
-                    u0: d.u0 + r.u0 * du,
-                    u1: d.u0 + r.u1 * du,
-                    v0: d.v0 + r.v0 * dv,
-                    v1: d.v0 + r.v1 * dv,
-                }
-            })
+            .map(|(k, &r)| within(self.domains[k / 4], r))
             .collect();
         let file = ModelFile {
             headers,

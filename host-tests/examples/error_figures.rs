@@ -39,7 +39,7 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::model_file::{bake_to_vec, within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
 use host_tests::runtime::{streamed, RuntimeStorage};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
@@ -211,16 +211,7 @@ fn main() {
                     pieces = local
                         .iter()
                         .enumerate()
-                        .map(|(k, r)| {
-                            let q = pieces[k / 4];
-                            let (du, dv) = (q.u1 - q.u0, q.v1 - q.v0);
-                            ParamRect {
-                                u0: q.u0 + r.u0 * du,
-                                u1: q.u0 + r.u1 * du,
-                                v0: q.v0 + r.v0 * dv,
-                                v1: q.v0 + r.v1 * dv,
-                            }
-                        })
+                        .map(|(k, &r)| within(pieces[k / 4], r))
                         .collect();
                     kernel = finer;
                 }

@@ -14,9 +14,9 @@
 
 use std::time::Instant;
 
-use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::model_file::ModelFile;
 use host_tests::runtime::RuntimeStorage;
-use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
@@ -32,15 +32,7 @@ fn main() {
     let frames: usize = env("FRAMES", 200).max(1);
     let path = host_tests::models_dir().join("teapot.bpt");
     let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-    let bake = BakeSettings {
-        tolerance: Tolerance::Relative(rel),
-        max_curve_samples: 256,
-        max_interior_samples: 4096,
-    };
-    let bytes = file
-        .with_model(|m| bake_to_vec(m, &bake))
-        .expect("a topology")
-        .expect("a bake");
+    let bytes = file.bake_relative(rel).expect("a bake");
     let baked = BakedModel::from_bytes(&bytes).expect("a bake reads back");
     let patches = file.patches();
     let diag = patches.aabb().expect("patches").diagonal();

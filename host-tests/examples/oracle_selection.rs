@@ -79,11 +79,11 @@
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 
-use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use host_tests::screen_bound::screen_bound;
-use spline_tess::bake::{triangle_screen_bound, BakeSettings, BakedModel, Tolerance};
+use spline_tess::bake::{triangle_screen_bound, BakedModel};
 use spline_tess::{
     BezierPatch, Camera, DomainMesh, GridPoint, MeshTriangle, MeshVertex, Projection, Vec3,
 };
@@ -609,16 +609,7 @@ fn main() {
             let path = host_tests::models_dir().join(model);
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
             let bakes = BAKES
-                .map(|rel| {
-                    let settings = BakeSettings {
-                        tolerance: Tolerance::Relative(rel),
-                        max_curve_samples: 256,
-                        max_interior_samples: 4096,
-                    };
-                    file.with_model(|m| bake_to_vec(m, &settings))
-                        .expect("a topology")
-                        .expect("a bake")
-                })
+                .map(|rel| file.bake_relative(rel).expect("a bake"))
                 .to_vec();
             loaded.push((model, file, bakes));
         }

@@ -14,9 +14,9 @@
 
 use std::time::Instant;
 
-use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::model_file::ModelFile;
 use host_tests::runtime::RuntimeStorage;
-use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
@@ -68,15 +68,7 @@ fn main() {
     for model in ["teapot.bpt", "gumbo.bpt"] {
         let path = host_tests::models_dir().join(model);
         let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-        let bake = BakeSettings {
-            tolerance: Tolerance::Relative(2.5e-4),
-            max_curve_samples: 256,
-            max_interior_samples: 4096,
-        };
-        let bytes = file
-            .with_model(|m| bake_to_vec(m, &bake))
-            .expect("a topology")
-            .expect("a bake");
+        let bytes = file.bake_relative(2.5e-4).expect("a bake");
         let baked = BakedModel::from_bytes(&bytes).expect("a fresh bake reads back");
         let patches = file.patches();
         let aabb = patches.aabb().expect("patches");
