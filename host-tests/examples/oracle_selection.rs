@@ -53,6 +53,12 @@
 //! mesh has no crack; the column says what shared boundaries cost this selection. Its next
 //! column is the median of its triangles' sampled error on screen over the tolerance (those
 //! with a sample on screen), as `error_figures` reports the kernel's.
+//! The column after it judges the same shared-curve bintree by `host_tests::screen_bound`'s
+//! directional bound (sound, in `f64`, sharing no code with the kernel) built on lattices of
+//! 2, 3, 4 and 6 steps per side: 3, 7, 12 and 25 deviation vectors besides the corners, the
+//! remainder shrinking with the square of the steps. A bake holding a bound for every
+//! bisection triangle would store that many vectors per triangle, so the column says what
+//! each size of such a bake gives.
 //!
 //! The last two take the points a bake recorded instead of choosing their own: the kernel's
 //! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
@@ -82,7 +88,7 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
-use host_tests::screen_bound::screen_bound;
+use host_tests::screen_bound::{screen_bound, screen_bound_lattice};
 use spline_tess::bake::{triangle_screen_bound, BakedModel};
 use spline_tess::{
     BezierPatch, Camera, DomainMesh, GridPoint, MeshTriangle, MeshVertex, Projection, Vec3,
@@ -277,6 +283,9 @@ type Bin = (usize, [[u32; 2]; 3]);
 
 /// Steps per side of the bintree oracles' grid, as a power of two (their deepest triangles).
 const BINTREE_BITS: u32 = 14;
+
+/// Lattices (steps per side) of the `f64` directional bound the last bintree column tries.
+const BINTREE_LATTICES: [usize; 4] = [2, 3, 4, 6];
 
 /// Where a bintree corner is: a key two triangles share exactly when they share the corner.
 type Spot = [i64; 3];
@@ -593,6 +602,7 @@ fn main() {
          | nested, patch scale | nested, patch scale / grid | bintree | bintree / grid \
          | bintree, kernel's bound | bintree, bound / grid \
          | bintree, bound, shared curves | bintree, shared / grid | bintree, shared: median error / tol \
+         | bintree, shared, f64 bound on lattices of 2 / 3 / 4 / 6 steps: / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
          | directional bound / sampled: min, median \
          | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
@@ -640,6 +650,7 @@ fn main() {
         let mut counts = [0usize; 5];
         let mut bins = [0usize; 3];
         let mut shared_median = f64::NAN;
+        let mut lattice_ratios = [f64::NAN; BINTREE_LATTICES.len()];
         let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
@@ -700,6 +711,13 @@ fn main() {
             bins[1] = bintree(refs.len(), tol, apart, bounded).len();
             let leaves = bintree(refs.len(), tol, shared, bounded);
             bins[2] = leaves.len();
+            for (ratio, n) in lattice_ratios.iter_mut().zip(BINTREE_LATTICES) {
+                let bound = |(p, t): Bin| {
+                    screen_bound_lattice(&refs[p], t.map(unit), &meter, n)
+                        .map_or(f64::INFINITY, |b| b.hull)
+                };
+                *ratio = bintree(refs.len(), tol, shared, bound).len() as f64 / grid as f64;
+            }
             // The median error on screen over the tolerance, of the triangles that show.
             let mut errors: Vec<f64> = leaves
                 .iter()
@@ -717,9 +735,10 @@ fn main() {
                 .collect()
         };
         println!(
-            "| {name} | {grid} | {} | {} | {shared_median:.2} | {} | {:.3}, {:.3} | {} |",
+            "| {name} | {grid} | {} | {} | {shared_median:.2} | {} | {} | {:.3}, {:.3} | {} |",
             cells(&counts[..3]).join(" | "),
             cells(&bins).join(" | "),
+            lattice_ratios.map(|r| format!("{r:.2}")).join(" / "),
             cells(&counts[3..]).join(" | "),
             ratios.first().copied().unwrap_or(f64::NAN),
             ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),

@@ -197,10 +197,21 @@ pub fn curvature_term([a, b, c]: [f64; 3], uv: [[f64; 2]; 3]) -> f64 {
 /// The screen bounds of the triangle with corner parameters `uv` on polynomial patch `r`, or
 /// `None` for a rational patch.
 pub fn screen_bound(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> Option<ScreenBound> {
+    screen_bound_lattice(r, uv, meter, LATTICE)
+}
+
+/// [`screen_bound`] from the lattice of step `1/n` (`n` at least 1): fewer deviation
+/// vectors, a remainder `n²` times smaller.
+pub fn screen_bound_lattice(
+    r: &RefPatch,
+    uv: [[f64; 2]; 3],
+    meter: &Meter,
+    n: usize,
+) -> Option<ScreenBound> {
     let lo = |k: usize| uv.iter().map(|p| p[k]).fold(1.0, f64::min);
     let hi = |k: usize| uv.iter().map(|p| p[k]).fold(0.0, f64::max);
     let derivatives = second_derivative_bounds(r, [lo(0), hi(0), lo(1), hi(1)])?;
-    let n = LATTICE;
+    let n = n.max(1);
     let remainder = curvature_term(derivatives, uv) / (n * n) as f64;
     let corners: [V3; 3] = uv.map(|[u, v]| r.point(u, v));
     let flat = corners.map(|p| meter.view(p));
