@@ -59,6 +59,10 @@
 //! remainder shrinking with the square of the steps. A bake holding a bound for every
 //! bisection triangle would store that many vectors per triangle, so the column says what
 //! each size of such a bake gives.
+//! The next keeps only 4, 6 or 8 of the 6-step lattice's 25 vectors
+//! (`host_tests::screen_bound::keep_vectors`: farthest from the kept ones' hull first, the
+//! remainder widened by the largest distance of a vector left out from that hull, so still
+//! sound): what a bake that chooses the vectors it stores could give.
 //!
 //! The last two take the points a bake recorded instead of choosing their own: the kernel's
 //! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
@@ -88,7 +92,7 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
-use host_tests::screen_bound::{screen_bound, screen_bound_lattice};
+use host_tests::screen_bound::{screen_bound, screen_bound_kept, screen_bound_lattice};
 use spline_tess::bake::{triangle_screen_bound, BakedModel};
 use spline_tess::{
     BezierPatch, Camera, DomainMesh, GridPoint, MeshTriangle, MeshVertex, Projection, Vec3,
@@ -286,6 +290,9 @@ const BINTREE_BITS: u32 = 14;
 
 /// Lattices (steps per side) of the `f64` directional bound the last bintree column tries.
 const BINTREE_LATTICES: [usize; 4] = [2, 3, 4, 6];
+
+/// How many of the 6-step lattice's vectors the column after it keeps.
+const BINTREE_KEPT: [usize; 3] = [4, 6, 8];
 
 /// Where a bintree corner is: a key two triangles share exactly when they share the corner.
 type Spot = [i64; 3];
@@ -603,6 +610,7 @@ fn main() {
          | bintree, kernel's bound | bintree, bound / grid \
          | bintree, bound, shared curves | bintree, shared / grid | bintree, shared: median error / tol \
          | bintree, shared, f64 bound on lattices of 2 / 3 / 4 / 6 steps: / grid \
+         | bintree, shared, 4 / 6 / 8 of the 6-step lattice's vectors kept: / grid \
          | isotropic bound | isotropic / grid | directional bound | directional / grid \
          | directional bound / sampled: min, median \
          | baked 1e-3 per sample | per sample / grid | baked 2.5e-4 per sample | per sample / grid |"
@@ -651,6 +659,7 @@ fn main() {
         let mut bins = [0usize; 3];
         let mut shared_median = f64::NAN;
         let mut lattice_ratios = [f64::NAN; BINTREE_LATTICES.len()];
+        let mut kept_ratios = [f64::NAN; BINTREE_KEPT.len()];
         let mut baked_counts = [0usize; BAKES.len()];
         let mut ratios: Vec<f64> = Vec::new();
         let selections = [
@@ -718,6 +727,13 @@ fn main() {
                 };
                 *ratio = bintree(refs.len(), tol, shared, bound).len() as f64 / grid as f64;
             }
+            for (ratio, k) in kept_ratios.iter_mut().zip(BINTREE_KEPT) {
+                let bound = |(p, t): Bin| {
+                    screen_bound_kept(&refs[p], t.map(unit), &meter, 6, k)
+                        .map_or(f64::INFINITY, |b| b.hull)
+                };
+                *ratio = bintree(refs.len(), tol, shared, bound).len() as f64 / grid as f64;
+            }
             // The median error on screen over the tolerance, of the triangles that show.
             let mut errors: Vec<f64> = leaves
                 .iter()
@@ -735,10 +751,11 @@ fn main() {
                 .collect()
         };
         println!(
-            "| {name} | {grid} | {} | {} | {shared_median:.2} | {} | {} | {:.3}, {:.3} | {} |",
+            "| {name} | {grid} | {} | {} | {shared_median:.2} | {} | {} | {} | {:.3}, {:.3} | {} |",
             cells(&counts[..3]).join(" | "),
             cells(&bins).join(" | "),
             lattice_ratios.map(|r| format!("{r:.2}")).join(" / "),
+            kept_ratios.map(|r| format!("{r:.2}")).join(" / "),
             cells(&counts[3..]).join(" | "),
             ratios.first().copied().unwrap_or(f64::NAN),
             ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),

@@ -208,6 +208,19 @@ pub fn screen_bound_lattice(
     meter: &Meter,
     n: usize,
 ) -> Option<ScreenBound> {
+    screen_bound_kept(r, uv, meter, n, usize::MAX)
+}
+
+/// [`screen_bound_lattice`] from at most `keep` of the lattice's deviation vectors, as a bake
+/// that stores a bound per triangle could keep them (see [`keep_vectors`]): the rest are
+/// covered by widening the remainder, so the bound stays sound.
+pub fn screen_bound_kept(
+    r: &RefPatch,
+    uv: [[f64; 2]; 3],
+    meter: &Meter,
+    n: usize,
+    keep: usize,
+) -> Option<ScreenBound> {
     let lo = |k: usize| uv.iter().map(|p| p[k]).fold(1.0, f64::min);
     let hi = |k: usize| uv.iter().map(|p| p[k]).fold(0.0, f64::max);
     let derivatives = second_derivative_bounds(r, [lo(0), hi(0), lo(1), hi(1)])?;
@@ -235,6 +248,7 @@ pub fn screen_bound_lattice(
         }
     }
     let object = largest + remainder;
+    let (deviations, remainder) = keep_vectors(deviations, keep, remainder);
     // Where a sample counts, `l` is in front of the near plane and within `m` of the screen.
     let front = meter.clip(&flat, object);
     if front.is_empty() {
@@ -267,6 +281,65 @@ pub fn screen_bound_lattice(
         object,
         at,
     })
+}
+
+/// At most `keep` of `vectors`, besides the zero vector (the corners' deviation, kept for
+/// free), and `remainder` widened so that the derivation of the module docs still holds: each
+/// vector left out lies within `δ` of the kept ones' hull, so `conv{e_k} + B(R)` lies in
+/// `conv{kept} + B(R + δ)`. Vectors are kept farthest from the hull first. The distance to the
+/// hull is bounded from above by a point of the hull that Frank-Wolfe steps reach from the
+/// nearest kept vector: any point of the hull gives a sound `δ`, a better one a smaller `δ`.
+pub fn keep_vectors(vectors: Vec<V3>, keep: usize, remainder: f64) -> (Vec<V3>, f64) {
+    if vectors.len() <= keep {
+        return (vectors, remainder);
+    }
+    let sub = |a: V3, b: V3| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let distance = |a: V3, b: V3| dot(sub(a, b), sub(a, b)).sqrt();
+    let to_hull = |e: V3, kept: &[V3]| {
+        let mut x = *kept
+            .iter()
+            .min_by(|a, b| distance(e, **a).total_cmp(&distance(e, **b)))
+            .expect("the zero vector is kept");
+        for _ in 0..40 {
+            // The kept vector farthest along the descent of |x - e|², and the best point on
+            // the segment to it (x stays in the hull).
+            let g = sub(x, e);
+            let s = *kept
+                .iter()
+                .min_by(|a, b| dot(g, **a).total_cmp(&dot(g, **b)))
+                .expect("the zero vector is kept");
+            let d = sub(s, x);
+            let dd = dot(d, d);
+            let step = if dd > 0.0 {
+                (-dot(g, d) / dd).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            if step == 0.0 {
+                break;
+            }
+            x = [0, 1, 2].map(|k| x[k] + step * d[k]);
+        }
+        distance(e, x)
+    };
+    let mut kept: Vec<V3> = vec![[0.0; 3]];
+    for _ in 0..keep {
+        let (k, d) = vectors
+            .iter()
+            .enumerate()
+            .map(|(k, &e)| (k, to_hull(e, &kept)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("vectors");
+        if d == 0.0 {
+            break;
+        }
+        kept.push(vectors[k]);
+    }
+    let widen = vectors
+        .iter()
+        .map(|&e| to_hull(e, &kept))
+        .fold(0.0f64, f64::max);
+    (kept, remainder + widen)
 }
 
 #[cfg(test)]
