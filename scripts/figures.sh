@@ -272,7 +272,13 @@ need not store them all: the column after it keeps 4, 6 or 8 of the 25, farthest
 kept ones' hull first, and widens the remainder by the largest distance of a vector left out
 from that hull (bounded from above by a point of the hull, so the bound stays sound). With 8
 kept (about 25 bytes) it stays within both ratios (teapot 0.72-0.77, Gumbo 0.597 in the run
-behind this table, which rounds it to 0.60); with 4, Gumbo is at 0.61. Greedy is not optimal: these show what a sound,
+behind this table, which rounds it to 0.60); with 4, Gumbo is at 0.61. The cost is flash: a
+bake holds a bound for every triangle any view may judge, and the table after the first gives
+how many leaves the shared-curve bintree has when split in model space to the bake's
+tolerance (about as many nodes again lie above them): 8,058 for the teapot at 1e-3 of the
+diagonal, where today's bake holds 3,849 steps in 86,657 bytes (the bake table), so at
+14-33 bytes a node (4 to 8 vectors, with or without the vertex) such a bake is about 2.5 to
+6 times today's. Greedy is not optimal: these show what a sound,
 crack-free tessellator that selects the same way can hope for, before shared boundaries.
 The last four columns are built from the kernel's own parts: its bake of the model (at 1e-3
 and at 2.5e-4 of the diagonal) and its bound on screen (`bake::triangle_screen_bound`). *Per

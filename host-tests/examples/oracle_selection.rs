@@ -64,6 +64,11 @@
 //! remainder widened by the largest distance of a vector left out from that hull, so still
 //! sound): what a bake that chooses the vectors it stores could give.
 //!
+//! A second table gives, per model, the leaves of the shared-curve bintree split until the
+//! bound in model units (`host_tests::screen_bound`'s `object`, on the 6-step lattice) is
+//! within 1e-3 and 2.5e-4 of the diagonal: the triangles, about half the nodes, that a bake to
+//! that tolerance would hold a bound for, whatever the view.
+//!
 //! The last two take the points a bake recorded instead of choosing their own: the kernel's
 //! own bake of the model (at 1e-3 and at 2.5e-4 of its diagonal), and the kernel's own bound
 //! on screen (`bake::triangle_screen_bound`), so they show what a run time built from the
@@ -619,6 +624,8 @@ fn main() {
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let mut loaded: Vec<(&str, ModelFile, Vec<Vec<u8>>)> = Vec::new();
+    // Per model: the leaves of the shared-curve bintree in model space at each of `BAKES`.
+    let mut in_model_space: Vec<(&str, Vec<usize>)> = Vec::new();
     for view in ERROR_VIEWS {
         let (model, name, viewport) = (view.model, view.name, view.viewport);
         let [eye, target] = [view.eye, view.target].map(|p| p.map(|c| c as f64));
@@ -727,6 +734,18 @@ fn main() {
                 };
                 *ratio = bintree(refs.len(), tol, shared, bound).len() as f64 / grid as f64;
             }
+            if !in_model_space.iter().any(|(m, _)| *m == model) {
+                // Every triangle a bake of the model to `rel` of its diagonal must hold a bound
+                // for is a node of this mesh (its leaves, and about as many above them).
+                let object = |(p, t): Bin| {
+                    screen_bound_lattice(&refs[p], t.map(unit), &meter, 6)
+                        .map_or(f64::INFINITY, |b| b.object)
+                };
+                let leaves = BAKES
+                    .map(|rel| bintree(refs.len(), rel as f64 * diag as f64, shared, object).len())
+                    .to_vec();
+                in_model_space.push((model, leaves));
+            }
             for (ratio, k) in kept_ratios.iter_mut().zip(BINTREE_KEPT) {
                 let bound = |(p, t): Bin| {
                     screen_bound_kept(&refs[p], t.map(unit), &meter, 6, k)
@@ -761,5 +780,13 @@ fn main() {
             ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
             cells(&baked_counts).join(" | "),
         );
+    }
+    println!();
+    println!(
+        "| model | shared-curve bintree in model space, leaves: at 1e-3 of the diagonal | at 2.5e-4 |"
+    );
+    println!("|---|---|---|");
+    for (model, leaves) in &in_model_space {
+        println!("| {model} | {} | {} |", leaves[0], leaves[1]);
     }
 }
