@@ -97,7 +97,7 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
-use host_tests::screen_bound::{screen_bound, screen_bound_kept, screen_bound_lattice};
+use host_tests::screen_bound::{screen_bound, screen_bound_kept};
 use spline_tess::bake::{triangle_screen_bound, BakedModel};
 use spline_tess::{
     BezierPatch, Camera, DomainMesh, GridPoint, MeshTriangle, MeshVertex, Projection, Vec3,
@@ -729,7 +729,7 @@ fn main() {
             bins[2] = leaves.len();
             for (ratio, n) in lattice_ratios.iter_mut().zip(BINTREE_LATTICES) {
                 let bound = |(p, t): Bin| {
-                    screen_bound_lattice(&refs[p], t.map(unit), &meter, n)
+                    screen_bound_kept(&refs[p], t.map(unit), &meter, n, usize::MAX)
                         .map_or(f64::INFINITY, |b| b.hull)
                 };
                 *ratio = bintree(refs.len(), tol, shared, bound).len() as f64 / grid as f64;
@@ -738,7 +738,7 @@ fn main() {
                 // Every triangle a bake of the model to `rel` of its diagonal must hold a bound
                 // for is a node of this mesh (its leaves, and about as many above them).
                 let object = |(p, t): Bin| {
-                    screen_bound_lattice(&refs[p], t.map(unit), &meter, 6)
+                    screen_bound_kept(&refs[p], t.map(unit), &meter, 6, usize::MAX)
                         .map_or(f64::INFINITY, |b| b.object)
                 };
                 let leaves = BAKES

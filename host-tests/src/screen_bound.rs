@@ -197,21 +197,11 @@ pub fn curvature_term([a, b, c]: [f64; 3], uv: [[f64; 2]; 3]) -> f64 {
 /// The screen bounds of the triangle with corner parameters `uv` on polynomial patch `r`, or
 /// `None` for a rational patch.
 pub fn screen_bound(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> Option<ScreenBound> {
-    screen_bound_lattice(r, uv, meter, LATTICE)
+    screen_bound_kept(r, uv, meter, LATTICE, usize::MAX)
 }
 
-/// [`screen_bound`] from the lattice of step `1/n` (`n` at least 1): fewer deviation
-/// vectors, a remainder `n²` times smaller.
-pub fn screen_bound_lattice(
-    r: &RefPatch,
-    uv: [[f64; 2]; 3],
-    meter: &Meter,
-    n: usize,
-) -> Option<ScreenBound> {
-    screen_bound_kept(r, uv, meter, n, usize::MAX)
-}
-
-/// [`screen_bound_lattice`] from at most `keep` of the lattice's deviation vectors, as a bake
+/// [`screen_bound`] from the lattice of step `1/n` (`n` at least 1; fewer deviation vectors, a
+/// remainder `n²` times smaller), keeping at most `keep` of its deviation vectors as a bake
 /// that stores a bound per triangle could keep them (see [`keep_vectors`]): the rest are
 /// covered by widening the remainder, so the bound stays sound.
 pub fn screen_bound_kept(
