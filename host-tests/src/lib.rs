@@ -6,6 +6,7 @@
 //! surfaces by Cox-de Boor basis functions, all in `f64`.
 
 pub mod baked;
+pub mod bintree;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
 #[path = "../../examples/common/obj.rs"]

@@ -194,6 +194,59 @@ pub fn curvature_term([a, b, c]: [f64; 3], uv: [[f64; 2]; 3]) -> f64 {
     best
 }
 
+/// The deviations of one triangle on the lattice of step `1/n` (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatticeDeviations {
+    /// The surface points at the corners.
+    pub corners: [V3; 3],
+    /// `e_k`, in model space, the corners' zero vectors included.
+    pub vectors: Vec<V3>,
+    /// `R`: every deviation is within `R` of the vectors' hull.
+    pub remainder: f64,
+    /// `m = max_k |e_k| + R`, the bound in model units.
+    pub object: f64,
+    /// The lattice point (unit parameters) of the largest `|e_k|`, or the centroid where
+    /// every one is 0.
+    pub at: [f64; 2],
+}
+
+/// The deviation vectors of the triangle with corner parameters `uv` on polynomial patch `r`
+/// at the points of the barycentric lattice of step `1/n` (`n` at least 1), and the remainder
+/// that covers the rest of the triangle; `None` for a rational patch.
+pub fn lattice_deviations(r: &RefPatch, uv: [[f64; 2]; 3], n: usize) -> Option<LatticeDeviations> {
+    let lo = |k: usize| uv.iter().map(|p| p[k]).fold(1.0, f64::min);
+    let hi = |k: usize| uv.iter().map(|p| p[k]).fold(0.0, f64::max);
+    let derivatives = second_derivative_bounds(r, [lo(0), hi(0), lo(1), hi(1)])?;
+    let n = n.max(1);
+    let remainder = curvature_term(derivatives, uv) / (n * n) as f64;
+    let corners: [V3; 3] = uv.map(|[u, v]| r.point(u, v));
+    let mut vectors = Vec::with_capacity((n + 1) * (n + 2) / 2);
+    let centroid = [0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0);
+    let (mut at, mut largest) = (centroid, 0.0f64);
+    for i in 0..=n {
+        for j in 0..=n - i {
+            let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
+            let c = 1.0 - a - b;
+            let x = [0, 1].map(|k| uv[0][k] * c + uv[1][k] * a + uv[2][k] * b);
+            let l = [0, 1, 2].map(|k| corners[0][k] * c + corners[1][k] * a + corners[2][k] * b);
+            let s = r.point(x[0], x[1]);
+            let e = [0, 1, 2].map(|k| s[k] - l[k]);
+            let length = dot(e, e).sqrt();
+            if length > largest {
+                (at, largest) = (x, length);
+            }
+            vectors.push(e);
+        }
+    }
+    Some(LatticeDeviations {
+        corners,
+        vectors,
+        remainder,
+        object: largest + remainder,
+        at,
+    })
+}
+
 /// The screen bounds of the triangle with corner parameters `uv` on polynomial patch `r`, or
 /// `None` for a rational patch.
 pub fn screen_bound(r: &RefPatch, uv: [[f64; 2]; 3], meter: &Meter) -> Option<ScreenBound> {
@@ -211,33 +264,11 @@ pub fn screen_bound_kept(
     n: usize,
     keep: usize,
 ) -> Option<ScreenBound> {
-    let lo = |k: usize| uv.iter().map(|p| p[k]).fold(1.0, f64::min);
-    let hi = |k: usize| uv.iter().map(|p| p[k]).fold(0.0, f64::max);
-    let derivatives = second_derivative_bounds(r, [lo(0), hi(0), lo(1), hi(1)])?;
-    let n = n.max(1);
-    let remainder = curvature_term(derivatives, uv) / (n * n) as f64;
-    let corners: [V3; 3] = uv.map(|[u, v]| r.point(u, v));
-    let flat = corners.map(|p| meter.view(p));
-    let mut deviations = Vec::with_capacity(28);
-    // The lattice point of the largest deviation, and its length.
-    let centroid = [0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0);
-    let (mut at, mut largest) = (centroid, 0.0f64);
-    for i in 0..=n {
-        for j in 0..=n - i {
-            let (a, b) = (i as f64 / n as f64, j as f64 / n as f64);
-            let c = 1.0 - a - b;
-            let x = [0, 1].map(|k| uv[0][k] * c + uv[1][k] * a + uv[2][k] * b);
-            let l = [0, 1, 2].map(|k| corners[0][k] * c + corners[1][k] * a + corners[2][k] * b);
-            let s = r.point(x[0], x[1]);
-            let e = [0, 1, 2].map(|k| s[k] - l[k]);
-            let length = dot(e, e).sqrt();
-            if length > largest {
-                (at, largest) = (x, length);
-            }
-            deviations.push(meter.rotate(e));
-        }
-    }
-    let object = largest + remainder;
+    let lattice = lattice_deviations(r, uv, n)?;
+    let (at, remainder) = (lattice.at, lattice.remainder);
+    let flat = lattice.corners.map(|p| meter.view(p));
+    let deviations: Vec<V3> = lattice.vectors.iter().map(|&e| meter.rotate(e)).collect();
+    let object = lattice.object;
     let (deviations, remainder) = keep_vectors(deviations, keep, remainder);
     // Where a sample counts, `l` is in front of the near plane and within `m` of the screen.
     let front = meter.clip(&flat, object);
@@ -271,6 +302,92 @@ pub fn screen_bound_kept(
         object,
         at,
     })
+}
+
+/// The directional bound over a *region*: a box in model space that holds a triangle's flat
+/// triangle and its piece of surface, with a set of deviation vectors and a remainder that
+/// cover its deviations (`e(x) ∈ conv{vectors} + B(remainder)`).
+///
+/// The derivation of the module docs goes through with the box in place of `F`: where a sample
+/// counts, `l` (on the flat triangle) and `s` (on the surface piece) both lie in the box, `l`
+/// in front of the near plane and `s` on screen. So `s_z >= max(z_near, least z of the box)`,
+/// and `τ` lies in the hull of the rays of the box's part in front of the near plane (its
+/// corners there and the points where its edges cross the plane); with `rect`, in the
+/// rectangle of their least and largest slopes, a superset that costs 4 rays instead of up
+/// to 12. Where every corner of the box is beyond one plane of the view, no sample counts
+/// and the bound is 0.
+///
+/// What makes it useful: it is *monotone*. A box inside another, vectors inside another's
+/// hull, a smaller remainder all give a bound no larger, for every view. A bake that stores
+/// for each bisection vertex the union of its triangles' regions and its descendants' (the
+/// saturation of Lindstrom and Pascucci's terrain meshes) gets a test that a split never
+/// passes where the split above it fails, so the mesh a frame selects top-down is conforming
+/// without asking any neighbour.
+pub fn region_bound(
+    meter: &Meter,
+    [lo, hi]: [V3; 2],
+    vectors: &[V3],
+    remainder: f64,
+    rect: bool,
+) -> f64 {
+    let corners: Vec<V3> = (0..8)
+        .map(|k| {
+            let pick = |c: usize| if k >> c & 1 == 0 { lo[c] } else { hi[c] };
+            [pick(0), pick(1), pick(2)]
+        })
+        .collect();
+    if meter.outside_one_plane(&corners) {
+        return 0.0;
+    }
+    let view: Vec<V3> = corners.iter().map(|&p| meter.view(p)).collect();
+    let near = meter.near();
+    let mut front: Vec<V3> = view.iter().copied().filter(|v| v[2] >= near).collect();
+    for a in 0..8 {
+        for c in 0..3 {
+            let b = a | 1 << c;
+            if b == a {
+                continue;
+            }
+            let (p, q) = (view[a], view[b]);
+            if (p[2] < near) != (q[2] < near) {
+                let t = (near - p[2]) / (q[2] - p[2]);
+                front.push([0, 1, 2].map(|k| p[k] + t * (q[k] - p[k])));
+            }
+        }
+    }
+    if front.is_empty() {
+        return 0.0;
+    }
+    let z_min = front
+        .iter()
+        .map(|v| v[2])
+        .fold(f64::INFINITY, f64::min)
+        .max(near);
+    let mut rays: Vec<[f64; 2]> = front.iter().map(|v| [v[0] / v[2], v[1] / v[2]]).collect();
+    if rect {
+        let (mut a, mut b) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for r in &rays {
+            for k in 0..2 {
+                a[k] = a[k].min(r[k]);
+                b[k] = b[k].max(r[k]);
+            }
+        }
+        rays = vec![a, [b[0], a[1]], b, [a[0], b[1]]];
+    }
+    let e: Vec<V3> = vectors.iter().map(|&d| meter.rotate(d)).collect();
+    let worst = rays
+        .iter()
+        .map(|tau| {
+            let g = (1.0 + tau[0] * tau[0] + tau[1] * tau[1]).sqrt();
+            let phi = e
+                .iter()
+                .map(|e| (e[0] - tau[0] * e[2]).powi(2) + (e[1] - tau[1] * e[2]).powi(2))
+                .fold(0.0f64, f64::max)
+                .sqrt();
+            phi + remainder * g
+        })
+        .fold(0.0f64, f64::max);
+    meter.focal() / z_min * worst
 }
 
 /// At most `keep` of `vectors`, besides the zero vector (the corners' deviation, kept for
