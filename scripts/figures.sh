@@ -272,8 +272,8 @@ steps and Gumbo's 0.6 only at 6: 25 vectors, about 75 bytes a triangle quantised
 need not store them all: the column after it keeps 4, 6 or 8 of the 25, farthest from the
 kept ones' hull first, and widens the remainder by the largest distance of a vector left out
 from that hull (bounded from above by a point of the hull, so the bound stays sound). With 8
-kept (about 25 bytes) it stays within both ratios (teapot 0.72-0.77, Gumbo 0.597 in the run
-behind this table, which rounds it to 0.60); with 4, Gumbo is at 0.61. The cost is flash: a
+kept (about 25 bytes) it stays within both ratios (teapot 0.72-0.76, Gumbo 0.59); with 4,
+Gumbo is at 0.61. The cost is flash: a
 bake holds a bound for every triangle any view may judge, and the table after the first gives
 how many leaves the shared-curve bintree has when split in model space to the bake's
 tolerance (about as many nodes again lie above them): 8,058 for the teapot at 1e-3 of the
@@ -312,14 +312,19 @@ derives the bound, sound and monotone). The bake is the shared-curve bintree spl
 space to 2.5e-4 of the diagonal. Every top-down mesh is checked against the mesh that finds
 neighbours with the same test: they are the same (but for triangles at a pole, where the two
 may differ for a reason the module docs give; none did). With 8 vectors a vertex the teapot
-takes 0.74-0.85 of the grid and Gumbo 0.64, so the issue's 0.8 and 0.6 are missed on the 240x240
-view and on Gumbo; judged each by its own box and vectors through the mesh that finds
-neighbours, the same triangles take 0.73-0.78 and 0.60: saturation costs 3 to 9%. A frame
-tests about two vertices a triangle, and the bake holds 15,908 vertices for the teapot at
-2.5e-4 (3,907 at 1e-3); at about 40 bytes a vertex (six 16-bit numbers for the box, eight
-vectors of three 8-bit numbers, a scale), the 1e-3 bake would be about 156 KB, 1.8 times
-today's. So a bisection run time that meets the ratios has to find neighbours: it needs more
-state than the walk's stack, though far less than a state per triangle.
+takes 0.73-0.83 of the grid and Gumbo 0.63, so the issue's 0.8 and 0.6 are missed on the
+240x240 view and on Gumbo. Judged each by its own box and vectors, the same triangles take
+0.72-0.78 and 0.60: saturation costs 1 to 6%, and it is what the missing ratios come from.
+That unsaturated mesh needs neighbours, but finding them takes little memory: one bit per
+baked vertex (about 2 KB for the teapot's 16,280 vertices at 2.5e-4, 0.5 KB for its 4,087
+at 1e-3). Rounds of the walk, each splitting where the bit is set and setting the bits of
+the triangles it keeps whose own test fails and of the vertices above them, reach it in 8
+to 11 rounds (checked to have no crack); a cold frame then tests 3.2-4.2 vertices per
+triangle, where the saturated walk tests 1.6-2.0. At about 40 bytes a vertex (six 16-bit
+numbers for the box, eight vectors of three 8-bit numbers, a scale), the teapot's bake at
+1e-3 would be about 163 KB, 1.9 times today's. So a bisection run time can meet the ratios
+with a bit per vertex, paying about twice the tests on a cold frame; a frame that starts
+from the last frame's bits should need far fewer rounds (not measured).
 
 {read("oracle_saturated.md")}
 

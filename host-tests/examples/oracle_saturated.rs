@@ -38,12 +38,17 @@
 //! that finds neighbours by model-space spots takes their triangles for neighbours, which
 //! they are not in the domain: the top-down mesh is the one that conforms in the domain.
 //!
-//! A last column judges each triangle by its own box and vectors (not saturated) through the
-//! mesh that finds neighbours: what saturation costs.
+//! The last columns judge each triangle by its own box and vectors (not saturated), splitting
+//! the bake's triangles whose own test fails and, to keep the mesh conforming, those that
+//! needs: what saturation costs. That mesh is found with one bit of state per baked vertex
+//! (`select_with_bits`: rounds of the top-down walk, each setting the bits of the triangles
+//! it keeps that fail and of the vertices above them, until a round sets none) and checked
+//! to have no crack; the columns give its triangles, its rounds and the vertices it tested
+//! per triangle, all rounds together (a cold frame).
 
 use std::collections::{HashMap, HashSet};
 
-use host_tests::bintree::{bintree, Bin, Spot, BINTREE_BITS};
+use host_tests::bintree::{bintree, edge_key, Bin, Spot, BINTREE_BITS};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
@@ -56,8 +61,9 @@ const DENSE: usize = 12;
 /// Vectors a vertex keeps.
 const KEEP: [usize; 2] = [4, 8];
 
-/// A hypotenuse: the spots of its ends, in order.
-type Key = (Spot, Spot);
+/// A hypotenuse: the spots of its ends, in order, and of its midpoint (see
+/// `host_tests::bintree::edge_key`).
+type Key = (Spot, Spot, Spot);
 
 /// What a vertex holds: a box, deviation vectors, a remainder.
 #[derive(Clone, Debug)]
@@ -123,6 +129,10 @@ struct Bake {
     vertices: Vec<HashMap<Key, Region>>,
     /// The bake's last triangles, each with its own region (8 vectors).
     leaves: HashMap<Bin, Region>,
+    /// Every triangle of the bake below the patches' squares, with the one it was cut from.
+    parent: HashMap<Bin, Bin>,
+    /// The triangles split at each vertex (one, or two on a shared hypotenuse).
+    on: HashMap<Key, Vec<Bin>>,
 }
 
 fn own_region(r: &RefPatch, uv: [[f64; 2]; 3]) -> Region {
@@ -152,13 +162,12 @@ fn bake(refs: &[RefPatch], tol: f64, spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> 
         lattice_deviations(&refs[p], t.map(unit), LATTICE).map_or(f64::INFINITY, |d| d.object)
     };
     let last: HashSet<Bin> = bintree(refs.len(), tol, spot, object).into_iter().collect();
+    // A hypotenuse on a collapsed side has nothing across: a key of its own, in the domain.
     let hypotenuse = |(p, [_, b, c]): Bin| {
-        let (x, y) = (spot(p, b), spot(p, c));
-        if x < y {
-            (x, y)
-        } else {
-            (y, x)
-        }
+        edge_key(spot, p, b, c).unwrap_or_else(|| {
+            let at = |g: [u32; 2]| [i64::MIN, p as i64, ((g[0] as i64) << 32) | g[1] as i64];
+            (at(b), at(c), at(b))
+        })
     };
     // Every triangle of the bake, level by level from the patches' squares.
     let m = 1u32 << BINTREE_BITS;
@@ -206,10 +215,70 @@ fn bake(refs: &[RefPatch], tol: f64, spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> 
         .iter()
         .map(|&t| (t, own_region(&refs[t.0], t.1.map(unit)).kept(8)))
         .collect();
+    let parent = split
+        .keys()
+        .flat_map(|&t| children(t).map(|c| (c, t)))
+        .collect();
+    let mut on: HashMap<Key, Vec<Bin>> = HashMap::new();
+    for (&t, &k) in &split {
+        on.entry(k).or_default().push(t);
+    }
     Bake {
         split,
         vertices,
         leaves,
+        parent,
+        on,
+    }
+}
+
+/// The selection that finds neighbours with one bit of state per baked vertex and nothing
+/// else: rounds of a top-down walk that splits a triangle where its vertex's bit is set, and
+/// sets the bit of every triangle it keeps whose own test `over` fails, with the bits of the
+/// vertices above it (the two triangles split at a vertex must both be there, so their
+/// parents must be split), until a round sets none. Its triangles, the rounds, and the
+/// tests it made.
+fn select_with_bits(
+    bake: &Bake,
+    over: &dyn Fn(Bin) -> bool,
+    patches: usize,
+) -> (Vec<Bin>, usize, usize) {
+    let m = 1u32 << BINTREE_BITS;
+    let mut bits: HashSet<Key> = HashSet::new();
+    let (mut rounds, mut tests) = (0, 0);
+    loop {
+        rounds += 1;
+        let mut leaves = Vec::new();
+        let mut set = Vec::new();
+        let mut stack: Vec<Bin> = (0..patches)
+            .flat_map(|p| [(p, [[0, 0], [m, 0], [0, m]]), (p, [[m, m], [0, m], [m, 0]])])
+            .collect();
+        while let Some(t) = stack.pop() {
+            match bake.split.get(&t) {
+                Some(k) if bits.contains(k) => stack.extend(children(t)),
+                Some(k) => {
+                    tests += 1;
+                    if over(t) {
+                        set.push(*k);
+                    }
+                    leaves.push(t);
+                }
+                None => leaves.push(t),
+            }
+        }
+        if set.is_empty() {
+            leaves.sort_unstable();
+            return (leaves, rounds, tests);
+        }
+        while let Some(k) = set.pop() {
+            if bits.insert(k) {
+                for t in &bake.on[&k] {
+                    if let Some(p) = bake.parent.get(t) {
+                        set.push(bake.split[p]);
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -262,6 +331,29 @@ fn spot(refs: &[RefPatch], diag: f64, p: usize, [u, v]: [u32; 2]) -> Spot {
         .map(|x| (x / q).round() as i64)
 }
 
+/// Whether the mesh of bintree triangles `leaves` has no crack: no edge (between two spots)
+/// whose midpoint is a corner of a triangle, in the domain or across a shared curve.
+fn conforming(leaves: &[Bin], spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> bool {
+    let corners: HashSet<Spot> = leaves
+        .iter()
+        .flat_map(|&(p, t)| t.map(|g| spot(p, g)))
+        .collect();
+    leaves.iter().all(|&(p, t)| {
+        [(0, 1), (1, 2), (2, 0)].iter().all(|&(i, j)| {
+            let (a, b) = (t[i], t[j]);
+            let mid = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
+            let ok = spot(p, a) == spot(p, b) || !corners.contains(&spot(p, mid));
+            if !ok {
+                let holder = leaves
+                    .iter()
+                    .find(|&&(q, u)| u.iter().any(|&g| spot(q, g) == spot(p, mid)));
+                eprintln!("crack: patch {p} edge {a:?}-{b:?} mid {mid:?}; corner of {holder:?}");
+            }
+            ok
+        })
+    })
+}
+
 /// Whether grid point `g` of patch `p` lies on a side of its square whose ends are one spot.
 fn on_collapsed_side(p: usize, [u, v]: [u32; 2], spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> bool {
     let m = 1u32 << BINTREE_BITS;
@@ -288,11 +380,12 @@ fn main() {
     println!(
         "| case | grid | saturated, 4 vectors, rays / grid | 8 vectors, rays / grid \
          | 4 vectors, rectangle / grid | 8 vectors, rectangle / grid \
-         | 8 vectors, rectangle, unsaturated, finding neighbours / grid \
+         | 8 vectors, rectangle, unsaturated, one bit per vertex / grid \
+         | its rounds, vertices tested per triangle \
          | vertices tested per triangle (8, rectangle) | left over (8, rectangle) \
          | median error / tol (8, rectangle) | differences at poles |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut bakes: Vec<(&str, ModelFile, Vec<RefPatch>, Bake, usize)> = Vec::new();
     for view in ERROR_VIEWS {
         let model = view.model;
@@ -328,6 +421,7 @@ fn main() {
             .sum();
         let m = (1u32 << BINTREE_BITS) as f64;
         let spot = |p: usize, g: [u32; 2]| spot(refs, diag, p, g);
+        let at_pole = |&(p, t): &Bin| t.iter().any(|&g| on_collapsed_side(p, g, &spot));
         let mut cells = Vec::new();
         let mut cheap = None;
         let mut poles = 0;
@@ -346,7 +440,6 @@ fn main() {
                 // are not in the domain. Only triangles at a pole may differ.)
                 let check: HashSet<Bin> = check.into_iter().collect();
                 let top_down: HashSet<Bin> = s.leaves.iter().copied().collect();
-                let at_pole = |&(p, t): &Bin| t.iter().any(|&g| on_collapsed_side(p, g, &spot));
                 let differ: Vec<&Bin> = check.symmetric_difference(&top_down).collect();
                 assert!(
                     differ.iter().all(|t| at_pole(t)),
@@ -361,15 +454,26 @@ fn main() {
             }
         }
         let s = cheap.expect("the cheaper form with 8 vectors");
-        // The same regions without saturation, each triangle judged by its own, through the
-        // mesh that finds neighbours.
+        // The same regions without saturation, each triangle judged by its own, its mesh
+        // kept conforming with one bit per baked vertex.
         let unit = |[u, v]: [u32; 2]| [u as f64 / m, v as f64 / m];
         let own = |(p, t): Bin| {
             own_region(&refs[p], t.map(unit))
                 .kept(KEEP[KEEP.len() - 1])
                 .bound(&meter, true)
         };
-        let unsaturated = bintree(refs.len(), tol, spot, own).len() as f64 / grid as f64;
+        let judged = std::cell::RefCell::new(HashMap::new());
+        let over = |t: Bin| *judged.borrow_mut().entry(t).or_insert_with(|| own(t) > tol);
+        let (with_bits, rounds, tests) = select_with_bits(b, &over, refs.len());
+        assert!(
+            conforming(&with_bits, &spot),
+            "{}: one bit per vertex leaves a crack",
+            view.name
+        );
+        let (unsaturated, tests) = (
+            with_bits.len() as f64 / grid as f64,
+            tests as f64 / with_bits.len() as f64,
+        );
         let mut errors: Vec<f64> = s
             .leaves
             .iter()
@@ -383,7 +487,7 @@ fn main() {
             .collect();
         errors.sort_by(f64::total_cmp);
         println!(
-            "| {} | {grid} | {} | {unsaturated:.2} | {:.2} | {} | {:.2} | {poles} |",
+            "| {} | {grid} | {} | {unsaturated:.2} | {rounds}, {tests:.2} | {:.2} | {} | {:.2} | {poles} |",
             view.name,
             cells.join(" | "),
             s.tested as f64 / s.leaves.len() as f64,

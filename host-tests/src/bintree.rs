@@ -61,7 +61,25 @@ pub fn bintree(
 }
 
 /// An edge of a bintree triangle: the spots of its ends, in order.
-type Edge = (Spot, Spot);
+///
+/// With its midpoint's spot too: where a patch side collapses to a pole, edges from one point
+/// to the pole through different parameters have the same ends in model space, but not the
+/// same midpoint, and they are not neighbours in the domain.
+type Edge = (Spot, Spot, Spot);
+
+/// The edge of patch `p` from grid point `a` to `b` as a key two triangles share exactly when
+/// they share the edge, or `None` when its ends are one spot (a collapsed side, which has
+/// nothing across).
+pub fn edge_key(
+    spot: &dyn Fn(usize, [u32; 2]) -> Spot,
+    p: usize,
+    a: [u32; 2],
+    b: [u32; 2],
+) -> Option<(Spot, Spot, Spot)> {
+    let (x, y) = (spot(p, a), spot(p, b));
+    let mid = spot(p, [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2]);
+    (x != y).then(|| if x < y { (x, y, mid) } else { (y, x, mid) })
+}
 
 /// The leaves of a bisection mesh, and the leaves on each edge.
 struct Bisection<'a> {
@@ -74,8 +92,7 @@ impl Bisection<'_> {
     /// The edge from corner `i` to corner `j` of `t`, or `None` when its ends are one spot (a
     /// collapsed side), which has nothing across.
     fn edge(&self, t: Bin, i: usize, j: usize) -> Option<Edge> {
-        let (a, b) = ((self.spot)(t.0, t.1[i]), (self.spot)(t.0, t.1[j]));
-        (a != b).then(|| if a < b { (a, b) } else { (b, a) })
+        edge_key(&self.spot, t.0, t.1[i], t.1[j])
     }
 
     fn add(&mut self, t: Bin) {
