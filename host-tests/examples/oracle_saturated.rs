@@ -48,7 +48,9 @@
 
 use std::collections::{HashMap, HashSet};
 
-use host_tests::bintree::{bintree, edge_key, Bin, Spot, BINTREE_BITS};
+use host_tests::bintree::{
+    bintree, children, edge_key, model_spot, roots, unit, Bin, Spot, BINTREE_BITS,
+};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
@@ -115,12 +117,6 @@ impl Region {
     }
 }
 
-/// The two halves of bintree triangle `t`.
-fn children((p, [a, b, c]): Bin) -> [Bin; 2] {
-    let mid = [(b[0] + c[0]) / 2, (b[1] + c[1]) / 2];
-    [(p, [mid, a, b]), (p, [mid, c, a])]
-}
-
 /// A model's bake: the vertices of its bisection mesh in model space, saturated.
 struct Bake {
     /// The hypotenuse of every triangle that is split in the bake.
@@ -154,10 +150,6 @@ fn own_region(r: &RefPatch, uv: [[f64; 2]; 3]) -> Region {
 }
 
 fn bake(refs: &[RefPatch], tol: f64, spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> Bake {
-    let unit = |[u, v]: [u32; 2]| {
-        let m = (1u32 << BINTREE_BITS) as f64;
-        [u as f64 / m, v as f64 / m]
-    };
     let object = |(p, t): Bin| {
         lattice_deviations(&refs[p], t.map(unit), LATTICE).map_or(f64::INFINITY, |d| d.object)
     };
@@ -170,10 +162,7 @@ fn bake(refs: &[RefPatch], tol: f64, spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> 
         })
     };
     // Every triangle of the bake, level by level from the patches' squares.
-    let m = 1u32 << BINTREE_BITS;
-    let mut levels: Vec<Vec<Bin>> = vec![(0..refs.len())
-        .flat_map(|p| [(p, [[0, 0], [m, 0], [0, m]]), (p, [[m, m], [0, m], [m, 0]])])
-        .collect()];
+    let mut levels: Vec<Vec<Bin>> = vec![roots(refs.len())];
     while let Some(level) = levels.last() {
         let next: Vec<Bin> = level
             .iter()
@@ -243,16 +232,13 @@ fn select_with_bits(
     over: &dyn Fn(Bin) -> bool,
     patches: usize,
 ) -> (Vec<Bin>, usize, usize) {
-    let m = 1u32 << BINTREE_BITS;
     let mut bits: HashSet<Key> = HashSet::new();
     let (mut rounds, mut tests) = (0, 0);
     loop {
         rounds += 1;
         let mut leaves = Vec::new();
         let mut set = Vec::new();
-        let mut stack: Vec<Bin> = (0..patches)
-            .flat_map(|p| [(p, [[0, 0], [m, 0], [0, m]]), (p, [[m, m], [0, m], [m, 0]])])
-            .collect();
+        let mut stack = roots(patches);
         while let Some(t) = stack.pop() {
             match bake.split.get(&t) {
                 Some(k) if bits.contains(k) => stack.extend(children(t)),
@@ -291,15 +277,12 @@ struct Selected {
 }
 
 fn select(bake: &Bake, k: usize, meter: &Meter, tol: f64, rect: bool, patches: usize) -> Selected {
-    let m = 1u32 << BINTREE_BITS;
     let mut out = Selected {
         leaves: Vec::new(),
         tested: 0,
         left_over: 0,
     };
-    let mut stack: Vec<Bin> = (0..patches)
-        .flat_map(|p| [(p, [[0, 0], [m, 0], [0, m]]), (p, [[m, m], [0, m], [m, 0]])])
-        .collect();
+    let mut stack = roots(patches);
     while let Some(t) = stack.pop() {
         match bake.split.get(&t) {
             Some(key) => {
@@ -322,15 +305,6 @@ fn select(bake: &Bake, k: usize, meter: &Meter, tol: f64, rect: bool, patches: u
     out
 }
 
-/// Where grid point `(u, v)` of patch `p` lies in model space, to 2^-30 of the diagonal `diag`:
-/// a point of a curve two patches share lands on one spot from either.
-fn spot(refs: &[RefPatch], diag: f64, p: usize, [u, v]: [u32; 2]) -> Spot {
-    let (q, m) = (diag / (1u64 << 30) as f64, (1u32 << BINTREE_BITS) as f64);
-    refs[p]
-        .point(u as f64 / m, v as f64 / m)
-        .map(|x| (x / q).round() as i64)
-}
-
 /// Whether the mesh of bintree triangles `leaves` has no crack: no edge (between two spots)
 /// whose midpoint is a corner of a triangle, in the domain or across a shared curve.
 fn conforming(leaves: &[Bin], spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> bool {
@@ -342,14 +316,7 @@ fn conforming(leaves: &[Bin], spot: &dyn Fn(usize, [u32; 2]) -> Spot) -> bool {
         [(0, 1), (1, 2), (2, 0)].iter().all(|&(i, j)| {
             let (a, b) = (t[i], t[j]);
             let mid = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
-            let ok = spot(p, a) == spot(p, b) || !corners.contains(&spot(p, mid));
-            if !ok {
-                let holder = leaves
-                    .iter()
-                    .find(|&&(q, u)| u.iter().any(|&g| spot(q, g) == spot(p, mid)));
-                eprintln!("crack: patch {p} edge {a:?}-{b:?} mid {mid:?}; corner of {holder:?}");
-            }
-            ok
+            spot(p, a) == spot(p, b) || !corners.contains(&spot(p, mid))
         })
     })
 }
@@ -395,7 +362,9 @@ fn main() {
             let patches = file.patches();
             let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
             let diag = patches.aabb().expect("patches").diagonal() as f64;
-            let b = bake(&refs, bake_rel * diag, &|p, g| spot(&refs, diag, p, g));
+            let b = bake(&refs, bake_rel * diag, &|p, g| {
+                model_spot(&refs, diag, p, g)
+            });
             let vertices = b.vertices[0].len();
             bakes.push((model, file, refs, b, vertices));
         }
@@ -419,8 +388,7 @@ fn main() {
                     .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1))
             })
             .sum();
-        let m = (1u32 << BINTREE_BITS) as f64;
-        let spot = |p: usize, g: [u32; 2]| spot(refs, diag, p, g);
+        let spot = |p: usize, g: [u32; 2]| model_spot(refs, diag, p, g);
         let at_pole = |&(p, t): &Bin| t.iter().any(|&g| on_collapsed_side(p, g, &spot));
         let mut cells = Vec::new();
         let mut cheap = None;
@@ -456,7 +424,6 @@ fn main() {
         let s = cheap.expect("the cheaper form with 8 vectors");
         // The same regions without saturation, each triangle judged by its own, its mesh
         // kept conforming with one bit per baked vertex.
-        let unit = |[u, v]: [u32; 2]| [u as f64 / m, v as f64 / m];
         let own = |(p, t): Bin| {
             own_region(&refs[p], t.map(unit))
                 .kept(KEEP[KEEP.len() - 1])

@@ -94,7 +94,7 @@
 
 use std::collections::HashMap;
 
-use host_tests::bintree::{bintree, Bin, BINTREE_BITS};
+use host_tests::bintree::{self, bintree, Bin};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::{dist, RefPatch, V3};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
@@ -579,16 +579,10 @@ fn main() {
             }
         }
         if !per_sample_only {
-            let m = (1u32 << BINTREE_BITS) as f64;
-            let unit = |[u, v]: [u32; 2]| [u as f64 / m, v as f64 / m];
+            let unit = bintree::unit;
             let apart = |p: usize, [u, v]: [u32; 2]| [p as i64, u as i64, v as i64];
-            // Model space, to 2^-30 of the diagonal: a shared curve's point computed from
-            // either patch lands on one spot.
-            let q = diag as f64 / (1u64 << 30) as f64;
-            let shared = |p: usize, g: [u32; 2]| {
-                let [u, v] = unit(g);
-                refs[p].point(u, v).map(|x| (x / q).round() as i64)
-            };
+            // Model space: a shared curve's point computed from either patch lands on one spot.
+            let shared = |p: usize, g: [u32; 2]| bintree::model_spot(&refs, diag as f64, p, g);
             let sampled = |(p, t): Bin| measure(&refs[p], t.map(unit), &meter).0.error;
             let grid_points = |t: [[u32; 2]; 3]| {
                 t.map(|g| {

@@ -6,6 +6,8 @@
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 
+use crate::reference::RefPatch;
+
 /// A triangle of the bintree oracles: its patch, then its right-angle corner and the ends of
 /// its hypotenuse, counter-clockwise, on a grid of `1 << BINTREE_BITS` steps per side.
 pub type Bin = (usize, [[u32; 2]; 3]);
@@ -15,6 +17,35 @@ pub const BINTREE_BITS: u32 = 14;
 
 /// Where a bintree corner is: a key two triangles share exactly when they share the corner.
 pub type Spot = [i64; 3];
+
+/// The two right triangles of each of `patches` patches' squares, the bintrees' roots.
+pub fn roots(patches: usize) -> Vec<Bin> {
+    let m = 1u32 << BINTREE_BITS;
+    (0..patches)
+        .flat_map(|p| [(p, [[0, 0], [m, 0], [0, m]]), (p, [[m, m], [0, m], [m, 0]])])
+        .collect()
+}
+
+/// The two halves of triangle `t`, cut at its hypotenuse's midpoint: each has the midpoint
+/// as its right-angle corner.
+pub fn children((p, [a, b, c]): Bin) -> [Bin; 2] {
+    let mid = [(b[0] + c[0]) / 2, (b[1] + c[1]) / 2];
+    [(p, [mid, a, b]), (p, [mid, c, a])]
+}
+
+/// A grid point's parameters in the unit square.
+pub fn unit([u, v]: [u32; 2]) -> [f64; 2] {
+    let m = (1u32 << BINTREE_BITS) as f64;
+    [u as f64 / m, v as f64 / m]
+}
+
+/// Where grid point `g` of patch `refs[p]` lies in model space, to 2^-30 of the model's
+/// diagonal `diag`: a point of a curve two patches share lands on one spot from either.
+pub fn model_spot(refs: &[RefPatch], diag: f64, p: usize, g: [u32; 2]) -> Spot {
+    let q = diag / (1u64 << 30) as f64;
+    let [u, v] = unit(g);
+    refs[p].point(u, v).map(|x| (x / q).round() as i64)
+}
 
 /// The triangles of a bintree oracle on `patches` patches: each patch's square as two right
 /// triangles, and every triangle whose `error` is over `tol` split at its hypotenuse's
@@ -30,16 +61,13 @@ pub fn bintree(
     spot: impl Fn(usize, [u32; 2]) -> Spot,
     error: impl Fn(Bin) -> f64,
 ) -> Vec<Bin> {
-    let m = 1u32 << BINTREE_BITS;
     let mut mesh = Bisection {
         leaves: HashSet::new(),
         by_edge: HashMap::new(),
         spot: &spot,
     };
-    for p in 0..patches {
-        for t in [[[0, 0], [m, 0], [0, m]], [[m, m], [0, m], [m, 0]]] {
-            mesh.add((p, t));
-        }
+    for t in roots(patches) {
+        mesh.add(t);
     }
     let mut judged: HashMap<Bin, bool> = HashMap::new();
     let mut over = |t: Bin| *judged.entry(t).or_insert_with(|| error(t) > tol);
@@ -137,11 +165,9 @@ impl Bisection<'_> {
         let pair = self.across(t);
         for x in [Some(t), pair].into_iter().flatten() {
             self.remove(x);
-            let [a, b, c] = x.1;
-            let mid = [(b[0] + c[0]) / 2, (b[1] + c[1]) / 2];
-            for child in [[mid, a, b], [mid, c, a]] {
-                self.add((x.0, child));
-                made.push((x.0, child));
+            for child in children(x) {
+                self.add(child);
+                made.push(child);
             }
         }
     }
