@@ -88,6 +88,7 @@
 
 pub mod bake;
 mod basis;
+pub mod bisect;
 mod bound;
 #[cfg(feature = "defmt")]
 mod defmt_impls;

@@ -39,11 +39,13 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
+use host_tests::bisection::{streamed as bisect_streamed, BakedBintree, SelectionStorage};
 use host_tests::model_file::{bake_to_vec, within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
 use host_tests::runtime::{streamed, RuntimeStorage};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bisect::BintreeSettings;
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, ParamRect, Projection, Vec3, Vertex, View};
 
@@ -88,6 +90,8 @@ struct Baked {
     kernel: ModelFile,
     pieces: Option<Vec<ParamRect>>,
     bytes: Vec<u8>,
+    /// With `ENGINE=bintree`, the bisection bake.
+    bintree: Option<BakedBintree>,
 }
 
 struct Case {
@@ -191,6 +195,8 @@ fn main() {
         .ok()
         .map_or(0, |v| v.parse().unwrap_or(1));
     let split = split_levels > 0;
+    // `ENGINE=bintree`: the bisection run time (`spline_tess::bisect`) in place of the kernel's.
+    let bisection = std::env::var("ENGINE").is_ok_and(|e| e == "bintree");
     let mut baked_cache: Vec<Baked> = Vec::new();
     for case in cases() {
         if !only.is_empty() && !only.iter().any(|o| case.name.contains(o.as_str())) {
@@ -231,12 +237,20 @@ fn main() {
                 .with_model(|m| bake_to_vec(m, &bake))
                 .expect("a topology")
                 .expect("a bake");
+            let bintree = bisection.then(|| {
+                let settings = BintreeSettings {
+                    tolerance,
+                    ..BintreeSettings::default()
+                };
+                BakedBintree::bake(&kernel, &settings).expect("a bisection bake")
+            });
             baked_cache.push(Baked {
                 model: case.model,
                 file,
                 kernel,
                 pieces,
                 bytes,
+                bintree,
             });
         }
         let Baked {
@@ -244,6 +258,7 @@ fn main() {
             kernel,
             pieces,
             bytes,
+            bintree,
             ..
         } = baked_cache
             .iter()
@@ -336,17 +351,43 @@ fn main() {
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let mut best = f64::INFINITY;
         let mut count = 0;
-        for _ in 0..3 {
-            let start = Instant::now();
-            let mut t = storage.tessellator(patches, baked, settings);
-            let stats = t.update(&view).expect("an update");
-            t.write_mesh(&mut vertices, &mut triangles).expect("room");
-            best = best.min(start.elapsed().as_secs_f64() * 1e3);
-            count = stats.triangles;
+        let mut left_over = 0;
+        let tris = match bintree {
+            Some(b) => {
+                let tree = b.tree();
+                let mut store = SelectionStorage::new(&tree, 1 << 12);
+                let mut remap = vec![0u32; tree.vertices().len()];
+                for _ in 0..3 {
+                    let start = Instant::now();
+                    let mut s = store.selection(tree);
+                    let stats = s.update(&view);
+                    s.write_mesh(&mut vertices, &mut triangles, &mut remap)
+                        .expect("room");
+                    best = best.min(start.elapsed().as_secs_f64() * 1e3);
+                    count = stats.triangles;
+                    left_over = stats.left_over;
+                }
+                let mut s = store.selection(tree);
+                s.update(&view);
+                bisect_streamed(&s)
+            }
+            None => {
+                for _ in 0..3 {
+                    let start = Instant::now();
+                    let mut t = storage.tessellator(patches, baked, settings);
+                    let stats = t.update(&view).expect("an update");
+                    t.write_mesh(&mut vertices, &mut triangles).expect("room");
+                    best = best.min(start.elapsed().as_secs_f64() * 1e3);
+                    count = stats.triangles;
+                }
+                let mut tess = storage.tessellator(patches, baked, settings);
+                tess.update(&view).expect("an update");
+                streamed(&tess)
+            }
+        };
+        if left_over > 0 {
+            eprintln!("{}: {left_over} leaves of the bake left over", case.name);
         }
-        let mut tess = storage.tessellator(patches, baked, settings);
-        tess.update(&view).expect("an update");
-        let tris = streamed(&tess);
         // Verification.
         let (mut errors, mut tight) = (Vec::new(), Vec::new());
         let (mut over, mut off) = (0usize, 0usize);

@@ -7,6 +7,8 @@
 
 pub mod baked;
 pub mod bintree;
+pub mod bisection;
+pub mod frame_checks;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
 #[path = "../../examples/common/obj.rs"]

@@ -15,204 +15,20 @@
 
 use std::collections::{HashMap, HashSet};
 
+use host_tests::frame_checks::{camera_path, check_watertight, measure_frame};
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::{cross, dot, norm, sub, RefPatch};
-use host_tests::runtime::{edge_uses, indexed, streamed, triangle_set, RuntimeStorage, Streamed};
-use host_tests::screen::{triangle_deviation, Measure, Meter};
-use host_tests::{bpt_models, name, nurbs_fixtures, widen};
+use host_tests::runtime::{indexed, streamed, triangle_set, RuntimeStorage};
+use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
 use spline_tess::tessellator::{PoolSize, Settings, StorageSize};
-use spline_tess::{Camera, DomainIndex, EdgeLink, FrameStats, Projection, Vec3, View};
+use spline_tess::{DomainIndex, EdgeLink, FrameStats};
 
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_curve_samples: 256,
     max_interior_samples: 1024,
 };
-/// Barycentric steps of the dense deviation check.
-const DENSE: usize = 8;
-const VIEWPORT: [u32; 2] = [160, 120];
-
-struct Step {
-    label: &'static str,
-    view: View,
-    meter: Option<Meter>,
-}
-
-fn camera_path(center: Vec3, diag: f32, floor: f32) -> Vec<Step> {
-    let dir = Vec3::new(1.0, -2.0, 0.7).normalize();
-    let near = 0.02 * diag;
-    let camera = |label, eye: Vec3, target: Vec3, fov: f32, tol: f32| {
-        let cam = Camera::new(
-            eye,
-            target,
-            Vec3::Z,
-            Projection::Perspective { fov_y_degrees: fov },
-            near,
-            VIEWPORT,
-        )
-        .unwrap();
-        Step {
-            label,
-            view: View::Screen {
-                camera: cam,
-                tolerance_px: tol,
-            },
-            meter: Some(Meter::new(
-                widen(eye),
-                widen(target),
-                [0.0, 0.0, 1.0],
-                fov as f64,
-                near as f64,
-                VIEWPORT,
-            )),
-        }
-    };
-    let low = Vec3::new(center.x, center.y, floor + 0.05 * diag);
-    vec![
-        camera("far", center + dir * (3.0 * diag), center, 40.0, 1.0),
-        // From below: a closed model shows the eye some patches' backs whole.
-        camera(
-            "far below",
-            center + Vec3::new(-0.5, -0.5, -0.7).normalize() * (3.0 * diag),
-            center,
-            40.0,
-            1.0,
-        ),
-        camera("mid", center + dir * (1.2 * diag), center, 40.0, 0.5),
-        camera("near", center + dir * (0.6 * diag), center, 50.0, 1.0),
-        camera("grazing", low + Vec3::X * (1.5 * diag), low, 40.0, 1.0),
-        camera("inside", center, center + Vec3::X, 60.0, 2.0),
-        camera(
-            "behind",
-            center + dir * (0.4 * diag),
-            center + dir * (3.0 * diag),
-            60.0,
-            1.0,
-        ),
-        Step {
-            label: "object",
-            view: View::Object {
-                tolerance: 2e-3 * diag,
-            },
-            meter: None,
-        },
-        camera("far again", center + dir * (3.0 * diag), center, 40.0, 1.0),
-    ]
-}
-
-/// Largest measured deviation of the frame's triangles (on screen, or in model units), and
-/// the smallest ratio of a triangle's bound from the kernel to its measured deviation in model
-/// units.
-fn measure_frame(refs: &[RefPatch], tris: &[Streamed], meter: Option<&Meter>) -> (f64, f64) {
-    let (mut worst, mut tightest) = (0.0f64, f64::INFINITY);
-    for t in tris {
-        let r = &refs[t.patch as usize];
-        let corners = t.corners.map(|c| c.position.map(|x| x as f64));
-        let uv = t.uv.map(|[u, v]| [u as f64, v as f64]);
-        let object = triangle_deviation(r, uv, corners, DENSE, Measure::Object);
-        if object.worst > 0.0 {
-            tightest = tightest.min(t.bound as f64 / object.worst);
-        }
-        let m = match meter {
-            None => object,
-            Some(m) => triangle_deviation(r, uv, corners, DENSE, Measure::Screen(m)),
-        };
-        worst = worst.max(m.worst);
-    }
-    (worst, tightest)
-}
-
-/// Watertightness of the indexed mesh; `open(patch, side)` says whether an edge may be
-/// used once there. Through a camera, an edge may also be used once where it lies beyond one
-/// of the view's planes (the kernel leaves out triangles off the view): a gap there is out of
-/// sight. Returns the count of such edges.
-fn check_watertight(
-    label: &str,
-    mesh: &host_tests::runtime::Mesh,
-    tris: &[Streamed],
-    open: &dyn Fn(u32, usize) -> bool,
-    meter: Option<&Meter>,
-) -> usize {
-    let mut out_of_sight = 0;
-    let uses = edge_uses(mesh);
-    // Coincident patches (the teacup's bottom is two patches on top of each other, facing
-    // opposite ways) make coincident triangles; an edge may be used by more than two
-    // triangles only through such duplicates.
-    let mut sets: HashMap<(u32, u32), HashSet<[u32; 3]>> = HashMap::new();
-    for t in &mesh.triangles {
-        let mut key = *t;
-        key.sort();
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            sets.entry((a.min(b), a.max(b))).or_default().insert(key);
-        }
-    }
-    for (&(a, b), &(n, k)) in &uses {
-        let distinct = sets[&(a, b)].len();
-        assert!(
-            distinct <= 2 && (n <= 2 || n == 2 * distinct),
-            "{label}: edge {a}-{b} used by {n} triangles, {distinct} distinct"
-        );
-        if n == 1 {
-            let t = &tris[k];
-            let pa = mesh.vertices[a as usize].position;
-            let pb = mesh.vertices[b as usize].position;
-            if meter.is_some_and(|m| m.outside_one_plane(&[pa, pb].map(|p| p.map(f64::from)))) {
-                out_of_sight += 1;
-                continue;
-            }
-            let ia = t.corners.iter().position(|c| c.position == pa).unwrap();
-            let pb = mesh.vertices[b as usize].position;
-            let ib = t.corners.iter().position(|c| c.position == pb).unwrap();
-            let (x, y) = (t.uv[ia], t.uv[ib]);
-            let side = if x[1] == 0.0 && y[1] == 0.0 {
-                0
-            } else if x[0] == 1.0 && y[0] == 1.0 {
-                1
-            } else if x[1] == 1.0 && y[1] == 1.0 {
-                2
-            } else if x[0] == 0.0 && y[0] == 0.0 {
-                3
-            } else {
-                panic!(
-                    "{label}: interior edge {x:?}-{y:?} of patch {} used once",
-                    t.patch
-                )
-            };
-            assert!(
-                open(t.patch, side),
-                "{label}: edge on shared side {side} of patch {} used once",
-                t.patch
-            );
-        }
-    }
-    let mut seen: HashMap<[u32; 3], u32> = HashMap::new();
-    for (i, v) in mesh.vertices.iter().enumerate() {
-        if let Some(j) = seen.insert(v.position.map(f32::to_bits), i as u32) {
-            // Nodes of culled patches are written but unused; only used vertices count.
-            let used = |x: u32| mesh.triangles.iter().any(|t| t.contains(&x));
-            // A surface may pass through one point at two parameters of one patch (the
-            // teaspoon's nearly collapsed side u = 1 of patch 12 is at (0, -1, 0.0178571) at
-            // v = 0.25 and at v = 1, bit for bit): such vertices are distinct. A crack
-            // would be one curve point made twice, by two patches.
-            let at = |x: u32| {
-                tris.iter().zip(&mesh.triangles).filter_map(move |(t, ti)| {
-                    Some((t.patch, t.uv[ti.iter().position(|&y| y == x)?]))
-                })
-            };
-            let twice_in_one_patch =
-                at(i as u32).any(|(p, a)| at(j).any(|(q, b)| p == q && a != b));
-            assert!(
-                !(used(i as u32) && used(j)) || twice_in_one_patch,
-                "{label}: vertices {j} and {i} share a position {:?}",
-                v.position
-            );
-        }
-    }
-    out_of_sight
-}
-
 /// +1 when the normals `S_u x S_v` of the closed surface `refs` point out of it, -1 when in:
 /// the sign of its volume, `1/3` of the integral of `(S - c) . (S_u x S_v)`, by a 16 x 16
 /// midpoint rule per patch (`c` the mean control point).
@@ -378,7 +194,7 @@ fn run_model<Ix: DomainIndex>(path: &std::path::Path, pool: Pool) {
                         .any(|&q| q != p && tess.is_culled(q as usize))
             }
         };
-        let gaps = check_watertight(&what, &mesh, &tris, &open, step.meter.as_ref());
+        let gaps = check_watertight(&what, &mesh, &tris, &open, step.meter.as_ref(), &refs);
         gaps_out_of_sight += gaps;
         for p in (0..baked.patch_count()).filter(|&p| tess.is_back_facing(p)) {
             let meter = step

@@ -65,11 +65,11 @@ use crate::view::{Camera, Projection};
 /// Most vertices of a triangle clipped by five planes.
 const CLIPPED: usize = 8;
 
-/// Relative enlargement of the computed bound, for its own few roundings.
-const SCREEN_SLACK: f32 = 1.0 + 1.0 / 1024.0;
-
 /// Lattice points besides the corners.
 const INNER: usize = (LATTICE as usize + 1) * (LATTICE as usize + 2) / 2 - 3;
+
+/// Relative enlargement of the computed bound, for its own few roundings.
+const SCREEN_SLACK: f32 = 1.0 + 1.0 / 1024.0;
 
 /// A convex polygon in view coordinates, clipped one plane at a time.
 struct Polygon {
@@ -129,66 +129,82 @@ impl Lattice {
                 k += 1;
             }
         }
-        let m = big + r;
-        let focal = camera.focal();
-        if let Projection::Orthographic { .. } = camera.projection() {
-            let worst = e.iter().map(|d| d.x * d.x + d.y * d.y).fold(0.0f32, max);
-            return focal * ((sqrt(worst) + r) * SCREEN_SLACK + 16.0 * EPS * m);
-        }
-        let corners = [q0, q1, q2].map(|q| camera.to_view(Vec3::from_array(q.to_array())));
-        let size = corners
-            .iter()
-            .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
-            .fold(0.0f32, max);
-        let eta = slack + 16.0 * EPS * size;
-        let near = camera.near() - eta;
-        if near.is_nan() || near <= 0.0 || !m.is_finite() || !eta.is_finite() {
+        let corners = [q0, q1, q2].map(|q| Vec3::from_array(q.to_array()));
+        bound_on_screen(camera, corners, &e, big, r, slack)
+    }
+}
+
+/// The bound on `camera`'s screen, in pixels, of a deviation `e(x) ∈ conv{e_k} + B(r)` over
+/// the flat triangle `corners` (model space), with the vectors `e_k` already in view
+/// coordinates (rotated, not moved), `big` their largest length and `slack` the rounding
+/// slack of the corners (see the module docs). `e` may hold any vectors whose hull, widened by
+/// `r`, holds the deviation: a lattice's, or a bake's few kept ones.
+pub(crate) fn bound_on_screen(
+    camera: &Camera,
+    corners: [Vec3; 3],
+    e: &[Vec3],
+    big: f32,
+    r: f32,
+    slack: f32,
+) -> f32 {
+    let m = big + r;
+    let focal = camera.focal();
+    if let Projection::Orthographic { .. } = camera.projection() {
+        let worst = e.iter().map(|d| d.x * d.x + d.y * d.y).fold(0.0f32, max);
+        return focal * ((sqrt(worst) + r) * SCREEN_SLACK + 16.0 * EPS * m);
+    }
+    let corners = corners.map(|q| camera.to_view(q));
+    let size = corners
+        .iter()
+        .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
+        .fold(0.0f32, max);
+    let eta = slack + 16.0 * EPS * size;
+    let near = camera.near() - eta;
+    if near.is_nan() || near <= 0.0 || !m.is_finite() || !eta.is_finite() {
+        return f32::INFINITY;
+    }
+    let ([sx, sy], [nx, ny]) = camera.side_planes();
+    let w = m + eta;
+    let mut front = Polygon {
+        v: [Vec3::ZERO; CLIPPED],
+        n: 3,
+    };
+    front.v[..3].copy_from_slice(&corners);
+    let front = front
+        .clip(|p| p.z - near)
+        .clip(|p| w - (-p.x - sx * p.z) / nx)
+        .clip(|p| w - (p.x - sx * p.z) / nx)
+        .clip(|p| w - (-p.y - sy * p.z) / ny)
+        .clip(|p| w - (p.y - sy * p.z) / ny);
+    if front.n == 0 {
+        return 0.0;
+    }
+    let mut z_low = f32::INFINITY;
+    let mut worst = 0.0f32;
+    for &v in &front.v[..front.n] {
+        z_low = min(z_low, v.z);
+        let z = v.z - eta;
+        if z.is_nan() || z <= 0.0 {
             return f32::INFINITY;
         }
-        let ([sx, sy], [nx, ny]) = camera.side_planes();
-        let w = m + eta;
-        let mut front = Polygon {
-            v: [Vec3::ZERO; CLIPPED],
-            n: 3,
-        };
-        front.v[..3].copy_from_slice(&corners);
-        let front = front
-            .clip(|p| p.z - near)
-            .clip(|p| w - (-p.x - sx * p.z) / nx)
-            .clip(|p| w - (p.x - sx * p.z) / nx)
-            .clip(|p| w - (-p.y - sy * p.z) / ny)
-            .clip(|p| w - (p.y - sy * p.z) / ny);
-        if front.n == 0 {
-            return 0.0;
-        }
-        let mut z_low = f32::INFINITY;
-        let mut worst = 0.0f32;
-        for &v in &front.v[..front.n] {
-            z_low = min(z_low, v.z);
-            let z = v.z - eta;
-            if z.is_nan() || z <= 0.0 {
-                return f32::INFINITY;
-            }
-            let (tx, ty) = (v.x / v.z, v.y / v.z);
-            let spread = 1.0 + tx.abs() + ty.abs();
-            let phi = e
-                .iter()
-                .map(|d| {
-                    let (a, b) = (d.x - tx * d.z, d.y - ty * d.z);
-                    a * a + b * b
-                })
-                .fold(0.0f32, max);
-            let widen = 2.0 * eta * spread / z;
-            let g =
-                sqrt(phi) + r * sqrt(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
-            worst = max(worst, g);
-        }
-        let z_min = max(camera.near(), z_low - m - eta);
-        let bound = focal / z_min * worst * SCREEN_SLACK;
-        if bound.is_nan() {
-            f32::INFINITY
-        } else {
-            bound
-        }
+        let (tx, ty) = (v.x / v.z, v.y / v.z);
+        let spread = 1.0 + tx.abs() + ty.abs();
+        let phi = e
+            .iter()
+            .map(|d| {
+                let (a, b) = (d.x - tx * d.z, d.y - ty * d.z);
+                a * a + b * b
+            })
+            .fold(0.0f32, max);
+        let widen = 2.0 * eta * spread / z;
+        let g = sqrt(phi) + r * sqrt(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
+        worst = max(worst, g);
+    }
+    let z_min = max(camera.near(), z_low - m - eta);
+    let bound = focal / z_min * worst * SCREEN_SLACK;
+    if bound.is_nan() {
+        f32::INFINITY
+    } else {
+        bound
     }
 }

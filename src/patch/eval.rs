@@ -83,7 +83,7 @@ impl BezierPatch<'_> {
 
     /// [`positions_direct`](Self::positions_direct) into `out` (one copy of the code for every
     /// length: kernel flash is scarce).
-    fn positions_direct_into(&self, uv: &[(f32, f32)], out: &mut [Vec3]) {
+    pub(crate) fn positions_direct_into(&self, uv: &[(f32, f32)], out: &mut [Vec3]) {
         let (p, q) = (self.degree_u(), self.degree_v());
         if !(self.weights.is_none() && p == 3 && q == 3) {
             for (point, &(u, v)) in out.iter_mut().zip(uv) {

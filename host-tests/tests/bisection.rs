@@ -1,0 +1,215 @@
+//! The bisection run time (`spline_tess::bisect`) on every model, along the camera path of
+//! the run-time tests (far, mid, near, grazing, eye inside the model's bound, looking away,
+//! object mode):
+//!
+//! - every triangle's deviation, sampled densely with the f64 reference and projected with the
+//!   camera, is at most the tolerance where the bake's triangles sufficed, and at most the
+//!   bound the frame reports where they ran out; in model units every triangle is within the
+//!   bound it is streamed with;
+//! - watertight: an edge used by one triangle lies on an open model curve or out of sight, no
+//!   edge is used by more than two, and no two vertices share a position;
+//! - the streamed triangles are the indexed ones, vertex for vertex;
+//! - history independence: the mesh after each step equals a fresh run time's for that view,
+//!   and a run time's with a stack of 8 (which walks the mesh for the leaves it had no room
+//!   for);
+//! - the frame is the coarsest conforming one: the same triangles as the oracles' bisection
+//!   (`host_tests::bintree`), which finds neighbours its own way, splitting by the same
+//!   bounds.
+
+use std::collections::{HashMap, HashSet};
+
+use host_tests::bintree::{bintree, children, model_spot, roots, Bin, BINTREE_BITS};
+use host_tests::bisection::{streamed, BakedBintree, SelectionStorage};
+use host_tests::frame_checks::{camera_path, check_watertight, measure_frame};
+use host_tests::model_file::ModelFile;
+use host_tests::reference::RefPatch;
+use host_tests::runtime::{triangle_set, Mesh};
+use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::Tolerance;
+use spline_tess::bisect::BintreeSettings;
+use spline_tess::{EdgeLink, Vertex, View};
+
+const BAKE: BintreeSettings = BintreeSettings {
+    tolerance: Tolerance::Relative(1e-3),
+    max_depth: 24,
+};
+
+fn run_model(path: &std::path::Path) {
+    let label = name(path);
+    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+    let tree = baked.tree();
+    let patches = file.patches();
+    let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
+    let aabb = patches.aabb().unwrap();
+    let (center, diag) = (aabb.center(), aabb.diagonal());
+    let (edges, uses): (Vec<[EdgeLink; 4]>, Vec<u32>) = file
+        .with_model(|m| {
+            (
+                m.topology.edges().to_vec(),
+                m.topology.curves().iter().map(|c| c.uses).collect(),
+            )
+        })
+        .unwrap();
+    let open = |p: u32, side: usize| match edges[p as usize][side] {
+        EdgeLink::Collapsed => false,
+        EdgeLink::Curve { curve, .. } => uses[curve as usize] == 1,
+    };
+    let mut storage = SelectionStorage::new(&tree, 1 << 16);
+    let mut fresh_storage = SelectionStorage::new(&tree, 1 << 16);
+    // A stack of 8: leaves it has no room for are found by walks, to the same mesh.
+    let mut short_storage = SelectionStorage::new(&tree, 8);
+    let mut sweeps = 0;
+    let mut remap = vec![0u32; tree.vertices().len()];
+    let mut selection = storage.selection(tree);
+    let mut left_over_frames = 0;
+    for step in camera_path(center, diag, aabb.min.z) {
+        let what = format!("{label} {}", step.label);
+        let stats = selection.update(&step.view);
+        let size = selection.mesh_size();
+        let mut mesh = Mesh {
+            vertices: vec![Vertex::default(); size.vertices],
+            triangles: vec![[0u32; 3]; size.triangles],
+        };
+        let written = selection
+            .write_mesh(&mut mesh.vertices, &mut mesh.triangles, &mut remap)
+            .unwrap();
+        assert_eq!(written, size, "{what}");
+        let tris = streamed(&selection);
+        assert_eq!(tris.len(), stats.triangles, "{what}");
+        for (t, s) in mesh.triangles.iter().zip(&tris) {
+            for (&i, c) in t.iter().zip(&s.corners) {
+                assert_eq!(mesh.vertices[i as usize], *c, "{what}: stream != indexed");
+            }
+        }
+        let gaps = check_watertight(&what, &mesh, &tris, &open, step.meter.as_ref(), &refs);
+        let tolerance = step.view.tolerance() as f64;
+        assert_eq!(
+            stats.left_over > 0,
+            stats.worst_bound as f64 > tolerance,
+            "{what}: the frame's bound is over the tolerance exactly where leaves are left over"
+        );
+        left_over_frames += usize::from(stats.left_over > 0);
+        let allowed = tolerance.max(stats.worst_bound as f64);
+        let (worst, tightest) = measure_frame(&refs, &tris, step.meter.as_ref());
+        let slack = if step.meter.is_some() {
+            1e-3
+        } else {
+            1e-6 * diag as f64
+        };
+        println!(
+            "{what}: {} triangles, {} vertices, {} judged, {} hidden, {} left over, stack {} ({} sweeps), {gaps} open \
+             edges out of sight, bound {:.3}, measured {worst:.3} (allowed {allowed:.3}), \
+             bound / true at least {tightest:.3}",
+            stats.triangles,
+            stats.vertices,
+            stats.judged,
+            stats.hidden,
+            stats.left_over,
+            stats.stack_peak,
+            stats.sweeps,
+            stats.worst_bound,
+        );
+        assert!(
+            tightest >= 1.0,
+            "{what}: a triangle's bound is {tightest} of its measured deviation"
+        );
+        assert!(
+            worst <= allowed * 1.001 + slack,
+            "{what}: deviation {worst} > {allowed}"
+        );
+        // History independence: a fresh run time finds the same mesh.
+        let mut fresh = fresh_storage.selection(tree);
+        fresh.update(&step.view);
+        let a: HashSet<_> = triangle_set(&tris).into_iter().collect();
+        let b: HashSet<_> = triangle_set(&streamed(&fresh)).into_iter().collect();
+        assert!(a == b, "{what}: the mesh differs from a fresh run time's");
+        let mut short = short_storage.selection(tree);
+        sweeps += short.update(&step.view).sweeps;
+        let c: HashSet<_> = triangle_set(&streamed(&short)).into_iter().collect();
+        assert!(a == c, "{what}: the mesh differs with a short stack");
+    }
+    assert!(sweeps > 0, "{label}: a stack of 8 never ran short");
+    println!("{label}: {left_over_frames} frames finer than the bake");
+}
+
+/// The mesh is the coarsest conforming one within the tolerance: the same triangles as
+/// `host_tests::bintree::bintree` (the oracles' bisection, which finds neighbours its own
+/// way: by their corners' points in model space) splitting by the bake's own bounds.
+fn coarsest(path: &std::path::Path) {
+    let label = name(path);
+    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+    let tree = baked.tree();
+    let patches = file.patches();
+    let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
+    let diag = patches.aabb().unwrap().diagonal() as f64;
+    // Every baked triangle's bound, by its corners on the oracles' grid (half the kernel's).
+    let mut bounds: HashMap<Bin, f32> = HashMap::new();
+    let mut stack: Vec<(Bin, usize)> = roots(patches.len())
+        .into_iter()
+        .enumerate()
+        .map(|(i, b)| (b, i))
+        .collect();
+    while let Some((b, i)) = stack.pop() {
+        let node = &tree.nodes()[i];
+        bounds.insert(b, node.object_bound());
+        if node.children != 0 {
+            for (k, c) in children(b).into_iter().enumerate() {
+                stack.push((c, node.children as usize + k));
+            }
+        }
+    }
+    let spot = |p: usize, g: [u32; 2]| model_spot(&refs, diag, p, g);
+    let mut storage = SelectionStorage::new(&tree, 1 << 16);
+    let mut selection = storage.selection(tree);
+    for rel in [2e-3, 5e-3] {
+        let tolerance = (rel * diag) as f32;
+        selection.update(&View::Object { tolerance });
+        let ours: HashSet<Bin> = streamed(&selection)
+            .iter()
+            .map(|t| {
+                let g =
+                    t.uv.map(|[u, v]| [u, v].map(|x| (x * (1u32 << BINTREE_BITS) as f32) as u32));
+                (t.patch as usize, g)
+            })
+            .collect();
+        let theirs: HashSet<Bin> = bintree(patches.len(), tolerance as f64, spot, |b| {
+            bounds.get(&b).map_or(0.0, |&x| x as f64)
+        })
+        .into_iter()
+        // Triangles with two corners on a pole are not written.
+        .filter(|&(p, t)| {
+            let s = t.map(|g| spot(p, g));
+            s[0] != s[1] && s[1] != s[2] && s[2] != s[0]
+        })
+        .collect();
+        assert_eq!(ours.len(), theirs.len(), "{label} at {rel}");
+        assert!(ours == theirs, "{label} at {rel}: the meshes differ");
+    }
+}
+
+#[test]
+fn the_mesh_is_the_coarsest_conforming_one() {
+    for model in [
+        "teapot.bpt",
+        "nurbs/tinynurbs_hemisphere.json",
+        "teaspoon.bpt",
+    ] {
+        coarsest(&host_tests::models_dir().join(model));
+    }
+}
+
+#[test]
+fn bpt_models_along_a_camera_path() {
+    for path in bpt_models() {
+        run_model(&path);
+    }
+}
+
+#[test]
+fn nurbs_fixtures_along_a_camera_path() {
+    for path in nurbs_fixtures() {
+        run_model(&path);
+    }
+}

@@ -1,0 +1,449 @@
+//! The bake: every patch's square halved, and halved again, until each triangle is within
+//! the tolerance of the surface, the mesh kept conforming across hypotenuses and shared
+//! curves; each triangle recorded with its kept deviation vectors, each vertex with its point.
+
+use core::fmt;
+
+use glam::Vec3;
+
+use super::address::{unit, SideLink, Tri, ONE};
+use super::kept::{dequantize, keep, KEPT};
+use super::lattice::{coarse, deviation_vectors};
+use super::{BintreeNode, BintreePatch, BintreeVertex, NO_VERTEX};
+use crate::bake::Tolerance;
+use crate::math::{length, max};
+use crate::model::Model;
+use crate::patch::Side;
+
+/// What to bake.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BintreeSettings {
+    /// Where halving stops: a triangle within this bound of the surface is not halved.
+    pub tolerance: Tolerance,
+    /// Most halvings from a patch's square (two halve a side; at most 30).
+    pub max_depth: u8,
+}
+
+impl Default for BintreeSettings {
+    fn default() -> Self {
+        BintreeSettings {
+            tolerance: Tolerance::Relative(1e-3),
+            max_depth: 24,
+        }
+    }
+}
+
+/// The caller's storage for a bake.
+#[derive(Debug)]
+pub struct BintreeBuffers<'a> {
+    /// One per triangle of the hierarchy.
+    pub nodes: &'a mut [BintreeNode],
+    /// One per vertex (patch corners and halving points).
+    pub vertices: &'a mut [BintreeVertex],
+    /// One per patch.
+    pub patches: &'a mut [BintreePatch],
+    /// Working memory: one per triangle, as many as `nodes`.
+    pub scratch: &'a mut [BakeScratch],
+}
+
+/// Working memory of a bake, one per triangle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BakeScratch {
+    tri: Tri,
+    corners: [u32; 3],
+}
+
+/// How much a bake wrote.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BintreeSize {
+    /// Triangles of the hierarchy.
+    pub nodes: usize,
+    /// Vertices.
+    pub vertices: usize,
+}
+
+/// Why a bake failed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum BintreeBakeError {
+    /// The model has no patch.
+    NoPatches,
+    /// The tolerance is not a positive finite number.
+    BadTolerance(f32),
+    /// `max_depth` is above 30.
+    TooDeep(u8),
+    /// A curve is shared by more than two patch edges (not supported).
+    NonManifold {
+        /// The curve.
+        curve: u32,
+    },
+    /// The patch buffer holds fewer entries than the model has patches.
+    PatchesTooSmall {
+        /// Entries needed.
+        needed: usize,
+    },
+    /// The node (or scratch) buffer filled up; the hierarchy needs more.
+    NodesFull {
+        /// Entries of the smaller of the two.
+        capacity: usize,
+    },
+    /// The vertex buffer filled up.
+    VerticesFull {
+        /// Its entries.
+        capacity: usize,
+    },
+}
+
+impl fmt::Display for BintreeBakeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BintreeBakeError::NoPatches => write!(f, "the model has no patch"),
+            BintreeBakeError::BadTolerance(t) => write!(f, "tolerance {t} is not positive"),
+            BintreeBakeError::TooDeep(d) => write!(f, "max_depth {d} is above 30"),
+            BintreeBakeError::NonManifold { curve } => {
+                write!(f, "curve {curve} is shared by more than two patch edges")
+            }
+            BintreeBakeError::PatchesTooSmall { needed } => {
+                write!(f, "patch buffer too small: {needed} entries needed")
+            }
+            BintreeBakeError::NodesFull { capacity } => {
+                write!(f, "node buffer full at {capacity} triangles")
+            }
+            BintreeBakeError::VerticesFull { capacity } => {
+                write!(f, "vertex buffer full at {capacity} vertices")
+            }
+        }
+    }
+}
+
+impl core::error::Error for BintreeBakeError {}
+
+/// Bakes `model` into `out` (see the [module docs](super)).
+pub fn bake_bintree(
+    model: &Model<'_>,
+    settings: &BintreeSettings,
+    out: BintreeBuffers<'_>,
+) -> Result<BintreeSize, BintreeBakeError> {
+    let count = model.patches.len();
+    if count == 0 {
+        return Err(BintreeBakeError::NoPatches);
+    }
+    if settings.max_depth > 30 {
+        return Err(BintreeBakeError::TooDeep(settings.max_depth));
+    }
+    let tolerance = match settings.tolerance {
+        Tolerance::Absolute(t) => t,
+        Tolerance::Relative(r) => {
+            r * model
+                .patches
+                .aabb()
+                .map_or(f32::NAN, |b| length(b.max - b.min))
+        }
+    };
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(BintreeBakeError::BadTolerance(tolerance));
+    }
+    if out.patches.len() < count {
+        return Err(BintreeBakeError::PatchesTooSmall { needed: count });
+    }
+    let capacity = out.nodes.len().min(out.scratch.len());
+    let mut baker = Baker {
+        model,
+        nodes: out.nodes,
+        vertices: out.vertices,
+        patches: &mut out.patches[..count],
+        scratch: out.scratch,
+        capacity,
+        node_count: 0,
+        vertex_count: 0,
+        max_depth: settings.max_depth,
+    };
+    baker.link_sides()?;
+    baker.corners()?;
+    for p in 0..count as u32 {
+        let c = baker.patches[p as usize].corners;
+        let [r0, r1] = Tri::roots(p);
+        baker.push_node(r0, [c[0], c[1], c[3]])?;
+        baker.push_node(r1, [c[2], c[3], c[1]])?;
+    }
+    let mut i = 0;
+    while i < baker.node_count {
+        baker.record(i);
+        if baker.nodes[i].children == 0 && baker.object_bound(i) > tolerance {
+            baker.split(i, 0)?;
+        }
+        i += 1;
+    }
+    Ok(BintreeSize {
+        nodes: baker.node_count,
+        vertices: baker.vertex_count,
+    })
+}
+
+struct Baker<'m, 'o> {
+    model: &'o Model<'m>,
+    nodes: &'o mut [BintreeNode],
+    vertices: &'o mut [BintreeVertex],
+    patches: &'o mut [BintreePatch],
+    scratch: &'o mut [BakeScratch],
+    capacity: usize,
+    node_count: usize,
+    vertex_count: usize,
+    max_depth: u8,
+}
+
+impl Baker<'_, '_> {
+    /// Which side of which patch each shared side joins.
+    fn link_sides(&mut self) -> Result<(), BintreeBakeError> {
+        let edges = self.model.topology.edges();
+        let curves = self.model.topology.curves();
+        for (c, curve) in curves.iter().enumerate() {
+            if curve.uses > 2 {
+                return Err(BintreeBakeError::NonManifold { curve: c as u32 });
+            }
+        }
+        for p in 0..self.patches.len() {
+            let mut links = [None; 4];
+            for side in Side::ALL {
+                let Some(crate::EdgeLink::Curve { curve, reversed }) =
+                    edges.get(p).map(|e| e[side.index()])
+                else {
+                    continue;
+                };
+                if !curves.get(curve as usize).is_some_and(|c| c.is_shared()) {
+                    continue;
+                }
+                'find: for (q, e) in edges.iter().enumerate().take(self.patches.len()) {
+                    for other in Side::ALL {
+                        if (q, other) == (p, side) {
+                            continue;
+                        }
+                        if let crate::EdgeLink::Curve {
+                            curve: c2,
+                            reversed: r2,
+                        } = e[other.index()]
+                        {
+                            if c2 == curve {
+                                links[side.index()] = Some(SideLink {
+                                    patch: q as u32,
+                                    side: other,
+                                    flip: reversed != r2,
+                                });
+                                break 'find;
+                            }
+                        }
+                    }
+                }
+            }
+            self.patches[p].links = links;
+        }
+        Ok(())
+    }
+
+    /// One vertex per distinct patch corner (corners whose control points are equal bit for
+    /// bit are one vertex).
+    fn corners(&mut self) -> Result<(), BintreeBakeError> {
+        let corner_point = |p: usize, k: usize| {
+            self.model.patches.patch(p).map_or([0; 3], |patch| {
+                let (du, dv) = (patch.degree_u(), patch.degree_v());
+                let (i, j) = [(0, 0), (du, 0), (du, dv), (0, dv)][k];
+                patch.control_point(i, j).to_array().map(f32::to_bits)
+            })
+        };
+        for p in 0..self.patches.len() {
+            for k in 0..4 {
+                let here = corner_point(p, k);
+                let mut found = None;
+                'search: for q in 0..=p {
+                    for j in 0..4 {
+                        if (q, j) == (p, k) {
+                            break 'search;
+                        }
+                        if corner_point(q, j) == here {
+                            found = Some(self.patches[q].corners[j]);
+                            break 'search;
+                        }
+                    }
+                }
+                self.patches[p].corners[k] = match found {
+                    Some(v) => v,
+                    None => {
+                        let m = ONE;
+                        let g = [[0, 0], [m, 0], [m, m], [0, m]][k];
+                        self.push_vertex(p as u32, g)?
+                    }
+                };
+            }
+        }
+        Ok(())
+    }
+
+    fn push_vertex(&mut self, patch: u32, at: [u16; 2]) -> Result<u32, BintreeBakeError> {
+        let n = self.vertex_count;
+        let slot = self
+            .vertices
+            .get_mut(n)
+            .ok_or(BintreeBakeError::VerticesFull { capacity: n })?;
+        let (u, v) = unit(at);
+        let s = self
+            .model
+            .patches
+            .patch(patch as usize)
+            .map(|bp| bp.evaluate(u, v));
+        *slot = BintreeVertex {
+            position: s.map_or([0.0; 3], |s| s.position.to_array()),
+            normal: s.map_or([0.0; 3], |s| s.normal.to_array()),
+            uv: at,
+            patch,
+            output: n as u32,
+        };
+        self.vertex_count += 1;
+        Ok(n as u32)
+    }
+
+    fn push_node(&mut self, tri: Tri, corners: [u32; 3]) -> Result<usize, BintreeBakeError> {
+        let n = self.node_count;
+        if n >= self.capacity {
+            return Err(BintreeBakeError::NodesFull {
+                capacity: self.capacity,
+            });
+        }
+        self.nodes[n] = BintreeNode {
+            children: 0,
+            vertex: NO_VERTEX,
+            ..BintreeNode::default()
+        };
+        self.scratch[n] = BakeScratch { tri, corners };
+        self.node_count += 1;
+        Ok(n)
+    }
+
+    /// Records node `i`'s kept deviation vectors.
+    fn record(&mut self, i: usize) {
+        let BakeScratch { tri, corners } = self.scratch[i];
+        let Some(patch) = self.model.patches.patch(tri.patch as usize) else {
+            return;
+        };
+        let points = corners.map(|v| self.vertices[v as usize].position);
+        let grid = tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
+        let (vectors, remainder) = deviation_vectors(&patch, grid, ONE as u32, points);
+        let finite = remainder.is_finite() && vectors.iter().all(|v| v.is_finite());
+        let node = &mut self.nodes[i];
+        if !finite {
+            node.scale = 0.0;
+            node.remainder = f32::INFINITY;
+            return;
+        }
+        let k = keep(&vectors, &coarse(&vectors));
+        node.vectors = k.vectors;
+        node.scale = k.scale;
+        node.remainder = (remainder + k.widening) * (1.0 + 1.0 / 1024.0);
+    }
+
+    /// Node `i`'s bound in model units.
+    fn object_bound(&self, i: usize) -> f32 {
+        self.nodes[i].object_bound()
+    }
+
+    /// The node of the leaf that holds triangle `t` (its own, or a coarser one's).
+    fn locate(&self, t: &Tri) -> usize {
+        let mut n = 2 * t.patch as usize + t.root_index();
+        let target = t.centroid3();
+        while self.scratch[n].tri != *t && self.nodes[n].children != 0 {
+            n = self.nodes[n].children as usize + self.scratch[n].tri.half_toward(target);
+        }
+        n
+    }
+
+    /// Halves leaf `i` and the triangle across its hypotenuse (halving coarser ones first
+    /// where needed, so that one of their halves is across), unless it is at the depth
+    /// limit. `depth` guards the recursion.
+    fn split(&mut self, i: usize, depth: u32) -> Result<(), BintreeBakeError> {
+        let t = self.scratch[i].tri;
+        if self.nodes[i].children != 0 || !t.can_split() || self.level(&t) >= self.max_depth {
+            return Ok(());
+        }
+        let mut across = None;
+        let patches = &*self.patches;
+        let link = |p: u32, s: Side| patches.get(p as usize).and_then(|r| r.links[s.index()]);
+        if let Some(n) = t.across(link) {
+            loop {
+                let leaf = self.locate(&n);
+                if self.scratch[leaf].tri == n {
+                    across = Some(leaf);
+                    break;
+                }
+                let before = self.node_count;
+                if depth > 64 {
+                    break;
+                }
+                self.split(leaf, depth + 1)?;
+                if self.node_count == before {
+                    // The coarser leaf stays whole (depth limit): nothing across.
+                    break;
+                }
+            }
+        }
+        let v = self.push_vertex(t.patch, t.midpoint())?;
+        if let Some(pole) = self.pole(&t) {
+            // A point of a collapsed side is the pole: written out as its corner's vertex.
+            self.vertices[v as usize] = BintreeVertex {
+                output: pole,
+                ..self.vertices[pole as usize]
+            };
+        }
+        for k in [Some(i), across].into_iter().flatten() {
+            let BakeScratch { tri, corners } = self.scratch[k];
+            let [a, b, c] = corners;
+            let [h0, h1] = tri.children();
+            let first = self.push_node(h0, [v, a, b])?;
+            self.push_node(h1, [v, c, a])?;
+            self.nodes[k].children = first as u32;
+            self.nodes[k].vertex = v;
+        }
+        Ok(())
+    }
+
+    /// The corner vertex of the side `t`'s hypotenuse lies on, if that side is collapsed.
+    fn pole(&self, t: &Tri) -> Option<u32> {
+        let side = t.hypotenuse_side()?;
+        let link = self.model.topology.link(t.patch as usize, side)?;
+        let corner = match side {
+            Side::V0 | Side::U0 => 0,
+            Side::U1 => 1,
+            Side::V1 => 2,
+        };
+        (link == crate::EdgeLink::Collapsed).then(|| self.patches[t.patch as usize].corners[corner])
+    }
+
+    /// Halvings from the patch's square to `t`.
+    fn level(&self, t: &Tri) -> u8 {
+        let [_, b, c] = t.corners;
+        let span = b[0].abs_diff(c[0]).max(b[1].abs_diff(c[1])) as u32;
+        // Even levels have a diagonal hypotenuse, odd ones one along an axis; two levels
+        // halve its span (level 0: the square's diagonal, span ONE).
+        let diagonal = b[0] != c[0] && b[1] != c[1];
+        let halvings = (ONE as u32 / span.max(1)).trailing_zeros() as u8;
+        2 * halvings + u8::from(!diagonal)
+    }
+}
+
+impl BintreeNode {
+    /// The bound of the node's deviation in model units: its longest kept vector plus the
+    /// remainder.
+    pub fn object_bound(&self) -> f32 {
+        let mut big = 0.0f32;
+        for v in dequantize(&self.vectors, self.scale) {
+            big = max(big, length(v));
+        }
+        big + self.remainder
+    }
+
+    /// The kept vectors in model units.
+    pub(crate) fn kept(&self) -> [Vec3; KEPT] {
+        dequantize(&self.vectors, self.scale)
+    }
+}

@@ -1,0 +1,352 @@
+//! The run time: a frame's mesh found top-down from the patches' squares.
+//!
+//! # The search
+//!
+//! Every triangle is judged once, when it becomes a leaf: the patches' squares first, then
+//! the halves of every triangle that is halved. A leaf whose bound is over the tolerance is
+//! halved with the triangle across its hypotenuse (halving a coarser one there first, which is
+//! found by walking down from its patch's square). Only a leaf over the tolerance, or one a
+//! halved triangle needs halved, is ever halved, and every leaf of the result is judged, so
+//! the result is the unique coarsest conforming mesh within the tolerance (see the [module
+//! docs](super)), whatever the order.
+//!
+//! Leaves waiting to be judged are kept on a stack of the caller's, as many as fit. A leaf
+//! that finds it full is not lost: every node has a bit saying it was judged, and when the
+//! stack has run dry the mesh is walked and its leaves not yet judged are judged then, until a
+//! walk finds none. A short stack costs walks, never the result.
+//!
+//! # Storage
+//!
+//! Bits, in the caller's `u32`s ([`Bintree::bit_words`]): per vertex, whether it is in the
+//! mesh (its triangles halved) and whether the frame's count has seen it; per node, whether it
+//! was judged and whether it is hidden (not written out).
+
+use core::fmt;
+
+use super::address::Tri;
+use super::judge::judge;
+use super::tree::{walk, Bintree, Pending};
+use crate::math::max;
+use crate::view::View;
+
+/// What a frame did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SelectionStats {
+    /// Triangles written out.
+    pub triangles: usize,
+    /// Vertices they use.
+    pub vertices: usize,
+    /// Triangles judged.
+    pub judged: usize,
+    /// Triangles left out for lying beyond a plane of the view.
+    pub hidden: usize,
+    /// Leaves of the bake still over the tolerance (a view finer than the bake).
+    pub left_over: usize,
+    /// An upper bound of every written triangle's bound, in the view's units (pixels or
+    /// model units): at most the tolerance when nothing is left over.
+    pub worst_bound: f32,
+    /// Walks of the mesh made for leaves the stack had no room for.
+    pub sweeps: usize,
+    /// Most leaves waiting at once.
+    pub stack_peak: usize,
+}
+
+/// Why a run time could not be made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SelectionError {
+    /// The bit storage is shorter than [`Bintree::bit_words`].
+    BitsTooShort {
+        /// Words needed.
+        needed: usize,
+    },
+    /// The stack holds fewer than [`Selection::MIN_STACK`] entries.
+    StackTooShort,
+}
+
+impl fmt::Display for SelectionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SelectionError::BitsTooShort { needed } => {
+                write!(f, "bit storage too short: {needed} words needed")
+            }
+            SelectionError::StackTooShort => write!(
+                f,
+                "the stack holds fewer than {} entries",
+                Selection::MIN_STACK
+            ),
+        }
+    }
+}
+
+impl core::error::Error for SelectionError {}
+
+impl Bintree<'_> {
+    /// `u32` words of [`Selection`]'s bit storage for this hierarchy: two bits per vertex
+    /// and two per node.
+    pub fn bit_words(&self) -> usize {
+        2 * self.vertices.len().div_ceil(32) + 2 * self.nodes.len().div_ceil(32)
+    }
+}
+
+/// The run time of a baked hierarchy: each [`update`](Self::update) finds the frame's mesh
+/// for a view; [`stream`](Self::stream) and [`write_mesh`](Self::write_mesh) write it out.
+///
+/// Its storage is the caller's: [`Bintree::bit_words`] words of bits and a stack of waiting
+/// triangles, at least [`MIN_STACK`](Self::MIN_STACK) long (a longer one saves walks on
+/// fine frames; see `stats().sweeps`).
+#[derive(Debug)]
+pub struct Selection<'t, 's> {
+    pub(super) tree: Bintree<'t>,
+    pub(super) bits: &'s mut [u32],
+    stack: &'s mut [Pending],
+    len: usize,
+    full: bool,
+    pub(super) stats: SelectionStats,
+}
+
+/// Offsets of the bit sets in [`Selection::bits`].
+#[derive(Clone, Copy)]
+struct Layout {
+    seen: usize,
+    judged: usize,
+    hidden: usize,
+}
+
+impl Layout {
+    fn of(tree: &Bintree<'_>) -> Layout {
+        let (v, n) = (
+            tree.vertices.len().div_ceil(32),
+            tree.nodes.len().div_ceil(32),
+        );
+        Layout {
+            seen: v,
+            judged: 2 * v,
+            hidden: 2 * v + n,
+        }
+    }
+}
+
+/// Whether bit `i` of `bits` is set.
+pub(super) fn bit(bits: &[u32], i: u32) -> bool {
+    bits.get((i / 32) as usize)
+        .is_some_and(|w| w & (1 << (i % 32)) != 0)
+}
+
+/// Sets bit `i` of `bits`.
+fn set(bits: &mut [u32], i: u32) {
+    if let Some(w) = bits.get_mut((i / 32) as usize) {
+        *w |= 1 << (i % 32);
+    }
+}
+
+/// Whether `h` is halved in the mesh of vertices `active`.
+pub(super) fn is_split(tree: &Bintree<'_>, active: &[u32], h: &Pending) -> bool {
+    let n = tree.node(h);
+    n.children != 0 && bit(active, n.vertex)
+}
+
+impl<'t, 's> Selection<'t, 's> {
+    /// Fewest stack entries a run time takes.
+    pub const MIN_STACK: usize = 4;
+
+    /// A run time over `tree` with caller storage: `bits` of at least
+    /// [`Bintree::bit_words`] words, `stack` of at least [`MIN_STACK`](Self::MIN_STACK)
+    /// entries.
+    pub fn new(
+        tree: Bintree<'t>,
+        bits: &'s mut [u32],
+        stack: &'s mut [Pending],
+    ) -> Result<Self, SelectionError> {
+        if bits.len() < tree.bit_words() {
+            return Err(SelectionError::BitsTooShort {
+                needed: tree.bit_words(),
+            });
+        }
+        if stack.len() < Self::MIN_STACK {
+            return Err(SelectionError::StackTooShort);
+        }
+        Ok(Selection {
+            tree,
+            bits,
+            stack,
+            len: 0,
+            full: false,
+            stats: SelectionStats::default(),
+        })
+    }
+
+    /// The last frame's figures.
+    pub fn stats(&self) -> SelectionStats {
+        self.stats
+    }
+
+    /// The hierarchy.
+    pub fn tree(&self) -> Bintree<'t> {
+        self.tree
+    }
+
+    fn layout(&self) -> Layout {
+        Layout::of(&self.tree)
+    }
+
+    /// The vertices' bits: set where a vertex is in the mesh.
+    pub(super) fn active(&self) -> &[u32] {
+        &self.bits[..self.layout().seen]
+    }
+
+    fn is_split(&self, h: &Pending) -> bool {
+        is_split(&self.tree, self.active(), h)
+    }
+
+    /// Whether leaf `h` is left out as hidden.
+    pub(super) fn is_hidden(&self, h: &Pending) -> bool {
+        bit(&self.bits[self.layout().hidden..], h.node)
+    }
+
+    /// Queues `h`, or notes that a walk must find it.
+    fn push(&mut self, h: Pending) {
+        match self.stack.get_mut(self.len) {
+            Some(slot) => {
+                *slot = h;
+                self.len += 1;
+                self.stats.stack_peak = self.stats.stack_peak.max(self.len);
+            }
+            None => self.full = true,
+        }
+    }
+
+    /// Finds the mesh of `view`: the coarsest conforming mesh of the bake's triangles whose
+    /// bounds are within the tolerance (see the [module docs](super)).
+    pub fn update(&mut self, view: &View) -> SelectionStats {
+        let words = self.tree.bit_words();
+        self.bits[..words].fill(0);
+        self.stats = SelectionStats::default();
+        let (tree, tolerance) = (self.tree, view.tolerance());
+        for p in 0..tree.patches.len() as u32 {
+            for k in 0..2 {
+                self.push(tree.root(p, k));
+            }
+            self.drain(view, tolerance);
+        }
+        while self.full {
+            self.full = false;
+            self.stats.sweeps += 1;
+            walk(tree, |h| {
+                let judged = bit(&self.bits[self.layout().judged..], h.node);
+                if !self.is_split(h) && !judged {
+                    self.push(*h);
+                    self.drain(view, tolerance);
+                }
+                self.is_split(h)
+            });
+        }
+        self.count();
+        self.stats
+    }
+
+    /// Judges the queued leaves, halving those over `tolerance`.
+    fn drain(&mut self, view: &View, tolerance: f32) {
+        let layout = self.layout();
+        while self.len > 0 {
+            self.len -= 1;
+            let h = self.stack[self.len];
+            if self.is_split(&h) || bit(&self.bits[layout.judged..], h.node) {
+                continue;
+            }
+            set(&mut self.bits[layout.judged..], h.node);
+            self.stats.judged += 1;
+            let j = judge(&self.tree, view, &h);
+            if j.hidden {
+                set(&mut self.bits[layout.hidden..], h.node);
+                continue;
+            }
+            if j.bound <= tolerance {
+                self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+                continue;
+            }
+            if self.tree.node(&h).children == 0 {
+                self.stats.left_over += 1;
+                self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+                continue;
+            }
+            self.split(&h, 0);
+        }
+    }
+
+    /// The leaf of the current mesh that holds `t` (its own, or a coarser one).
+    fn locate(&self, t: &Tri) -> Pending {
+        let mut h = self.tree.root(t.patch, t.root_index());
+        let target = t.centroid3();
+        while h.tri != *t && self.is_split(&h) {
+            h = self.tree.halves(&h)[h.tri.half_toward(target)];
+        }
+        h
+    }
+
+    /// Halves `h` and the triangle across its hypotenuse (halving coarser ones first), and
+    /// queues the halves. `depth` bounds the recursion (a coarser triangle across is at
+    /// least one level up, so 64 is never reached by a bake's 30 levels).
+    fn split(&mut self, h: &Pending, depth: u32) {
+        let v = self.tree.node(h).vertex;
+        if self.tree.node(h).children == 0 || bit(self.active(), v) {
+            return;
+        }
+        let tree = self.tree;
+        let mut across = None;
+        if let Some(n) = h.tri.across(|p, s| tree.link(p, s)) {
+            loop {
+                let leaf = self.locate(&n);
+                if leaf.tri == n {
+                    across = Some(leaf);
+                    break;
+                }
+                if depth > 64 || self.tree.node(&leaf).children == 0 {
+                    break;
+                }
+                self.split(&leaf, depth + 1);
+            }
+        }
+        set(self.bits, v);
+        // The halves across first, so that `h`'s own are judged first: the search goes down
+        // into `h` before it goes across.
+        for x in [across, Some(*h)].into_iter().flatten() {
+            let [h0, h1] = self.tree.halves(&x);
+            self.push(h1);
+            self.push(h0);
+        }
+    }
+
+    /// Counts the frame's written triangles and their vertices, and the hidden ones.
+    fn count(&mut self) {
+        let layout = self.layout();
+        let tree = self.tree;
+        let (mut triangles, mut vertices, mut hidden) = (0, 0, 0);
+        let (active, rest) = self.bits.split_at_mut(layout.seen);
+        let (seen, flags) = rest.split_at_mut(layout.judged - layout.seen);
+        let hidden_bits = &flags[layout.hidden - layout.judged..];
+        walk(tree, |h| {
+            if is_split(&tree, active, h) {
+                return true;
+            }
+            if bit(hidden_bits, h.node) {
+                hidden += 1;
+                return false;
+            }
+            if let Some(corners) = tree.written(h) {
+                triangles += 1;
+                for v in corners {
+                    if !bit(seen, v) {
+                        set(seen, v);
+                        vertices += 1;
+                    }
+                }
+            }
+            false
+        });
+        self.stats.triangles = triangles;
+        self.stats.vertices = vertices;
+        self.stats.hidden = hidden;
+    }
+}
