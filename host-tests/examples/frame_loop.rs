@@ -5,6 +5,9 @@
 //! frame instead (a warm frame: the update from the frame before, and the write; the first
 //! frame is not timed). Prints the last frame's triangles and the best and mean frame times.
 //! The bake happens before the loop and is not timed (a profile of the whole run includes it).
+//! With `ENGINE=bintree`, the bisection run time (`spline_tess::bisect`, its bake at the same
+//! tolerance) does the same: its frames are history-free, so cold and warm differ only in the
+//! view.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example frame_loop
@@ -14,9 +17,11 @@
 
 use std::time::Instant;
 
+use host_tests::bisection::{BakedBintree, SelectionStorage};
 use host_tests::model_file::ModelFile;
 use host_tests::runtime::RuntimeStorage;
-use spline_tess::bake::BakedModel;
+use spline_tess::bake::{BakedModel, Tolerance};
+use spline_tess::bisect::BintreeSettings;
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
@@ -61,6 +66,37 @@ fn main() {
             tolerance_px: 1.0,
         }
     };
+    if std::env::var("ENGINE").is_ok_and(|e| e == "bintree") {
+        let settings = BintreeSettings {
+            tolerance: Tolerance::Relative(rel),
+            ..BintreeSettings::default()
+        };
+        let bake = BakedBintree::bake(&file, &settings).expect("a bisection bake");
+        let tree = bake.tree();
+        let mut storage = SelectionStorage::new(&tree, 1 << 12);
+        let mut selection = storage.selection(tree);
+        let mut remap = vec![0u32; tree.vertices().len()];
+        let mut vertices = vec![Vertex::default(); 1 << 20];
+        let mut triangles = vec![[0u32; 3]; 1 << 21];
+        let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
+        for k in 1..=frames {
+            let view = view_at(k);
+            let start = Instant::now();
+            let stats = selection.update(&view);
+            selection
+                .write_mesh(&mut vertices, &mut triangles, &mut remap)
+                .expect("room");
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            best = best.min(ms);
+            total += ms;
+            count = stats.triangles;
+        }
+        println!(
+            "triangles {count} best {best:.3} ms mean {:.3} ms",
+            total / frames as f64
+        );
+        return;
+    }
     let settings = Settings::default();
     let mut storage = RuntimeStorage::new(&baked, &settings);
     let mut vertices = vec![Vertex::default(); 1 << 20];

@@ -435,11 +435,17 @@ impl BintreeNode {
     /// The bound of the node's deviation in model units: its longest kept vector plus the
     /// remainder.
     pub fn object_bound(&self) -> f32 {
+        self.longest() + self.remainder
+    }
+
+    /// The longest kept vector's length, rounded up (one root of the largest square: a
+    /// correctly rounded root is monotone, and the squares' few roundings are covered).
+    pub(crate) fn longest(&self) -> f32 {
         let mut big = 0.0f32;
         for v in dequantize(&self.vectors, self.scale) {
-            big = max(big, length(v));
+            big = max(big, v.dot(v));
         }
-        big + self.remainder
+        crate::math::sqrt(big) * (1.0 + 4.0 * crate::deviation::EPS)
     }
 
     /// The kept vectors in model units.

@@ -19,7 +19,7 @@ use glam::Vec3;
 
 use super::tree::{Bintree, Pending};
 use crate::deviation::{bound_on_screen, EPS};
-use crate::math::{length, max};
+use crate::math::max;
 use crate::view::{Camera, Projection, View};
 
 /// A triangle's bound in a view's units (pixels or model units), and whether it is hidden.
@@ -38,12 +38,11 @@ pub(super) fn judge(tree: &Bintree<'_>, view: &View, h: &Pending) -> Judged {
             hidden: false,
         },
         View::Screen { camera, .. } => {
-            let mut big = 0.0f32;
             let mut e = [Vec3::ZERO; super::KEPT];
             for (out, v) in e.iter_mut().zip(node.kept()) {
-                big = max(big, length(v));
                 *out = camera.rotate_to_view(v);
             }
+            let big = node.longest();
             let corners = h
                 .corners
                 .map(|v| Vec3::from_array(tree.vertices[v as usize].position));
