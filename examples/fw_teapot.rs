@@ -49,6 +49,9 @@ mod expected {
 #[path = "common/fw_tessellate_frames.rs"]
 mod frames;
 #[allow(dead_code)]
+#[path = "common/fw_views.rs"]
+mod fw_views;
+#[allow(dead_code)]
 #[path = "common/spi_display.rs"]
 mod spi_display;
 #[allow(dead_code)]

@@ -30,6 +30,9 @@ mod expected {
 #[allow(dead_code)]
 #[path = "common/fw_tessellate_frames.rs"]
 mod frames;
+#[allow(dead_code)]
+#[path = "common/fw_views.rs"]
+mod fw_views;
 
 use spline_tess::bake::BakedModel;
 use spline_tess::{PatchSet, Vertex};

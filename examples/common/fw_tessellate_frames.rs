@@ -4,7 +4,7 @@
 
 use spline_tess::bake::BakedModel;
 use spline_tess::tessellator::{BackPatches, FixedStorage, Settings, StorageSize, Tessellator};
-use spline_tess::{Camera, PatchSet, Projection, Vec3, Vertex, View};
+use spline_tess::{PatchSet, Vertex};
 
 /// Bake settings of the firmware's teapot: 2e-3 of the diagonal, small caps.
 pub const BAKE: spline_tess::bake::BakeSettings = spline_tess::bake::BakeSettings {
@@ -42,65 +42,9 @@ pub const OUT_VERTICES: usize = 6000;
 /// Output triangles.
 pub const OUT_TRIANGLES: usize = 12000;
 
-/// Viewport of the display.
-pub const VIEWPORT: [u32; 2] = [240, 240];
-
-/// The frames: eye, tolerance in pixels. All look at the teapot's middle.
-pub const FRAMES: [([f32; 3], f32); 4] = [
-    ([9.0, -12.0, 7.0], 1.0),
-    ([9.2, -11.85, 7.0], 1.0),
-    ([5.0, -6.5, 4.0], 1.0),
-    ([5.0, -6.5, 4.0], 0.5),
-];
-
-/// The view of frame `k`.
-pub fn view(k: usize) -> Option<View> {
-    let (eye, tol) = FRAMES.get(k).copied()?;
-    let camera = Camera::new(
-        Vec3::from_array(eye),
-        Vec3::new(0.0, 0.0, 1.5),
-        Vec3::Z,
-        Projection::Perspective {
-            fov_y_degrees: 40.0,
-        },
-        0.1,
-        VIEWPORT,
-    )
-    .ok()?;
-    Some(View::Screen {
-        camera,
-        tolerance_px: tol,
-    })
-}
-
-/// FNV-1a over 32-bit words.
-pub struct Fnv(pub u32);
-
-impl Fnv {
-    /// Mixes one word in.
-    pub fn word(&mut self, w: u32) {
-        for b in w.to_le_bytes() {
-            self.0 = (self.0 ^ b as u32).wrapping_mul(0x0100_0193);
-        }
-    }
-}
-
-/// Checksum of an indexed mesh: every vertex's bits, then every index.
-pub fn checksum(vertices: &[Vertex], triangles: &[[u16; 3]]) -> u32 {
-    let mut h = Fnv(0x811c_9dc5);
-    for v in vertices {
-        for x in v.position.iter().chain(&v.normal).chain(&v.uv) {
-            h.word(x.to_bits());
-        }
-        h.word(v.patch);
-    }
-    for t in triangles {
-        for &i in t {
-            h.word(i as u32);
-        }
-    }
-    h.0
-}
+// The views and checksum (`fw_views.rs`), which the includer declares as `fw_views`.
+#[allow(unused_imports)]
+pub use super::fw_views::{checksum, view, FRAMES};
 
 /// One frame's numbers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -355,8 +355,8 @@ fn main() {
         let tris = match bintree {
             Some(b) => {
                 let tree = b.tree();
-                let mut store = SelectionStorage::new(&tree, 1 << 12);
-                let mut remap = vec![0u32; tree.vertices().len()];
+                let mut store = SelectionStorage::new(&tree, 1 << 12, 1 << 16);
+                let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
                 for _ in 0..3 {
                     let start = Instant::now();
                     let mut s = store.selection(tree);

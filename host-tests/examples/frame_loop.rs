@@ -73,9 +73,9 @@ fn main() {
         };
         let bake = BakedBintree::bake(&file, &settings).expect("a bisection bake");
         let tree = bake.tree();
-        let mut storage = SelectionStorage::new(&tree, 1 << 12);
+        let mut storage = SelectionStorage::new(&tree, 1 << 12, 1 << 16);
         let mut selection = storage.selection(tree);
-        let mut remap = vec![0u32; tree.vertices().len()];
+        let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);

@@ -3,15 +3,17 @@
 
 use spline_tess::bisect::{
     bake_bintree, BakeScratch, Bintree, BintreeBakeError, BintreeBuffers, BintreeNode,
-    BintreePatch, BintreeSettings, BintreeVertex, Pending, Selection,
+    BintreePatch, BintreeSettings, BintreeVertex, Pending, RefinedVertex, Selection,
 };
 
 use crate::model_file::ModelFile;
 use crate::runtime::Streamed;
 
-/// A baked hierarchy in `Vec`s.
+/// A baked hierarchy in `Vec`s, with the model it was baked from.
 #[derive(Clone, Debug)]
 pub struct BakedBintree {
+    /// The model.
+    pub file: ModelFile,
     /// Nodes.
     pub nodes: Vec<BintreeNode>,
     /// Vertices.
@@ -47,6 +49,7 @@ impl BakedBintree {
                     n.truncate(size.nodes);
                     v.truncate(size.vertices);
                     return Ok(BakedBintree {
+                        file: file.clone(),
                         nodes: n,
                         vertices: v,
                         patches: p,
@@ -61,7 +64,13 @@ impl BakedBintree {
 
     /// The checked hierarchy.
     pub fn tree(&self) -> Bintree<'_> {
-        Bintree::new(&self.nodes, &self.vertices, &self.patches).expect("a fresh bake checks")
+        Bintree::new(
+            self.file.patches(),
+            &self.nodes,
+            &self.vertices,
+            &self.patches,
+        )
+        .expect("a fresh bake checks")
     }
 
     /// Bytes the records take in memory (nodes, vertices, patches).
@@ -77,20 +86,24 @@ impl BakedBintree {
 pub struct SelectionStorage {
     bits: Vec<u32>,
     stack: Vec<Pending>,
+    pool: Vec<RefinedVertex>,
 }
 
 impl SelectionStorage {
-    /// Storage for `tree` with a stack of `stack` entries.
-    pub fn new(tree: &Bintree<'_>, stack: usize) -> Self {
+    /// Storage for `tree` with a stack of `stack` entries and a pool of `pool` vertices
+    /// below the bake.
+    pub fn new(tree: &Bintree<'_>, stack: usize, pool: usize) -> Self {
         SelectionStorage {
             bits: vec![0; tree.bit_words()],
             stack: vec![Pending::default(); stack],
+            pool: vec![RefinedVertex::default(); pool],
         }
     }
 
     /// A run time over `tree` in this storage.
     pub fn selection<'t>(&mut self, tree: Bintree<'t>) -> Selection<'t, '_> {
-        Selection::new(tree, &mut self.bits, &mut self.stack).expect("storage sized for the tree")
+        Selection::new(tree, &mut self.bits, &mut self.stack, &mut self.pool)
+            .expect("storage sized for the tree")
     }
 }
 

@@ -20,7 +20,7 @@ use std::collections::{HashMap, HashSet};
 
 use host_tests::bintree::{bintree, children, model_spot, roots, Bin, BINTREE_BITS};
 use host_tests::bisection::{streamed, BakedBintree, SelectionStorage};
-use host_tests::frame_checks::{camera_path, check_watertight, measure_frame};
+use host_tests::frame_checks::{camera_path, check_watertight, measure_frame, Step};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
 use host_tests::runtime::{triangle_set, Mesh};
@@ -55,15 +55,32 @@ fn run_model(path: &std::path::Path) {
         EdgeLink::Collapsed => false,
         EdgeLink::Curve { curve, .. } => uses[curve as usize] == 1,
     };
-    let mut storage = SelectionStorage::new(&tree, 1 << 16);
-    let mut fresh_storage = SelectionStorage::new(&tree, 1 << 16);
+    let mut storage = SelectionStorage::new(&tree, 1 << 16, 1 << 16);
+    let mut fresh_storage = SelectionStorage::new(&tree, 1 << 16, 1 << 16);
     // A stack of 8: leaves it has no room for are found by walks, to the same mesh.
-    let mut short_storage = SelectionStorage::new(&tree, 8);
+    let mut short_storage = SelectionStorage::new(&tree, 8, 1 << 16);
     let mut sweeps = 0;
-    let mut remap = vec![0u32; tree.vertices().len()];
+    let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
     let mut selection = storage.selection(tree);
     let mut left_over_frames = 0;
-    for step in camera_path(center, diag, aabb.min.z) {
+    // The path, then views finer than the bake (1e-3 of the diagonal): the run time goes on
+    // below it.
+    let mut path = camera_path(center, diag, aabb.min.z);
+    path.push(Step {
+        label: "object, finer than the bake",
+        view: View::Object {
+            tolerance: 3e-4 * diag,
+        },
+        meter: None,
+    });
+    let near = path.iter().find(|s| s.label == "near").unwrap();
+    path.push(Step {
+        label: "near at 0.25 px",
+        view: near.view.with_tolerance(0.25),
+        meter: near.meter.clone(),
+    });
+    let mut refined = 0;
+    for step in path {
         let what = format!("{label} {}", step.label);
         let stats = selection.update(&step.view);
         let size = selection.mesh_size();
@@ -90,6 +107,7 @@ fn run_model(path: &std::path::Path) {
             "{what}: the frame's bound is over the tolerance exactly where leaves are left over"
         );
         left_over_frames += usize::from(stats.left_over > 0);
+        refined += stats.refined;
         let allowed = tolerance.max(stats.worst_bound as f64);
         let (worst, tightest) = measure_frame(&refs, &tris, step.meter.as_ref());
         let slack = if step.meter.is_some() {
@@ -98,11 +116,12 @@ fn run_model(path: &std::path::Path) {
             1e-6 * diag as f64
         };
         println!(
-            "{what}: {} triangles, {} vertices, {} judged, {} hidden, {} left over, stack {} ({} sweeps), {gaps} open \
-             edges out of sight, bound {:.3}, measured {worst:.3} (allowed {allowed:.3}), \
-             bound / true at least {tightest:.3}",
+            "{what}: {} triangles, {} vertices ({} below the bake), {} judged, {} hidden, {} left \
+             over, stack {} ({} sweeps), {gaps} open edges out of sight, bound {:.3}, measured \
+             {worst:.3} (allowed {allowed:.3}), bound / true at least {tightest:.3}",
             stats.triangles,
             stats.vertices,
+            stats.refined,
             stats.judged,
             stats.hidden,
             stats.left_over,
@@ -130,7 +149,12 @@ fn run_model(path: &std::path::Path) {
         assert!(a == c, "{what}: the mesh differs with a short stack");
     }
     assert!(sweeps > 0, "{label}: a stack of 8 never ran short");
-    println!("{label}: {left_over_frames} frames finer than the bake");
+    println!("{label}: {refined} vertices made below the bake");
+    assert!(refined > 0, "{label}: no view went below the bake");
+    assert_eq!(
+        left_over_frames, 0,
+        "{label}: a pool of 65536 vertices ran short"
+    );
 }
 
 /// The mesh is the coarsest conforming one within the tolerance: the same triangles as
@@ -161,7 +185,7 @@ fn coarsest(path: &std::path::Path) {
         }
     }
     let spot = |p: usize, g: [u32; 2]| model_spot(&refs, diag, p, g);
-    let mut storage = SelectionStorage::new(&tree, 1 << 16);
+    let mut storage = SelectionStorage::new(&tree, 1 << 16, 1 << 16);
     let mut selection = storage.selection(tree);
     for rel in [2e-3, 5e-3] {
         let tolerance = (rel * diag) as f32;

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::address::{unit, SideLink, Tri, ONE};
 use super::kept::{dequantize, keep, KEPT};
-use super::lattice::{coarse, deviation_vectors};
+use super::lattice::{coarse, deviation_vectors, POINTS, STEPS};
 use super::{BintreeNode, BintreePatch, BintreeVertex, NO_VERTEX};
 use crate::bake::Tolerance;
 use crate::math::{length, max};
@@ -329,7 +329,8 @@ impl Baker<'_, '_> {
         };
         let points = corners.map(|v| self.vertices[v as usize].position);
         let grid = tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
-        let (vectors, remainder) = deviation_vectors(&patch, grid, ONE as u32, points);
+        let (vectors, remainder) =
+            deviation_vectors::<STEPS, POINTS>(&patch, grid, ONE as u32, points);
         let finite = remainder.is_finite() && vectors.iter().all(|v| v.is_finite());
         let node = &mut self.nodes[i];
         if !finite {
@@ -407,16 +408,21 @@ impl Baker<'_, '_> {
         Ok(())
     }
 
-    /// The corner vertex of the side `t`'s hypotenuse lies on, if that side is collapsed.
+    /// The corner vertex of the side `t`'s hypotenuse lies on, if that side is collapsed (as
+    /// the run time names it: `Bintree::pole`).
     fn pole(&self, t: &Tri) -> Option<u32> {
         let side = t.hypotenuse_side()?;
-        let link = self.model.topology.link(t.patch as usize, side)?;
+        let collapsed = self
+            .model
+            .patches
+            .patch(t.patch as usize)?
+            .is_collapsed(side);
         let corner = match side {
             Side::V0 | Side::U0 => 0,
             Side::U1 => 1,
             Side::V1 => 2,
         };
-        (link == crate::EdgeLink::Collapsed).then(|| self.patches[t.patch as usize].corners[corner])
+        collapsed.then(|| self.patches[t.patch as usize].corners[corner])
     }
 
     /// Halvings from the patch's square to `t`.
@@ -438,14 +444,14 @@ impl BintreeNode {
         self.longest() + self.remainder
     }
 
-    /// The longest kept vector's length, rounded up (one root of the largest square: a
-    /// correctly rounded root is monotone, and the squares' few roundings are covered).
+    /// The longest kept vector's length, rounded up (a bound of the root of the largest
+    /// square, the squares' few roundings covered).
     pub(crate) fn longest(&self) -> f32 {
         let mut big = 0.0f32;
         for v in dequantize(&self.vectors, self.scale) {
             big = max(big, v.dot(v));
         }
-        crate::math::sqrt(big) * (1.0 + 4.0 * crate::deviation::EPS)
+        crate::math::sqrt_above(big) * (1.0 + 4.0 * crate::deviation::EPS)
     }
 
     /// The kept vectors in model units.

@@ -17,9 +17,12 @@
 
 use glam::Vec3;
 
-use super::tree::{Bintree, Pending};
+use super::address::ONE;
+use super::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
+use super::select::Selection;
+use super::tree::Pending;
 use crate::deviation::{bound_on_screen, EPS};
-use crate::math::max;
+use crate::math::{max, sqrt_above};
 use crate::view::{Camera, Projection, View};
 
 /// A triangle's bound in a view's units (pixels or model units), and whether it is hidden.
@@ -29,45 +32,82 @@ pub(super) struct Judged {
     pub hidden: bool,
 }
 
-/// Judges `h` in `view`.
-pub(super) fn judge(tree: &Bintree<'_>, view: &View, h: &Pending) -> Judged {
-    let node = tree.node(h);
+/// Judges `h` in `view`: by its node's kept vectors, or below the bake by its own lattice
+/// (see `refine`).
+pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> Judged {
+    let corners = h
+        .corners
+        .map(|v| Vec3::from_array(selection.vertex_record(v).position));
+    let tree = &selection.tree;
+    if let Some(node) = tree.node(h) {
+        let kept = node.kept();
+        return judge_vectors(view, corners, &kept, node.longest(), node.remainder);
+    }
+    let Some(patch) = tree.patch_of(h.tri.patch) else {
+        return Judged {
+            bound: f32::INFINITY,
+            hidden: false,
+        };
+    };
+    let grid = h.tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
+    let (vectors, remainder) = deviation_vectors::<RUN_TIME_STEPS, RUN_TIME_POINTS>(
+        &patch,
+        grid,
+        ONE as u32,
+        corners.map(|c| c.to_array()),
+    );
+    let mut longest = 0.0f32;
+    for v in &vectors {
+        longest = max(longest, v.dot(*v));
+    }
+    let big = sqrt_above(longest) * (1.0 + 4.0 * EPS);
+    if !(big.is_finite() && remainder.is_finite()) {
+        return Judged {
+            bound: f32::INFINITY,
+            hidden: false,
+        };
+    }
+    judge_vectors(view, corners, &vectors, big, remainder)
+}
+
+/// Judges the flat triangle `corners` whose deviation lies in the hull of zero and `vectors`
+/// (the longest `big` long) widened by `remainder`.
+fn judge_vectors<const K: usize>(
+    view: &View,
+    corners: [Vec3; 3],
+    vectors: &[Vec3; K],
+    big: f32,
+    remainder: f32,
+) -> Judged {
     match view {
         View::Object { .. } => Judged {
-            bound: node.object_bound(),
+            bound: big + remainder,
             hidden: false,
         },
         View::Screen { camera, .. } => {
-            let mut e = [Vec3::ZERO; super::KEPT];
-            for (out, v) in e.iter_mut().zip(node.kept()) {
-                *out = camera.rotate_to_view(v);
-            }
-            let big = node.longest();
-            let corners = h
-                .corners
-                .map(|v| Vec3::from_array(tree.vertices[v as usize].position));
-            if beyond_one_plane(camera, corners, big + node.remainder) {
+            let viewed = corners.map(|p| camera.to_view(p));
+            if beyond_one_plane(camera, viewed, big + remainder) {
                 return Judged {
                     bound: 0.0,
                     hidden: true,
                 };
             }
+            let e = vectors.map(|v| camera.rotate_to_view(v));
             Judged {
-                bound: bound_on_screen(camera, corners, &e, big, node.remainder, node.remainder),
+                bound: bound_on_screen(camera, viewed, &e, big, remainder, remainder, sqrt_above),
                 hidden: false,
             }
         }
     }
 }
 
-/// Whether the three points `corners` lie beyond one plane of `camera`'s view by more than
-/// `margin` (and the rounding of moving them into view coordinates). Never for an
-/// orthographic camera (it has no side planes here).
-fn beyond_one_plane(camera: &Camera, corners: [Vec3; 3], margin: f32) -> bool {
+/// Whether the three points `view` (in `camera`'s view coordinates) lie beyond one plane of
+/// the view by more than `margin` (and the rounding of moving them into view coordinates).
+/// Never for an orthographic camera (it has no side planes here).
+fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], margin: f32) -> bool {
     if let Projection::Orthographic { .. } = camera.projection() {
         return false;
     }
-    let view = corners.map(|p| camera.to_view(p));
     let size = view
         .iter()
         .map(|v| v.x.abs() + v.y.abs() + v.z.abs())

@@ -18,25 +18,33 @@ use glam::Vec3;
 use crate::deviation::PatchBounds;
 use crate::patch::BezierPatch;
 
-/// Lattice steps per side.
+/// Lattice steps per side of the bake's lattice.
 pub(crate) const STEPS: usize = 12;
 
-/// Lattice points, the corners included.
+/// Lattice points of the bake's lattice, the corners included.
 pub(crate) const POINTS: usize = (STEPS + 1) * (STEPS + 2) / 2;
 
-/// The deviation vectors at the lattice points of the triangle with grid corners `grid`
-/// (parameter 1 at `one`) of `patch`, against the flat triangle through `points`, and the
-/// remainder `R` with its rounding slack.
-pub(crate) fn deviation_vectors(
+/// Lattice steps per side where the run time bounds a triangle below the bake (fewer
+/// evaluations, four times the remainder).
+pub(crate) const RUN_TIME_STEPS: usize = 6;
+
+/// Lattice points of the run time's lattice.
+pub(crate) const RUN_TIME_POINTS: usize = (RUN_TIME_STEPS + 1) * (RUN_TIME_STEPS + 2) / 2;
+
+/// The deviation vectors at the lattice points (`N` steps per side, `P` points) of the
+/// triangle with grid corners `grid` (parameter 1 at `one`) of `patch`, against the flat
+/// triangle through `points`, and the remainder `R` with its rounding slack.
+pub(crate) fn deviation_vectors<const N: usize, const P: usize>(
     patch: &BezierPatch<'_>,
     grid: [[u32; 2]; 3],
     one: u32,
     points: [[f32; 3]; 3],
-) -> ([Vec3; POINTS], f32) {
-    let n = STEPS as u32;
+) -> ([Vec3; P], f32) {
+    const { assert!(P == (N + 1) * (N + 2) / 2) };
+    let n = N as u32;
     let scale = 1.0 / (n as f32 * one as f32);
-    let mut uv = [(0.0f32, 0.0f32); POINTS];
-    let mut weights = [(0u32, 0u32, 0u32); POINTS];
+    let mut uv = [(0.0f32, 0.0f32); P];
+    let mut weights = [(0u32, 0u32, 0u32); P];
     let mut k = 0;
     for i in 0..=n {
         for j in 0..=n - i {
@@ -47,15 +55,15 @@ pub(crate) fn deviation_vectors(
             k += 1;
         }
     }
-    let mut samples = [Vec3::ZERO; POINTS];
+    let mut samples = [Vec3::ZERO; P];
     patch.positions_direct_into(&uv, &mut samples);
     let [q0, q1, q2] = points.map(Vec3::from_array);
-    let mut out = [Vec3::ZERO; POINTS];
+    let mut out = [Vec3::ZERO; P];
     for ((o, s), (c, i, j)) in out.iter_mut().zip(samples).zip(weights) {
         let linear = (q0 * c as f32 + q1 * i as f32 + q2 * j as f32) * (1.0 / n as f32);
         *o = s - linear;
     }
-    let corners = [uv[0], uv[POINTS - 1], uv[STEPS]];
+    let corners = [uv[0], uv[P - 1], uv[N]];
     let local = PatchBounds::around(patch, corners);
     let remainder = local.curvature_term(corners) * (1.0 / (n * n) as f32) + local.slack;
     (out, remainder)

@@ -40,7 +40,9 @@ mod judge;
 mod kept;
 mod lattice;
 mod output;
+mod refine;
 mod select;
+mod source;
 mod tree;
 
 pub use address::SideLink;
@@ -48,7 +50,9 @@ pub use bake::{
     bake_bintree, BakeScratch, BintreeBakeError, BintreeBuffers, BintreeSettings, BintreeSize,
 };
 pub use kept::KEPT;
+pub use refine::RefinedVertex;
 pub use select::{Selection, SelectionError, SelectionStats};
+pub use source::write_rust_source;
 pub use tree::{Bintree, BintreeError, Pending};
 
 /// No vertex: a leaf's [`BintreeNode::vertex`].

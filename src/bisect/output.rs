@@ -2,7 +2,7 @@
 //! vertices shared by index.
 
 use super::address::unit;
-use super::select::{is_split, Selection};
+use super::select::Selection;
 use super::tree::{walk, Pending};
 use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
 
@@ -10,23 +10,22 @@ impl Selection<'_, '_> {
     /// Calls `f` on every written leaf of the current mesh, patch by patch, with its
     /// vertices.
     fn each_written(&self, mut f: impl FnMut(&Pending, [u32; 3])) {
-        let tree = self.tree;
-        walk(tree, |h| {
-            if is_split(&tree, self.active(), h) {
-                return true;
+        walk(self.tree, |h| {
+            if let Some(v) = self.split_vertex(h) {
+                return Some(v);
             }
             if !self.is_hidden(h) {
-                if let Some(corners) = tree.written(h) {
+                if let Some(corners) = self.written(h) {
                     f(h, corners);
                 }
             }
-            false
+            None
         });
     }
 
-    /// The output vertex of baked vertex `v`.
+    /// The output vertex of vertex `v`.
     fn vertex(&self, v: u32) -> Vertex {
-        let b = &self.tree.vertices[v as usize];
+        let b = self.vertex_record(v);
         let (u, w) = unit(b.uv);
         Vertex {
             position: b.position,
@@ -57,11 +56,22 @@ impl Selection<'_, '_> {
                     let (u, v) = unit(p);
                     [u, v]
                 }),
-                bound: self.tree.node(h).object_bound(),
+                bound: self.object_bound(h),
             };
             let [a, b, c] = corners.map(|v| self.vertex(v));
             f(&info, [&a, &b, &c]);
         });
+    }
+
+    /// Entries of [`write_mesh`](Self::write_mesh)'s `remap`: one per vertex of the bake and
+    /// of the pool.
+    pub fn remap_len(&self) -> usize {
+        self.tree.vertices.len() + self.pool.entries.len()
+    }
+
+    /// The bound of leaf `h` in model units: its node's, or below the bake its own lattice's.
+    fn object_bound(&self, h: &Pending) -> f32 {
+        super::judge::judge(self, &crate::View::Object { tolerance: 0.0 }, h).bound
     }
 
     /// Size of the mesh [`write_mesh`](Self::write_mesh) writes.
@@ -73,7 +83,8 @@ impl Selection<'_, '_> {
     }
 
     /// Writes the current mesh: vertices in order of first use, each shared vertex once.
-    /// `remap` needs one entry per baked vertex. On an error the buffers are untouched.
+    /// `remap` needs one entry per vertex of the bake and of the pool
+    /// ([`remap_len`](Self::remap_len)). On an error the buffers are untouched.
     pub fn write_mesh<I: MeshIndex>(
         &self,
         vertices: &mut [Vertex],
@@ -89,11 +100,11 @@ impl Selection<'_, '_> {
                 vertices: size.vertices,
             });
         }
-        let baked = self.tree.vertices.len();
-        if remap.len() < baked {
-            return Err(WriteError::ScratchTooSmall { needed: baked });
+        let needed = self.remap_len();
+        if remap.len() < needed {
+            return Err(WriteError::ScratchTooSmall { needed });
         }
-        remap[..baked].fill(u32::MAX);
+        remap[..needed].fill(u32::MAX);
         let (mut nv, mut nt) = (0usize, 0usize);
         self.each_written(|_, corners| {
             let mut out = [I::default(); 3];

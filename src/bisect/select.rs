@@ -15,17 +15,24 @@
 //! stack has run dry the mesh is walked and its leaves not yet judged are judged then, until a
 //! walk finds none. A short stack costs walks, never the result.
 //!
+//! Below the bake (a view finer than the bake) the same search goes on with vertices the run
+//! time makes and bounds it computes (see `refine`); those triangles have no bits, so a walk
+//! judges them again.
+//!
 //! # Storage
 //!
 //! Bits, in the caller's `u32`s ([`Bintree::bit_words`]): per vertex, whether it is in the
 //! mesh (its triangles halved) and whether the frame's count has seen it; per node, whether it
-//! was judged and whether it is hidden (not written out).
+//! was judged and whether it is hidden (not written out). A stack of waiting triangles, and a
+//! pool of vertices below the bake ([`RefinedVertex`]), both of any length.
 
 use core::fmt;
 
 use super::address::Tri;
 use super::judge::judge;
-use super::tree::{walk, Bintree, Pending};
+use super::refine::{key, Pool, RefinedVertex};
+use super::tree::{walk, Bintree, Pending, RUN_TIME};
+use super::BintreeVertex;
 use crate::math::max;
 use crate::view::View;
 
@@ -41,10 +48,14 @@ pub struct SelectionStats {
     pub judged: usize,
     /// Triangles left out for lying beyond a plane of the view.
     pub hidden: usize,
-    /// Leaves of the bake still over the tolerance (a view finer than the bake).
+    /// Vertices made below the bake (a view finer than the bake).
+    pub refined: usize,
+    /// Leaves still over the tolerance: the pool of vertices below the bake was full, or
+    /// the grid's finest step was reached.
     pub left_over: usize,
     /// An upper bound of every written triangle's bound, in the view's units (pixels or
-    /// model units): at most the tolerance when nothing is left over.
+    /// model units): at most the tolerance when nothing is left over, and what the frame
+    /// honours when something is.
     pub worst_bound: f32,
     /// Walks of the mesh made for leaves the stack had no room for.
     pub sweeps: usize,
@@ -100,6 +111,7 @@ impl Bintree<'_> {
 pub struct Selection<'t, 's> {
     pub(super) tree: Bintree<'t>,
     pub(super) bits: &'s mut [u32],
+    pub(super) pool: Pool<'s>,
     stack: &'s mut [Pending],
     len: usize,
     full: bool,
@@ -141,23 +153,19 @@ fn set(bits: &mut [u32], i: u32) {
     }
 }
 
-/// Whether `h` is halved in the mesh of vertices `active`.
-pub(super) fn is_split(tree: &Bintree<'_>, active: &[u32], h: &Pending) -> bool {
-    let n = tree.node(h);
-    n.children != 0 && bit(active, n.vertex)
-}
-
 impl<'t, 's> Selection<'t, 's> {
     /// Fewest stack entries a run time takes.
     pub const MIN_STACK: usize = 4;
 
     /// A run time over `tree` with caller storage: `bits` of at least
     /// [`Bintree::bit_words`] words, `stack` of at least [`MIN_STACK`](Self::MIN_STACK)
-    /// entries.
+    /// entries, and `pool` for vertices below the bake (any length, none included: a frame
+    /// finer than the bake then reports what it honours).
     pub fn new(
         tree: Bintree<'t>,
         bits: &'s mut [u32],
         stack: &'s mut [Pending],
+        pool: &'s mut [RefinedVertex],
     ) -> Result<Self, SelectionError> {
         if bits.len() < tree.bit_words() {
             return Err(SelectionError::BitsTooShort {
@@ -170,6 +178,10 @@ impl<'t, 's> Selection<'t, 's> {
         Ok(Selection {
             tree,
             bits,
+            pool: Pool {
+                entries: pool,
+                used: 0,
+            },
             stack,
             len: 0,
             full: false,
@@ -196,13 +208,47 @@ impl<'t, 's> Selection<'t, 's> {
         &self.bits[..self.layout().seen]
     }
 
+    /// The vertex `h` is halved at in the current mesh, if it is.
+    pub(super) fn split_vertex(&self, h: &Pending) -> Option<u32> {
+        match self.tree.node(h) {
+            Some(n) if n.children != 0 => bit(self.active(), n.vertex).then_some(n.vertex),
+            _ => {
+                let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
+                let base = self.tree.vertices.len() as u32;
+                self.pool.find(at).map(|slot| base + slot as u32)
+            }
+        }
+    }
+
     fn is_split(&self, h: &Pending) -> bool {
-        is_split(&self.tree, self.active(), h)
+        self.split_vertex(h).is_some()
     }
 
     /// Whether leaf `h` is left out as hidden.
     pub(super) fn is_hidden(&self, h: &Pending) -> bool {
-        bit(&self.bits[self.layout().hidden..], h.node)
+        h.node != RUN_TIME && bit(&self.bits[self.layout().hidden..], h.node)
+    }
+
+    /// Whether `h`, a triangle of the bake, was judged this frame.
+    fn is_judged(&self, h: &Pending) -> bool {
+        h.node != RUN_TIME && bit(&self.bits[self.layout().judged..], h.node)
+    }
+
+    /// Vertex `v`: the bake's, or one below it.
+    pub(super) fn vertex_record(&self, v: u32) -> &BintreeVertex {
+        let baked = self.tree.vertices.len();
+        match (v as usize).checked_sub(baked) {
+            None => &self.tree.vertices[v as usize],
+            Some(slot) => &self.pool.entries[slot].vertex,
+        }
+    }
+
+    /// The vertices written out for leaf `h`, or `None` where two are one: a triangle with two
+    /// corners on a side collapsed to a pole is a segment, which its neighbours' sides
+    /// already draw.
+    pub(super) fn written(&self, h: &Pending) -> Option<[u32; 3]> {
+        let [a, b, c] = h.corners.map(|v| self.vertex_record(v).output);
+        (a != b && b != c && c != a).then_some([a, b, c])
     }
 
     /// Queues `h`, or notes that a walk must find it.
@@ -222,6 +268,7 @@ impl<'t, 's> Selection<'t, 's> {
     pub fn update(&mut self, view: &View) -> SelectionStats {
         let words = self.tree.bit_words();
         self.bits[..words].fill(0);
+        self.pool.clear();
         self.stats = SelectionStats::default();
         let (tree, tolerance) = (self.tree, view.tolerance());
         for p in 0..tree.patches.len() as u32 {
@@ -234,12 +281,11 @@ impl<'t, 's> Selection<'t, 's> {
             self.full = false;
             self.stats.sweeps += 1;
             walk(tree, |h| {
-                let judged = bit(&self.bits[self.layout().judged..], h.node);
-                if !self.is_split(h) && !judged {
+                if !self.is_split(h) && !self.is_judged(h) {
                     self.push(*h);
                     self.drain(view, tolerance);
                 }
-                self.is_split(h)
+                self.split_vertex(h)
             });
         }
         self.count();
@@ -252,26 +298,28 @@ impl<'t, 's> Selection<'t, 's> {
         while self.len > 0 {
             self.len -= 1;
             let h = self.stack[self.len];
-            if self.is_split(&h) || bit(&self.bits[layout.judged..], h.node) {
+            if self.is_split(&h) || self.is_judged(&h) {
                 continue;
             }
-            set(&mut self.bits[layout.judged..], h.node);
+            if h.node != RUN_TIME {
+                set(&mut self.bits[layout.judged..], h.node);
+            }
             self.stats.judged += 1;
-            let j = judge(&self.tree, view, &h);
+            let j = judge(self, view, &h);
             if j.hidden {
-                set(&mut self.bits[layout.hidden..], h.node);
+                if h.node != RUN_TIME {
+                    set(&mut self.bits[layout.hidden..], h.node);
+                }
                 continue;
             }
             if j.bound <= tolerance {
                 self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
                 continue;
             }
-            if self.tree.node(&h).children == 0 {
+            if !self.split(&h, 0) {
                 self.stats.left_over += 1;
                 self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
-                continue;
             }
-            self.split(&h, 0);
         }
     }
 
@@ -279,19 +327,26 @@ impl<'t, 's> Selection<'t, 's> {
     fn locate(&self, t: &Tri) -> Pending {
         let mut h = self.tree.root(t.patch, t.root_index());
         let target = t.centroid3();
-        while h.tri != *t && self.is_split(&h) {
-            h = self.tree.halves(&h)[h.tri.half_toward(target)];
+        while h.tri != *t {
+            let Some(v) = self.split_vertex(&h) else {
+                break;
+            };
+            h = self.tree.halves(&h, v)[h.tri.half_toward(target)];
         }
         h
     }
 
     /// Halves `h` and the triangle across its hypotenuse (halving coarser ones first), and
-    /// queues the halves. `depth` bounds the recursion (a coarser triangle across is at
-    /// least one level up, so 64 is never reached by a bake's 30 levels).
-    fn split(&mut self, h: &Pending, depth: u32) {
-        let v = self.tree.node(h).vertex;
-        if self.tree.node(h).children == 0 || bit(self.active(), v) {
-            return;
+    /// queues the halves; false when it cannot (below the bake: the pool is full, or the grid's
+    /// finest step is reached), and then `h` stays whole. `depth` bounds the recursion (a
+    /// coarser triangle across is at least one level up, so 64 is never reached by the
+    /// grid's 30 levels).
+    fn split(&mut self, h: &Pending, depth: u32) -> bool {
+        if self.is_split(h) {
+            return true;
+        }
+        if !h.tri.can_split() || depth > 64 {
+            return false;
         }
         let tree = self.tree;
         let mut across = None;
@@ -302,20 +357,32 @@ impl<'t, 's> Selection<'t, 's> {
                     across = Some(leaf);
                     break;
                 }
-                if depth > 64 || self.tree.node(&leaf).children == 0 {
-                    break;
+                if !self.split(&leaf, depth + 1) {
+                    return false;
                 }
-                self.split(&leaf, depth + 1);
             }
         }
-        set(self.bits, v);
+        let v = match self.tree.node(h) {
+            Some(n) if n.children != 0 => {
+                set(self.bits, n.vertex);
+                n.vertex
+            }
+            _ => match self.pool.make(&tree, &h.tri, tree.vertices.len() as u32) {
+                Some(v) => {
+                    self.stats.refined += 1;
+                    v
+                }
+                None => return false,
+            },
+        };
         // The halves across first, so that `h`'s own are judged first: the search goes down
         // into `h` before it goes across.
         for x in [across, Some(*h)].into_iter().flatten() {
-            let [h0, h1] = self.tree.halves(&x);
+            let [h0, h1] = self.tree.halves(&x, v);
             self.push(h1);
             self.push(h0);
         }
+        true
     }
 
     /// Counts the frame's written triangles and their vertices, and the hidden ones.
@@ -323,27 +390,34 @@ impl<'t, 's> Selection<'t, 's> {
         let layout = self.layout();
         let tree = self.tree;
         let (mut triangles, mut vertices, mut hidden) = (0, 0, 0);
-        let (active, rest) = self.bits.split_at_mut(layout.seen);
-        let (seen, flags) = rest.split_at_mut(layout.judged - layout.seen);
-        let hidden_bits = &flags[layout.hidden - layout.judged..];
+        for e in self.pool.entries.iter_mut() {
+            e.seen = false;
+        }
+        let baked = tree.vertices.len() as u32;
         walk(tree, |h| {
-            if is_split(&tree, active, h) {
-                return true;
+            if let Some(v) = self.split_vertex(h) {
+                return Some(v);
             }
-            if bit(hidden_bits, h.node) {
+            if self.is_hidden(h) {
                 hidden += 1;
-                return false;
+                return None;
             }
-            if let Some(corners) = tree.written(h) {
+            if let Some(corners) = self.written(h) {
                 triangles += 1;
                 for v in corners {
-                    if !bit(seen, v) {
-                        set(seen, v);
-                        vertices += 1;
-                    }
+                    let new = if v < baked {
+                        let words = &mut self.bits[layout.seen..layout.judged];
+                        let fresh = !bit(words, v);
+                        set(words, v);
+                        fresh
+                    } else {
+                        let e = &mut self.pool.entries[(v - baked) as usize];
+                        !core::mem::replace(&mut e.seen, true)
+                    };
+                    vertices += usize::from(new);
                 }
             }
-            false
+            None
         });
         self.stats.triangles = triangles;
         self.stats.vertices = vertices;

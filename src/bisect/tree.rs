@@ -4,12 +4,18 @@ use core::fmt;
 
 use super::address::Tri;
 use super::{BintreeNode, BintreePatch, BintreeVertex, SideLink};
-use crate::patch::Side;
+use crate::model::PatchSet;
+use crate::patch::{BezierPatch, Side};
 
-/// A baked hierarchy, checked: every index in it is in range, so no frame reads out of
-/// bounds.
+/// The node number of a triangle below the bake (the run time's own).
+pub(super) const RUN_TIME: u32 = u32::MAX;
+
+/// A baked hierarchy and the patches it was baked from, checked: every index in it is in
+/// range, so no frame reads out of bounds. Where a view is finer than the bake, the run time
+/// goes on from the patches.
 #[derive(Clone, Copy, Debug)]
 pub struct Bintree<'a> {
+    pub(super) model: PatchSet<'a>,
     pub(super) nodes: &'a [BintreeNode],
     pub(super) vertices: &'a [BintreeVertex],
     pub(super) patches: &'a [BintreePatch],
@@ -21,6 +27,13 @@ pub struct Bintree<'a> {
 pub enum BintreeError {
     /// No patch, or fewer nodes than the patches' squares.
     Empty,
+    /// The bake has records for another number of patches than the model has.
+    PatchCount {
+        /// Patches of the model.
+        model: usize,
+        /// Patch records of the bake.
+        baked: usize,
+    },
     /// Node `node` names a half or a vertex out of range, or a half before itself.
     BadNode {
         /// The node.
@@ -42,6 +55,9 @@ impl fmt::Display for BintreeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             BintreeError::Empty => write!(f, "the hierarchy has no patch"),
+            BintreeError::PatchCount { model, baked } => {
+                write!(f, "the model has {model} patches, the bake {baked}")
+            }
             BintreeError::BadNode { node } => write!(f, "node {node} is out of range"),
             BintreeError::BadVertex { vertex } => write!(f, "vertex {vertex} is out of range"),
             BintreeError::BadPatch { patch } => write!(f, "patch {patch} is out of range"),
@@ -63,14 +79,21 @@ pub struct Pending {
 
 impl<'a> Bintree<'a> {
     /// Checks and wraps a bake's records (as [`bake_bintree`](super::bake_bintree) wrote them,
-    /// cut to the sizes it returned).
+    /// cut to the sizes it returned) and the patches they were baked from.
     pub fn new(
+        model: PatchSet<'a>,
         nodes: &'a [BintreeNode],
         vertices: &'a [BintreeVertex],
         patches: &'a [BintreePatch],
     ) -> Result<Self, BintreeError> {
         if patches.is_empty() || nodes.len() < 2 * patches.len() {
             return Err(BintreeError::Empty);
+        }
+        if model.len() != patches.len() {
+            return Err(BintreeError::PatchCount {
+                model: model.len(),
+                baked: patches.len(),
+            });
         }
         for (p, rec) in patches.iter().enumerate() {
             let bad = rec.corners.iter().any(|&v| v as usize >= vertices.len())
@@ -98,10 +121,33 @@ impl<'a> Bintree<'a> {
             }
         }
         Ok(Bintree {
+            model,
             nodes,
             vertices,
             patches,
         })
+    }
+
+    /// The patches.
+    pub fn model(&self) -> PatchSet<'a> {
+        self.model
+    }
+
+    /// Patch `p` of the model.
+    pub(super) fn patch_of(&self, p: u32) -> Option<BezierPatch<'a>> {
+        self.model.patch(p as usize)
+    }
+
+    /// The corner vertex of side `side` of patch `patch`, if that side is collapsed to a pole
+    /// (as the bake names it).
+    pub(super) fn pole(&self, patch: u32, side: Side) -> Option<u32> {
+        let collapsed = self.patch_of(patch)?.is_collapsed(side);
+        let corner = match side {
+            Side::V0 | Side::U0 => 0,
+            Side::U1 => 1,
+            Side::V1 => 2,
+        };
+        collapsed.then(|| self.patches[patch as usize].corners[corner])
     }
 
     /// The nodes.
@@ -114,7 +160,7 @@ impl<'a> Bintree<'a> {
         self.vertices
     }
 
-    /// The patches.
+    /// The patch records.
     pub fn patches(&self) -> &'a [BintreePatch] {
         self.patches
     }
@@ -140,37 +186,36 @@ impl<'a> Bintree<'a> {
             .and_then(|p| p.links[side.index()])
     }
 
-    /// The node of `h`.
-    pub(super) fn node(&self, h: &Pending) -> &'a BintreeNode {
-        &self.nodes[h.node as usize]
+    /// The node of `h`, if it is a triangle of the bake.
+    pub(super) fn node(&self, h: &Pending) -> Option<&'a BintreeNode> {
+        self.nodes.get(h.node as usize)
     }
 
-    /// The halves of `h`, split at its node's vertex.
-    pub(super) fn halves(&self, h: &Pending) -> [Pending; 2] {
-        let node = self.node(h);
-        let (first, v) = (node.children, node.vertex);
+    /// The bake's halves of `h`, if the bake halves it.
+    pub(super) fn baked_halves(&self, h: &Pending) -> Option<u32> {
+        self.node(h).map(|n| n.children).filter(|&c| c != 0)
+    }
+
+    /// The halves of `h`, split at vertex `v`: the bake's nodes, or the run time's.
+    pub(super) fn halves(&self, h: &Pending, v: u32) -> [Pending; 2] {
+        let [n0, n1] = match self.baked_halves(h) {
+            Some(first) => [first, first + 1],
+            None => [RUN_TIME; 2],
+        };
         let [a, b, c] = h.corners;
         let [t0, t1] = h.tri.children();
         [
             Pending {
-                node: first,
+                node: n0,
                 tri: t0,
                 corners: [v, a, b],
             },
             Pending {
-                node: first + 1,
+                node: n1,
                 tri: t1,
                 corners: [v, c, a],
             },
         ]
-    }
-
-    /// The vertices written out for `h`, or `None` where two are one: a triangle with two
-    /// corners on a side collapsed to a pole is a segment, which its neighbours' sides
-    /// already draw.
-    pub(super) fn written(&self, h: &Pending) -> Option<[u32; 3]> {
-        let [a, b, c] = h.corners.map(|v| self.vertices[v as usize].output);
-        (a != b && b != c && c != a).then_some([a, b, c])
     }
 }
 
@@ -178,9 +223,10 @@ impl<'a> Bintree<'a> {
 const WALK: usize = 34;
 
 /// Walks every patch's triangles top-down, first halves first, calling `visit` on each: it
-/// returns whether the triangle is halved (the walk then goes into its halves). `visit` may
-/// halve triangles: the walk goes by what `visit` returns when it gets to each.
-pub(super) fn walk(tree: Bintree<'_>, mut visit: impl FnMut(&Pending) -> bool) {
+/// returns the vertex the triangle is halved at, if it is (the walk then goes into its
+/// halves). `visit` may halve triangles: the walk goes by what `visit` returns when it gets
+/// to each.
+pub(super) fn walk(tree: Bintree<'_>, mut visit: impl FnMut(&Pending) -> Option<u32>) {
     let mut stack = [Pending::default(); WALK];
     for p in 0..tree.patches.len() as u32 {
         stack[0] = tree.root(p, 1);
@@ -189,8 +235,8 @@ pub(super) fn walk(tree: Bintree<'_>, mut visit: impl FnMut(&Pending) -> bool) {
         while n > 0 {
             n -= 1;
             let h = stack[n];
-            if visit(&h) && n + 2 <= WALK {
-                let [h0, h1] = tree.halves(&h);
+            if let Some(v) = visit(&h).filter(|_| n + 2 <= WALK) {
+                let [h0, h1] = tree.halves(&h, v);
                 stack[n] = h1;
                 stack[n + 1] = h0;
                 n += 2;

@@ -129,16 +129,20 @@ impl Lattice {
                 k += 1;
             }
         }
-        let corners = [q0, q1, q2].map(|q| Vec3::from_array(q.to_array()));
-        bound_on_screen(camera, corners, &e, big, r, slack)
+        let corners = [q0, q1, q2].map(|q| camera.to_view(Vec3::from_array(q.to_array())));
+        bound_on_screen(camera, corners, &e, big, r, slack, sqrt)
     }
 }
 
 /// The bound on `camera`'s screen, in pixels, of a deviation `e(x) ∈ conv{e_k} + B(r)` over
-/// the flat triangle `corners` (model space), with the vectors `e_k` already in view
-/// coordinates (rotated, not moved), `big` their largest length and `slack` the rounding
-/// slack of the corners (see the module docs). `e` may hold any vectors whose hull, widened by
-/// `r`, holds the deviation: a lattice's, or a bake's few kept ones.
+/// the flat triangle `corners` (moved into view coordinates by `camera.to_view`), with the
+/// vectors `e_k` in view coordinates too (rotated, not moved), `big` at least their largest
+/// length and `slack` the rounding slack of the corners (see the module docs). `e` may hold
+/// any vectors whose hull, widened by `r`, holds the deviation: a lattice's, or a bake's few
+/// kept ones. `root` is the square root, or any upper bound of it ([`sqrt_above`]: the bound
+/// stays a bound).
+///
+/// [`sqrt_above`]: crate::math::sqrt_above
 pub(crate) fn bound_on_screen(
     camera: &Camera,
     corners: [Vec3; 3],
@@ -146,14 +150,14 @@ pub(crate) fn bound_on_screen(
     big: f32,
     r: f32,
     slack: f32,
+    root: impl Fn(f32) -> f32,
 ) -> f32 {
     let m = big + r;
     let focal = camera.focal();
     if let Projection::Orthographic { .. } = camera.projection() {
         let worst = e.iter().map(|d| d.x * d.x + d.y * d.y).fold(0.0f32, max);
-        return focal * ((sqrt(worst) + r) * SCREEN_SLACK + 16.0 * EPS * m);
+        return focal * ((root(worst) + r) * SCREEN_SLACK + 16.0 * EPS * m);
     }
-    let corners = corners.map(|q| camera.to_view(q));
     let size = corners
         .iter()
         .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
@@ -207,7 +211,7 @@ pub(crate) fn bound_on_screen(
             })
             .fold(0.0f32, max);
         let widen = 2.0 * eta * spread / z;
-        let g = sqrt(phi) + r * sqrt(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
+        let g = root(phi) + r * root(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
     }
     let z_min = max(camera.near(), z_low - m - eta);

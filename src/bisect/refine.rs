@@ -1,0 +1,150 @@
+//! Vertices below the bake: where a view is finer than the bake, the run time halves its
+//! leaves further, evaluating the new vertices and bounding the new triangles itself.
+//!
+//! The halving goes on exactly as above the bake: the same hierarchy, the same rule (a leaf
+//! over the tolerance is halved with the triangle across its hypotenuse), so the mesh stays
+//! conforming and history-free. A new vertex goes into a caller pool, an open-addressed table
+//! keyed by where it is: its patch and grid point, a point of a shared curve named by the
+//! patch of lower index (so the two patches along the curve find one vertex, evaluated once,
+//! from that patch), a point of a side collapsed to a pole written out as the pole's corner.
+//! A triangle below the bake is bounded from its own lattice of step `1/6` (see
+//! `deviation`'s module docs and `lattice`): 28 evaluations, the vectors projected as the
+//! bake's are.
+//!
+//! When the pool is full (past seven eighths, to keep probes short), a leaf that needs a new
+//! vertex stays whole and is counted as left over, with its bound in the frame's worst: the
+//! frame reports what it honours.
+
+use super::address::{point_on, side_parameter, unit, Point, Tri};
+use super::tree::Bintree;
+use super::BintreeVertex;
+use crate::patch::Side;
+
+/// An empty entry's key.
+const EMPTY: u64 = u64::MAX;
+
+/// A vertex the run time made below the bake: one entry of the caller's pool.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RefinedVertex {
+    key: u64,
+    pub(super) vertex: BintreeVertex,
+    pub(super) seen: bool,
+}
+
+impl Default for RefinedVertex {
+    fn default() -> Self {
+        RefinedVertex {
+            key: EMPTY,
+            vertex: BintreeVertex::default(),
+            seen: false,
+        }
+    }
+}
+
+/// Where grid point `g` of patch `patch` is, as one key from every patch that has it: a point
+/// of a shared side is named by the patch of lower index (its own grid point there).
+pub(super) fn key(tree: &Bintree<'_>, patch: u32, g: Point) -> (u32, Point) {
+    let mut best = (patch, g);
+    for side in Side::ALL {
+        let on = match side {
+            Side::V0 => g[1] == 0,
+            Side::U1 => g[0] == super::address::ONE,
+            Side::V1 => g[1] == super::address::ONE,
+            Side::U0 => g[0] == 0,
+        };
+        if !on {
+            continue;
+        }
+        if let Some(l) = tree.link(patch, side) {
+            let t = side_parameter(side, g);
+            let there = point_on(l.side, if l.flip { super::address::ONE - t } else { t });
+            best = best.min((l.patch, there));
+        }
+    }
+    best
+}
+
+fn packed((patch, g): (u32, Point)) -> u64 {
+    ((patch as u64) << 32) | ((g[0] as u64) << 16) | g[1] as u64
+}
+
+/// The slot to start probing at for `key` (a multiplicative hash).
+fn start(key: u64, len: usize) -> usize {
+    let h = key.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    ((h >> 32) as usize) % len.max(1)
+}
+
+/// The pool of vertices below the bake: the caller's entries and how many are used.
+#[derive(Debug)]
+pub(super) struct Pool<'s> {
+    pub entries: &'s mut [RefinedVertex],
+    pub used: usize,
+}
+
+impl Pool<'_> {
+    /// Empties the pool.
+    pub fn clear(&mut self) {
+        for e in self.entries.iter_mut() {
+            e.key = EMPTY;
+        }
+        self.used = 0;
+    }
+
+    /// The slot of the vertex at `at` (a [`key`]), if the pool holds it.
+    pub fn find(&self, at: (u32, Point)) -> Option<usize> {
+        let key = packed(at);
+        let len = self.entries.len();
+        let mut i = start(key, len);
+        for _ in 0..len {
+            match self.entries[i].key {
+                EMPTY => return None,
+                k if k == key => return Some(i),
+                _ => i = (i + 1) % len,
+            }
+        }
+        None
+    }
+
+    /// Makes the vertex at the midpoint of `t`'s hypotenuse (if the pool has room): evaluated
+    /// from the patch that names it, written out as the pole where `t`'s hypotenuse lies on a
+    /// collapsed side; `base` is added to the slot to make its vertex number.
+    pub fn make(&mut self, tree: &Bintree<'_>, t: &Tri, base: u32) -> Option<u32> {
+        let len = self.entries.len();
+        if self.used + 1 > len - len / 8 {
+            return None;
+        }
+        let at = key(tree, t.patch, t.midpoint());
+        let k = packed(at);
+        let mut i = start(k, len);
+        while self.entries[i].key != EMPTY {
+            i = (i + 1) % len;
+        }
+        let (u, v) = unit(at.1);
+        let s = tree.patch_of(at.0).map(|bp| bp.evaluate(u, v));
+        let id = base + i as u32;
+        let pole = t
+            .hypotenuse_side()
+            .and_then(|side| tree.pole(t.patch, side));
+        let vertex = match pole {
+            Some(corner) => BintreeVertex {
+                output: corner,
+                ..tree.vertices[corner as usize]
+            },
+            None => BintreeVertex {
+                position: s.map_or([0.0; 3], |s| s.position.to_array()),
+                normal: s.map_or([0.0; 3], |s| s.normal.to_array()),
+                uv: at.1,
+                patch: at.0,
+                output: id,
+            },
+        };
+        self.entries[i] = RefinedVertex {
+            key: k,
+            vertex,
+            seen: false,
+        };
+        self.used += 1;
+        Some(id)
+    }
+}

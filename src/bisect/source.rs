@@ -1,0 +1,111 @@
+//! A baked hierarchy as Rust source: `static` arrays a firmware build keeps in flash.
+
+use core::fmt;
+
+use super::tree::Bintree;
+use crate::patch::Side;
+
+/// Writes `tree` as Rust source: `pub static {name}_NODES`, `{name}_VERTICES` and
+/// `{name}_PATCHES`, the records [`Bintree::new`] takes, bit for bit (floats by their bits).
+/// The source names the records by their paths in `spline_tess::bisect`; include it in a
+/// module of its own.
+///
+/// ```
+/// use spline_tess::bisect::{write_rust_source, Bintree, BintreeNode, BintreePatch, BintreeVertex};
+/// use spline_tess::{PatchHeader, PatchSet};
+///
+/// let headers = [PatchHeader { degree_u: 1, degree_v: 1, first_point: 0 }];
+/// let points = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]];
+/// let model = PatchSet::new(&headers, &points, None).unwrap();
+/// let nodes = [BintreeNode::default(); 2];
+/// let vertices = [BintreeVertex::default(); 1];
+/// let patches = [BintreePatch::default()];
+/// let tree = Bintree::new(model, &nodes, &vertices, &patches).unwrap();
+/// let mut src = String::new();
+/// write_rust_source(&mut src, "TEAPOT", &tree).unwrap();
+/// assert!(src.contains("pub static TEAPOT_NODES: [Node; 2] = ["));
+/// ```
+pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, tree: &Bintree<'_>) -> fmt::Result {
+    writeln!(
+        w,
+        "// A baked bisection hierarchy of spline-tess: wrap it, with the patches it was baked\n\
+         // from, in `spline_tess::bisect::Bintree::new(patches, &{name}_NODES, &{name}_VERTICES,\n\
+         // &{name}_PATCHES)`."
+    )?;
+    writeln!(
+        w,
+        "use spline_tess::bisect::{{BintreeNode as Node, BintreePatch as Patch, \
+         BintreeVertex as Vertex, SideLink}};\nuse spline_tess::Side;\n\n\
+         const fn n(children: u32, vertex: u32, vectors: [[i8; 3]; {k}], scale: u32, remainder: u32) -> Node {{\n    \
+         Node {{ children, vertex, vectors, scale: f32::from_bits(scale), remainder: f32::from_bits(remainder) }}\n}}\n\n\
+         const fn f(b: [u32; 3]) -> [f32; 3] {{\n    \
+         [f32::from_bits(b[0]), f32::from_bits(b[1]), f32::from_bits(b[2])]\n}}\n\n\
+         const fn v(position: [u32; 3], normal: [u32; 3], uv: [u16; 2], patch: u32, output: u32) -> Vertex {{\n    \
+         Vertex {{ position: f(position), normal: f(normal), uv, patch, output }}\n}}\n",
+        k = super::KEPT
+    )?;
+    let nodes = tree.nodes();
+    writeln!(w, "pub static {name}_NODES: [Node; {}] = [", nodes.len())?;
+    for node in nodes {
+        write!(w, "    n({}, {}, [", node.children, node.vertex)?;
+        for (i, q) in node.vectors.iter().enumerate() {
+            let sep = if i == 0 { "" } else { ", " };
+            write!(w, "{sep}[{}, {}, {}]", q[0], q[1], q[2])?;
+        }
+        writeln!(
+            w,
+            "], {:#x}, {:#x}),",
+            node.scale.to_bits(),
+            node.remainder.to_bits()
+        )?;
+    }
+    writeln!(w, "];\n")?;
+    let vertices = tree.vertices();
+    writeln!(
+        w,
+        "pub static {name}_VERTICES: [Vertex; {}] = [",
+        vertices.len()
+    )?;
+    for x in vertices {
+        let [p, q] = [x.position, x.normal].map(|a| a.map(f32::to_bits));
+        writeln!(
+            w,
+            "    v([{:#x}, {:#x}, {:#x}], [{:#x}, {:#x}, {:#x}], [{}, {}], {}, {}),",
+            p[0], p[1], p[2], q[0], q[1], q[2], x.uv[0], x.uv[1], x.patch, x.output
+        )?;
+    }
+    writeln!(w, "];\n")?;
+    let patches = tree.patches();
+    writeln!(
+        w,
+        "pub static {name}_PATCHES: [Patch; {}] = [",
+        patches.len()
+    )?;
+    for p in patches {
+        write!(w, "    Patch {{ corners: {:?}, links: [", p.corners)?;
+        for (i, link) in p.links.iter().enumerate() {
+            let sep = if i == 0 { "" } else { ", " };
+            match link {
+                None => write!(w, "{sep}None")?,
+                Some(l) => write!(
+                    w,
+                    "{sep}Some(SideLink {{ patch: {}, side: Side::{}, flip: {} }})",
+                    l.patch,
+                    side_name(l.side),
+                    l.flip
+                )?,
+            }
+        }
+        writeln!(w, "] }},")?;
+    }
+    writeln!(w, "];")
+}
+
+fn side_name(s: Side) -> &'static str {
+    match s {
+        Side::V0 => "V0",
+        Side::U1 => "U1",
+        Side::V1 => "V1",
+        Side::U0 => "U0",
+    }
+}
