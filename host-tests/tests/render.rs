@@ -19,16 +19,18 @@ use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use embedded_graphics::prelude::{OriginDimensions, Pixel, Point, PointsIter, RgbColor, Size};
 use embedded_graphics::primitives::Rectangle;
+use host_tests::bisection::{BakedBintree, SelectionStorage};
 use host_tests::model_file::{bake_to_vec, ModelFile};
 use host_tests::reference::RefPatch;
 use host_tests::runtime::{indexed, RuntimeStorage};
 use host_tests::{models_dir, Rng};
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bisect::BintreeSettings;
 use spline_tess::render::{
     IndexedMesh, ListSlot, RenderError, Renderer, Shading, Style, TriangleSource, Wireframe,
 };
 use spline_tess::tessellator::Settings;
-use spline_tess::{Camera, Projection, Vec3, Vertex, View};
+use spline_tess::{BoundingSphere, Camera, Projection, Vec3, Vertex, View};
 
 /// Counts how often each pixel is drawn; remembers the last colour.
 struct Counting {
@@ -477,6 +479,150 @@ fn bands_streaming_and_repeats_give_the_same_pixels() {
             .draw(&tess, &camera, &flat, &mut t)
             .unwrap();
         assert_ne!(t.color, full.color);
+    }
+}
+
+/// An indexed mesh drawn with another source's depth range.
+struct WithBound<'a> {
+    mesh: IndexedMesh<'a, u32>,
+    bound: Option<BoundingSphere>,
+}
+
+impl TriangleSource for WithBound<'_> {
+    fn bound(&self) -> Option<BoundingSphere> {
+        self.bound
+    }
+
+    fn stream_rows(
+        &self,
+        camera: &Camera,
+        rows: std::ops::Range<u32>,
+        sink: &mut impl spline_tess::TriangleSink,
+    ) {
+        self.mesh.stream_rows(camera, rows, sink);
+    }
+}
+
+/// The bisection run time as a source: its frames cover the surface as a dense `f64`
+/// tessellation does, and streamed (by vertex numbers, band by band) they draw exactly the
+/// pixels of their written mesh.
+#[test]
+fn bisection_frames_cover_the_surface_and_draw_as_their_mesh() {
+    let (file, _) = teapot();
+    let bake = BakedBintree::bake(
+        &file,
+        &BintreeSettings {
+            tolerance: Tolerance::Relative(1e-3),
+            ..BintreeSettings::default()
+        },
+    )
+    .unwrap();
+    let tree = bake.tree();
+    let mut storage = SelectionStorage::new(&tree, 1 << 12, 1 << 14);
+    let mut selection = storage.selection(tree);
+    let mut remap = vec![0u32; selection.remap_len()];
+    let (rv, rt) = dense_reference(&file, 96);
+    let reference = IndexedMesh {
+        vertices: &rv,
+        triangles: &rt,
+    };
+    let style = Style {
+        wireframe: Some(Wireframe {
+            color: Rgb888::BLACK,
+            half_width: 0.4,
+        }),
+        background: Some(Rgb888::BLUE),
+        ..Style::default()
+    };
+    for eye in EYES {
+        let camera = camera(eye, [320, 240]);
+        selection.update(&View::Screen {
+            camera,
+            tolerance_px: 1.0,
+        });
+        let ours = mask_of(&selection, &camera, 16).mask();
+        let want = mask_of(&reference, &camera, 16).mask();
+        let differ = ours.iter().zip(&want).filter(|(a, b)| a != b).count();
+        let union = ours.iter().zip(&want).filter(|(a, b)| **a || **b).count();
+        println!("eye {eye:?}: {differ} of {union} covered pixels differ");
+        assert!(union > 2000, "the teapot is on screen");
+        // At 1 px, coverage may differ only on the rim: every differing pixel has covered and
+        // uncovered pixels of the reference within 2 pixels (the tolerance, and half a pixel
+        // of sampling on each side).
+        let (w, h) = (320usize, 240usize);
+        for (i, _) in ours
+            .iter()
+            .zip(&want)
+            .enumerate()
+            .filter(|(_, (a, b))| a != b)
+        {
+            let (x, y) = (i % w, i / w);
+            let near = |covered: bool| {
+                (y.saturating_sub(2)..(y + 3).min(h)).any(|yy| {
+                    (x.saturating_sub(2)..(x + 3).min(w)).any(|xx| want[yy * w + xx] == covered)
+                })
+            };
+            assert!(
+                near(true) && near(false),
+                "eye {eye:?}: pixel ({x}, {y}) differs away from the silhouette"
+            );
+        }
+        let size = selection.mesh_size();
+        let mut vertices = vec![Vertex::default(); size.vertices];
+        let mut triangles = vec![[0u32; 3]; size.triangles];
+        selection
+            .write_mesh(&mut vertices, &mut triangles, &mut remap)
+            .unwrap();
+        // The written mesh, with the run time's depth range (a source's bound sets it, and
+        // the mesh's own box is smaller: its depths would round otherwise).
+        let written = WithBound {
+            mesh: IndexedMesh {
+                vertices: &vertices,
+                triangles: &triangles,
+            },
+            bound: selection.bound(),
+        };
+        let draw = |source: &dyn Fn(&mut Renderer, &mut Counting), rows: u32| {
+            let mut depth = vec![0u16; 320 * rows as usize];
+            let mut target = Counting::new(320, 240);
+            source(&mut Renderer::new(&mut depth), &mut target);
+            target
+        };
+        let from_mesh = draw(
+            &|r: &mut Renderer, t: &mut Counting| {
+                r.draw(&written, &camera, &style, t).unwrap();
+            },
+            16,
+        );
+        let streamed = |rows| {
+            draw(
+                &|r: &mut Renderer, t: &mut Counting| {
+                    r.draw(&selection, &camera, &style, t).unwrap();
+                },
+                rows,
+            )
+        };
+        let differ = |a: &Counting, b: &Counting| {
+            a.color
+                .iter()
+                .zip(&b.color)
+                .zip(a.hits.iter().zip(&b.hits))
+                .filter(|((a, b), (c, d))| a != b || c != d)
+                .count()
+        };
+        let sixteen = streamed(16);
+        assert_eq!(
+            differ(&sixteen, &from_mesh),
+            0,
+            "eye {eye:?}: streamed differs from the written mesh"
+        );
+        for rows in [1, 7, 240] {
+            assert_eq!(
+                differ(&streamed(rows), &sixteen),
+                0,
+                "eye {eye:?}: {rows}-row bands differ from 16-row ones"
+            );
+        }
     }
 }
 

@@ -46,6 +46,19 @@ impl Selection<'_, '_> {
         });
     }
 
+    /// Streams the current mesh as [`keyed_triangle`](TriangleSink::keyed_triangle)s do: its
+    /// patch, its corners' keys (their vertex numbers: equal keys, equal vertices, within a
+    /// frame) and a function giving corner `i`.
+    pub(crate) fn stream_keyed(
+        &self,
+        mut f: impl FnMut(u32, [u64; 3], &mut dyn FnMut(usize) -> Vertex),
+    ) {
+        self.each_written(|h, corners| {
+            let mut corner = |i: usize| self.vertex(corners[i % 3]);
+            f(h.tri.patch, corners.map(u64::from), &mut corner);
+        });
+    }
+
     /// Streams the current mesh with each triangle's parameters in its own patch and its
     /// bound in model units.
     pub fn stream_with_info(&self, mut f: impl FnMut(&TriangleInfo, [&Vertex; 3])) {

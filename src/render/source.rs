@@ -5,9 +5,11 @@ use core::ops::Range;
 
 use glam::Vec3;
 
+use crate::bisect::Selection;
 use crate::bound::{Aabb, BoundingSphere};
 use crate::domain::DomainIndex;
 use crate::math::{max, min};
+use crate::patch::BezierPatch;
 use crate::sink::{MeshIndex, TriangleSink, Vertex};
 use crate::tessellator::Tessellator;
 use crate::view::Camera;
@@ -49,25 +51,65 @@ impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
             }
             // The patch lies in its control points' convex hull (weights are positive), and
             // in front of the eye the hull projects to the hull of their projections.
-            let hull = self.patches().patch(p).and_then(|patch| {
-                patch
-                    .points()
-                    .iter()
-                    .try_fold([f32::MAX, f32::MIN], |[lo, hi], q| {
-                        let [_, y] = camera.project(Vec3::from_array(*q))?;
-                        Some([min(lo, y), max(hi, y)])
-                    })
-            });
-            let reaches = hull
-                .or_else(|| camera.sphere_rows(&self.patch_bound(p)?))
-                .is_none_or(|[top, bottom]| {
-                    bottom >= rows.start as f32 - 1.0 && top <= rows.end as f32 + 1.0
-                });
-            if reaches {
+            let span = projected_rows(self.patches().patch(p), camera)
+                .or_else(|| camera.sphere_rows(&self.patch_bound(p)?));
+            if reaches(span, &rows) {
                 self.stream_patch_to_keeper(p, sink);
             }
         }
     }
+}
+
+/// The current frame of a bisection run time ([`Selection`]), streamed without a mesh buffer:
+/// every written triangle, its corners named by their vertex numbers (equal within a frame, so
+/// the renderer's sinks project each corner once), the patches that cannot reach the band's
+/// rows left out as the tessellator's stream leaves them out. Nothing is evaluated: the
+/// vertices are the bake's, or the pool's below it.
+impl TriangleSource for Selection<'_, '_> {
+    fn bound(&self) -> Option<BoundingSphere> {
+        sphere_around(self.tree().model().aabb()?)
+    }
+
+    fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
+        let patches = self.tree().model();
+        // The stream goes patch by patch: whether a patch reaches the rows is worked out once.
+        let mut current: Option<(u32, bool)> = None;
+        self.stream_keyed(|patch, keys, corner| {
+            let near = match current {
+                Some((p, near)) if p == patch => near,
+                _ => {
+                    let near =
+                        reaches(projected_rows(patches.patch(patch as usize), camera), &rows)
+                            && sink.wants_patch(patch);
+                    current = Some((patch, near));
+                    near
+                }
+            };
+            if near {
+                sink.keyed_triangle(patch, keys, corner);
+            }
+        });
+    }
+}
+
+/// The pixel rows patch `patch`'s control points project to (the patch lies in their convex
+/// hull, which projects to their projections' hull in front of the eye), or `None` when one
+/// is behind the near plane.
+fn projected_rows(patch: Option<BezierPatch<'_>>, camera: &Camera) -> Option<[f32; 2]> {
+    patch?
+        .points()
+        .iter()
+        .try_fold([f32::MAX, f32::MIN], |[lo, hi], q| {
+            let [_, y] = camera.project(Vec3::from_array(*q))?;
+            Some([min(lo, y), max(hi, y)])
+        })
+}
+
+/// Whether something spanning pixel rows `span` (`None`: unknown) may reach rows `rows`.
+fn reaches(span: Option<[f32; 2]>, rows: &Range<u32>) -> bool {
+    span.is_none_or(|[top, bottom]| {
+        bottom >= rows.start as f32 - 1.0 && top <= rows.end as f32 + 1.0
+    })
 }
 
 /// An indexed triangle mesh in caller buffers, as [`Tessellator::write_mesh`] writes it.
