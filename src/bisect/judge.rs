@@ -101,6 +101,27 @@ fn judge_vectors<const K: usize>(
     }
 }
 
+/// Whether leaf `h`, below the bake, is hidden: its corners beyond one plane of `camera`'s
+/// view by more than a bound of its deviation that needs no samples, the remainder of
+/// linear interpolation from its patch's second derivatives (`½ ρ²`, see `deviation`), with
+/// three times the patch's rounding slack (the corners' points may come from the patch across
+/// a shared curve, within their own slack); `bounds` are the patch's. The run time's
+/// judgement hid it by its lattice's tighter bound; this one, recomputed where the mesh is
+/// written out, leaves out no more.
+pub(super) fn hidden_below_the_bake(
+    selection: &Selection<'_, '_>,
+    camera: &Camera,
+    h: &Pending,
+    bounds: &crate::deviation::PatchBounds,
+) -> bool {
+    let uv = h.tri.corners.map(super::address::unit);
+    let margin = bounds.curvature_term(uv) * (1.0 + 1.0 / 1024.0) + 3.0 * bounds.slack;
+    let viewed = h
+        .corners
+        .map(|v| camera.to_view(Vec3::from_array(selection.vertex_record(v).position)));
+    margin.is_finite() && beyond_one_plane(camera, viewed, margin)
+}
+
 /// Whether the three points `view` (in `camera`'s view coordinates) lie beyond one plane of
 /// the view by more than `margin` (and the rounding of moving them into view coordinates).
 /// Never for an orthographic camera (it has no side planes here).

@@ -10,11 +10,12 @@ impl Selection<'_, '_> {
     /// Calls `f` on every written leaf of the current mesh, patch by patch, with its
     /// vertices.
     fn each_written(&self, mut f: impl FnMut(&Pending, [u32; 3])) {
+        let mut bounds = None;
         walk(self.tree, |h| {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
-            if !self.is_hidden(h) {
+            if !self.is_hidden(h, &mut bounds) {
                 if let Some(corners) = self.written(h) {
                     f(h, corners);
                 }
@@ -49,6 +50,7 @@ impl Selection<'_, '_> {
     /// Streams the current mesh as [`keyed_triangle`](TriangleSink::keyed_triangle)s do: its
     /// patch, its corners' keys (their vertex numbers: equal keys, equal vertices, within a
     /// frame) and a function giving corner `i`.
+    #[cfg(feature = "embedded-graphics")]
     pub(crate) fn stream_keyed(
         &self,
         mut f: impl FnMut(u32, [u64; 3], &mut dyn FnMut(usize) -> Vertex),

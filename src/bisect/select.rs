@@ -33,6 +33,7 @@ use super::judge::judge;
 use super::refine::{key, Pool, RefinedVertex};
 use super::tree::{walk, Bintree, Pending, RUN_TIME};
 use super::BintreeVertex;
+use crate::deviation::PatchBounds;
 use crate::math::max;
 use crate::view::View;
 
@@ -115,6 +116,8 @@ pub struct Selection<'t, 's> {
     stack: &'s mut [Pending],
     len: usize,
     full: bool,
+    /// The last frame's view.
+    view: Option<View>,
     pub(super) stats: SelectionStats,
 }
 
@@ -185,6 +188,7 @@ impl<'t, 's> Selection<'t, 's> {
             stack,
             len: 0,
             full: false,
+            view: None,
             stats: SelectionStats::default(),
         })
     }
@@ -224,9 +228,27 @@ impl<'t, 's> Selection<'t, 's> {
         self.split_vertex(h).is_some()
     }
 
-    /// Whether leaf `h` is left out as hidden.
-    pub(super) fn is_hidden(&self, h: &Pending) -> bool {
-        h.node != RUN_TIME && bit(&self.bits[self.layout().hidden..], h.node)
+    /// Whether leaf `h` is left out as hidden: a triangle of the bake by its bit, one below it
+    /// by [`judge::hidden_below_the_bake`](super::judge::hidden_below_the_bake), with `bounds`
+    /// holding the last patch's bounds it needed (walks go patch by patch).
+    pub(super) fn is_hidden(&self, h: &Pending, bounds: &mut Option<(u32, PatchBounds)>) -> bool {
+        if h.node != RUN_TIME {
+            return bit(&self.bits[self.layout().hidden..], h.node);
+        }
+        let Some(View::Screen { camera, .. }) = &self.view else {
+            return false;
+        };
+        let patch = match *bounds {
+            Some((p, b)) if p == h.tri.patch => b,
+            _ => {
+                let Some(b) = self.tree.patch_of(h.tri.patch).map(|p| PatchBounds::of(&p)) else {
+                    return false;
+                };
+                *bounds = Some((h.tri.patch, b));
+                b
+            }
+        };
+        super::judge::hidden_below_the_bake(self, camera, h, &patch)
     }
 
     /// Whether `h`, a triangle of the bake, was judged this frame.
@@ -270,6 +292,7 @@ impl<'t, 's> Selection<'t, 's> {
         self.bits[..words].fill(0);
         self.pool.clear();
         self.stats = SelectionStats::default();
+        self.view = Some(*view);
         let (tree, tolerance) = (self.tree, view.tolerance());
         for p in 0..tree.patches.len() as u32 {
             for k in 0..2 {
@@ -394,11 +417,12 @@ impl<'t, 's> Selection<'t, 's> {
             e.seen = false;
         }
         let baked = tree.vertices.len() as u32;
+        let mut bounds = None;
         walk(tree, |h| {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
-            if self.is_hidden(h) {
+            if self.is_hidden(h, &mut bounds) {
                 hidden += 1;
                 return None;
             }
