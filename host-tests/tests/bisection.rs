@@ -12,6 +12,8 @@
 //! - history independence: the mesh after each step equals a fresh run time's for that view,
 //!   and a run time's with a stack of 8 (which walks the mesh for the leaves it had no room
 //!   for);
+//! - budget mode: the budget is never exceeded, the frame is within the bound it reports,
+//!   and 1% less tolerance would exceed the budget;
 //! - the frame is the coarsest conforming one: the same triangles as the oracles' bisection
 //!   (`host_tests::bintree`), which finds neighbours its own way, splitting by the same
 //!   bounds.
@@ -149,6 +151,40 @@ fn run_model(path: &std::path::Path) {
         assert!(a == c, "{what}: the mesh differs with a short stack");
     }
     assert!(sweeps > 0, "{label}: a stack of 8 never ran short");
+    // Budget mode on the mid view: within the budget, within the bound it reports, and
+    // minimal (1% less tolerance exceeds the budget).
+    let path = camera_path(center, diag, aabb.min.z);
+    let mid = path.iter().find(|s| s.label == "mid").unwrap();
+    let full = selection.update(&mid.view).triangles;
+    for budget in [full / 3, full / 2, full + 10] {
+        let fit = selection.update_to_budget(&mid.view, budget).unwrap();
+        assert!(
+            fit.stats.triangles <= budget,
+            "{label}: over budget {budget}"
+        );
+        assert_eq!(
+            fit.stats,
+            selection.stats(),
+            "{label}: the fit's frame is the current one"
+        );
+        let (worst, tightest) = measure_frame(&refs, &streamed(&selection), mid.meter.as_ref());
+        println!(
+            "{label} budget {budget}: {} triangles, tolerance {:.4}, bound {:.4}, measured {worst:.4}",
+            fit.stats.triangles, fit.tolerance, fit.bound
+        );
+        assert!(
+            tightest >= 1.0 && worst <= fit.bound as f64 * 1.001 + 1e-3,
+            "{label} budget {budget}: deviation {worst} > reported bound {}",
+            fit.bound
+        );
+        if !fit.exhausted {
+            let finer = selection.update(&mid.view.with_tolerance(fit.tolerance * 0.99));
+            assert!(
+                finer.triangles > budget,
+                "{label}: tolerance not minimal within 1%"
+            );
+        }
+    }
     println!("{label}: {refined} vertices made below the bake");
     assert!(refined > 0, "{label}: no view went below the bake");
     assert_eq!(

@@ -36,6 +36,7 @@
 
 mod address;
 mod bake;
+mod budget;
 mod judge;
 mod kept;
 mod lattice;
@@ -49,6 +50,7 @@ pub use address::SideLink;
 pub use bake::{
     bake_bintree, BakeScratch, BintreeBakeError, BintreeBuffers, BintreeSettings, BintreeSize,
 };
+pub use budget::{BintreeFit, BintreeFitError};
 pub use kept::KEPT;
 pub use refine::RefinedVertex;
 pub use select::{Selection, SelectionError, SelectionStats};

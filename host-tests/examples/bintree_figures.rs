@@ -1,0 +1,58 @@
+//! Bisection bakes (`spline_tess::bisect::bake_bintree`) of every model: their triangles,
+//! vertices and bytes beside the kernel's prefix bake (`spline_tess::bake`) at the same
+//! tolerance. Prints a Markdown table.
+//!
+//! ```text
+//! cargo run --release -p host-tests --example bintree_figures -- 1e-3
+//! ```
+//!
+//! The arguments are tolerances relative to each model's control-point diagonal (default
+//! 1e-3). *Bytes* are the records as a firmware keeps them in flash (`write_rust_source`'s
+//! statics: nodes, vertices and patch records at their in-memory sizes); *prefix bake bytes*
+//! the kernel's format at the same tolerance with the figures' caps (256 samples a curve, 4096
+//! a patch). *Bake s* is one run on one core.
+
+use std::time::Instant;
+
+use host_tests::bisection::BakedBintree;
+use host_tests::model_file::ModelFile;
+use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::Tolerance;
+use spline_tess::bisect::{BintreeNode, BintreePatch, BintreeSettings, BintreeVertex};
+
+fn main() {
+    let rels: Vec<f32> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
+    let rels = if rels.is_empty() { vec![1e-3] } else { rels };
+    println!(
+        "| model | rel. tol. | patches | triangles (nodes) | leaves | vertices | bytes | bake s | prefix bake bytes | bytes / prefix bytes |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for rel in rels {
+        for path in bpt_models().into_iter().chain(nurbs_fixtures()) {
+            let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
+            let settings = BintreeSettings {
+                tolerance: Tolerance::Relative(rel),
+                ..BintreeSettings::default()
+            };
+            let start = Instant::now();
+            let bake = BakedBintree::bake(&file, &settings).expect("a bisection bake");
+            let seconds = start.elapsed().as_secs_f64();
+            let leaves = bake.nodes.iter().filter(|n| n.children == 0).count();
+            let bytes = bake.nodes.len() * size_of::<BintreeNode>()
+                + bake.vertices.len() * size_of::<BintreeVertex>()
+                + bake.patches.len() * size_of::<BintreePatch>();
+            let prefix = file.bake_relative(rel).expect("a prefix bake").len();
+            println!(
+                "| {} | {rel:e} | {} | {} | {leaves} | {} | {bytes} | {seconds:.2} | {prefix} | {:.1} |",
+                name(&path),
+                bake.patches.len(),
+                bake.nodes.len(),
+                bake.vertices.len(),
+                bytes as f64 / prefix as f64
+            );
+        }
+    }
+}
