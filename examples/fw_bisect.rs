@@ -10,9 +10,9 @@
 //!
 //! Runs under QEMU `mps2-an386` and exits 0 when every frame matches bit for bit. Per frame it
 //! prints triangles, vertices, triangles judged, the stack's walks, and instructions (QEMU
-//! `-icount shift=0`) for the selection and the write, and per triangle; at the end the RAM
-//! the run time takes (bits and stack) and the painted stack's high-water mark of a frame.
-//! The output buffers (about 160 KiB) are on the stack: a renderer streams instead.
+//! `-icount shift=0`) for the selection and the write, and per triangle; at the end the
+//! hierarchy's bytes in flash and the RAM the run time takes (bits, stack, pool). The output
+//! buffers (about 160 KiB) are on the stack: a renderer streams instead.
 //!
 //! On the host, `cargo run --example fw_bisect` runs the same check.
 
@@ -40,6 +40,11 @@ mod data {
 
 /// Words of bits the hierarchy takes.
 const BITS: usize = frames::bit_words(baked::TEAPOT_NODES.len(), baked::TEAPOT_VERTICES.len());
+
+/// Bytes of the hierarchy in flash: its nodes, vertices and patch records.
+const FLASH_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_NODES)
+    + core::mem::size_of_val(&baked::TEAPOT_VERTICES)
+    + core::mem::size_of_val(&baked::TEAPOT_PATCHES);
 
 /// Bytes of the run time's storage: its bits, its stack and its pool.
 const STORAGE_BYTES: usize = 4 * BITS
@@ -97,7 +102,7 @@ mod firmware;
 
 #[cfg(target_os = "none")]
 mod device {
-    use super::firmware::{finish, instructions, repaint_stack, stack_used_below, start_clock};
+    use super::firmware::{finish, instructions, start_clock};
     use cortex_m_rt::entry;
     use cortex_m_semihosting::hprintln;
     use panic_semihosting as _;
@@ -108,7 +113,6 @@ mod device {
             finish(false)
         };
         start_clock(cp.SYST);
-        let sp = repaint_stack();
         let ok = super::run(
             |k, f, sweeps, used, ok| {
                 hprintln!(
@@ -126,12 +130,17 @@ mod device {
             instructions,
         );
         hprintln!(
-            "fw_bisect: storage {} bytes (bits {}, stack {}, pool {}), stack used {} bytes with the output buffers",
+            "fw_bisect: hierarchy {} bytes in flash ({} nodes, {} vertices)",
+            super::FLASH_BYTES,
+            super::baked::TEAPOT_NODES.len(),
+            super::baked::TEAPOT_VERTICES.len()
+        );
+        hprintln!(
+            "fw_bisect: storage {} bytes (bits {}, stack {}, pool {})",
             super::STORAGE_BYTES,
             4 * super::BITS,
             super::frames::STACK * core::mem::size_of::<spline_tess::bisect::Pending>(),
             super::frames::POOL * core::mem::size_of::<spline_tess::bisect::RefinedVertex>(),
-            stack_used_below(sp)
         );
         finish(ok)
     }
@@ -151,7 +160,7 @@ fn main() -> std::process::ExitCode {
         },
         || 0,
     );
-    println!("fw_bisect (host): storage {STORAGE_BYTES} bytes");
+    println!("fw_bisect (host): hierarchy {FLASH_BYTES} bytes, storage {STORAGE_BYTES} bytes");
     if ok {
         std::process::ExitCode::SUCCESS
     } else {

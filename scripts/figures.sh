@@ -34,11 +34,11 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 today=$(date -u +%Y-%m-%d)
 
 step "builds"
-cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures --example oracle_selection --example oracle_saturated
+cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures --example oracle_selection --example oracle_saturated --example bintree_figures
 mkdir -p target/glu
 cc -O2 -o target/glu/glu_peer host-tests/glu/glu_peer.c -lGLU -lGL
 cargo build -q --release --example teapot
-cargo build -q --release --example fw_eval --example fw_bake --example fw_tessellate --example fw_teapot --target "$T"
+cargo build -q --release --example fw_eval --example fw_bake --example fw_tessellate --example fw_bisect --example fw_teapot --target "$T"
 
 step "evaluation on the host"
 cargo run -q --release -p host-tests --example eval_speed >"$out/eval_speed.md"
@@ -46,6 +46,7 @@ step "firmware under QEMU"
 cargo run -q --release --example fw_eval --target "$T" >"$out/fw_eval.txt"
 cargo run -q --release --example fw_bake --target "$T" >"$out/fw_bake.txt"
 cargo run -q --release --example fw_tessellate --target "$T" >"$out/fw_tessellate.txt"
+cargo run -q --release --example fw_bisect --target "$T" >"$out/fw_bisect.txt"
 arm-none-eabi-size -A "target/$T/release/examples/fw_eval" |
     awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}' >"$out/fw_eval_sizes.md"
 step "footprint of fw_teapot"
@@ -55,6 +56,8 @@ cargo run -q --release -p host-tests --example runtime_figures >"$out/runtime.md
 step "teapot main job"
 cargo run -q --release --example teapot -- --size 480x360 --out "$out/teapot" >"$out/teapot.txt"
 step "error control, against the uniform grid and GLU"
+ENGINE=bintree GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_bintree_1e-3.md"
+cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 >"$out/bintree_bake.md"
 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_1e-3.md"
 BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_2.5e-4.md"
 SPLIT=1 BAKE_REL=2.5e-4 cargo run -q --release -p host-tests --example error_figures >"$out/error_split_2.5e-4.md"
@@ -112,7 +115,25 @@ tolerance; instructions cover update and indexed write):
 {fw_tess}
 ```"""
 
+# The bisection run time on the issue's views (the first seven rows of its error table).
+bisect_rows = read("error_bintree_1e-3.md").splitlines()
+bisect_table = "\n".join(bisect_rows[:2] + bisect_rows[2:9])
+fw_bisect = read("fw_bisect.txt")
+bisect_block = f"""`ENGINE=bintree cargo run --release -p host-tests --example error_figures` (the bake at 1e-3
+of the diagonal; BENCHMARKS.md has every model). {stamp}
+
+{bisect_table}
+
+`cargo run --release --example fw_bisect --target thumbv7em-none-eabihf` (the teapot's
+hierarchy at 2e-3 in flash, 240x240, QEMU `-icount shift=0`; instructions cover the frame's
+selection and its indexed write):
+
+```text
+{fw_bisect}
+```"""
+
 blocks = {
+    "bisect": bisect_block,
     "teapot-picture": picture,
     "teapot-table": teapot_table,
     "footprint": read("footprint.md"),
@@ -193,7 +214,34 @@ more than 512 x 512 counts as 512 (marked `>`).
 
 {read("bake.md")}
 
-## Error control
+## Error control by bisection (`spline_tess::bisect`)
+
+`ENGINE=bintree cargo run --release -p host-tests --example error_figures`: the cases and
+checks of the next section's tables (below), with the bisection run time in place of the
+prefix tessellator. Each model's hierarchy is baked at 1e-3 of its diagonal; where a view is
+finer, the run time halves below the bake, evaluating and bounding the new triangles itself.
+*Bound / true* is each triangle's bound in model units over its measured deviation;
+*off screen* counts the written triangles with no sample on screen.
+
+{read("error_bintree_1e-3.md")}
+
+The hierarchies' size: `cargo run --release -p host-tests --example bintree_figures -- 1e-3`
+(the records as statics in flash, beside the prefix bake of the same tolerance):
+
+{read("bintree_bake.md")}
+
+On the Cortex-M4F: `cargo run --release --example fw_bisect --target thumbv7em-none-eabihf`
+(the teapot's hierarchy at 2e-3 in flash; fw_tessellate's four 240x240 views: a view, a small
+orbit step, a dolly in, half the tolerance, the last below the bake; instructions cover the
+selection and the indexed write; the storage line gives the run time's RAM: two bits per
+vertex and per node, a stack of 256 waiting triangles, a pool of 2,048 vertices below the
+bake):
+
+```text
+{read("fw_bisect.txt")}
+```
+
+## Error control by prefixes (`spline_tess::tessellator`)
 
 `cargo run --release -p host-tests --example error_figures` (the module docs say exactly what
 is measured), with `GLU_PEER` set to libGLU's NURBS tessellator built from
