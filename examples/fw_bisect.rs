@@ -53,7 +53,7 @@ const STORAGE_BYTES: usize = 4 * BITS
 
 /// Runs every frame, reporting each; true when all match the host.
 fn run(
-    mut report: impl FnMut(usize, &frames::Frame, usize, u64, bool),
+    mut report: impl FnMut(usize, &frames::Frame, &spline_tess::bisect::SelectionStats, u64, bool),
     mut clock: impl FnMut() -> u64,
 ) -> bool {
     let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
@@ -91,7 +91,7 @@ fn run(
         let want = expected::FRAMES[k];
         let ok = [f.triangles, f.vertices, f.judged, f.checksum] == want;
         all &= ok;
-        report(k, &f, stats.sweeps, used, ok);
+        report(k, &f, &stats, used, ok);
     }
     all
 }
@@ -114,14 +114,15 @@ mod device {
         };
         start_clock(cp.SYST);
         let ok = super::run(
-            |k, f, sweeps, used, ok| {
+            |k, f, stats, used, ok| {
                 hprintln!(
-                    "fw_bisect: frame {} triangles {} vertices {} judged {} sweeps {} instructions {} per_triangle {} {}",
+                    "fw_bisect: frame {} triangles {} vertices {} judged {} stack_peak {} sweeps {} instructions {} per_triangle {} {}",
                     k,
                     f.triangles,
                     f.vertices,
                     f.judged,
-                    sweeps,
+                    stats.stack_peak,
+                    stats.sweeps,
                     used,
                     used / (f.triangles.max(1) as u64),
                     if ok { "bit-identical" } else { "DIFFERENT" }
@@ -149,12 +150,14 @@ mod device {
 #[cfg(not(target_os = "none"))]
 fn main() -> std::process::ExitCode {
     let ok = run(
-        |k, f, sweeps, _, ok| {
+        |k, f, stats, _, ok| {
             println!(
-                "fw_bisect (host): frame {k} triangles {} vertices {} judged {} sweeps {sweeps} {}",
+                "fw_bisect (host): frame {k} triangles {} vertices {} judged {} stack_peak {} sweeps {} {}",
                 f.triangles,
                 f.vertices,
                 f.judged,
+                stats.stack_peak,
+                stats.sweeps,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )
         },

@@ -13,7 +13,7 @@ pub(crate) type Point = [u16; 2];
 
 /// A triangle of one patch's hierarchy: its right-angle corner, then the ends of its
 /// hypotenuse, counter-clockwise in the `(u, v)` square.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Tri {
     /// The patch.
@@ -33,6 +33,17 @@ pub struct SideLink {
     pub side: Side,
     /// Whether the side parameter of one is `1 - t` of the other's.
     pub flip: bool,
+}
+
+/// Field by field: a derived comparison of the corner arrays is a call to `memcmp` on a
+/// Cortex-M, where the run time compares triangles at every step of a descent.
+impl PartialEq for Tri {
+    #[inline]
+    fn eq(&self, other: &Tri) -> bool {
+        let [a, b, c] = self.corners;
+        let [x, y, z] = other.corners;
+        self.patch == other.patch && a == x && b == y && c == z
+    }
 }
 
 impl Tri {

@@ -437,6 +437,16 @@ impl Baker<'_, '_> {
     }
 }
 
+/// The longest of `vectors`' lengths, rounded up (a bound of the root of the largest square,
+/// the squares' few roundings covered).
+pub(crate) fn longest_of(vectors: &[Vec3]) -> f32 {
+    let mut big = 0.0f32;
+    for v in vectors {
+        big = max(big, v.dot(*v));
+    }
+    crate::math::sqrt_above(big) * (1.0 + 4.0 * crate::deviation::EPS)
+}
+
 impl BintreeNode {
     /// The bound of the node's deviation in model units: its longest kept vector plus the
     /// remainder.
@@ -447,11 +457,7 @@ impl BintreeNode {
     /// The longest kept vector's length, rounded up (a bound of the root of the largest
     /// square, the squares' few roundings covered).
     pub(crate) fn longest(&self) -> f32 {
-        let mut big = 0.0f32;
-        for v in dequantize(&self.vectors, self.scale) {
-            big = max(big, v.dot(v));
-        }
-        crate::math::sqrt_above(big) * (1.0 + 4.0 * crate::deviation::EPS)
+        longest_of(&self.kept())
     }
 
     /// The kept vectors in model units.

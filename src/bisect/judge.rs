@@ -18,6 +18,7 @@
 use glam::Vec3;
 
 use super::address::ONE;
+use super::bake::longest_of;
 use super::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use super::select::Selection;
 use super::tree::Pending;
@@ -41,7 +42,7 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
     let tree = &selection.tree;
     if let Some(node) = tree.node(h) {
         let kept = node.kept();
-        return judge_vectors(view, corners, &kept, node.longest(), node.remainder);
+        return judge_vectors(view, corners, &kept, longest_of(&kept), node.remainder);
     }
     let Some(patch) = tree.patch_of(h.tri.patch) else {
         return Judged {
@@ -56,11 +57,7 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
         ONE as u32,
         corners.map(|c| c.to_array()),
     );
-    let mut longest = 0.0f32;
-    for v in &vectors {
-        longest = max(longest, v.dot(*v));
-    }
-    let big = sqrt_above(longest) * (1.0 + 4.0 * EPS);
+    let big = longest_of(&vectors);
     if !(big.is_finite() && remainder.is_finite()) {
         return Judged {
             bound: f32::INFINITY,
@@ -139,15 +136,10 @@ fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], margin: f32) -> bool {
     }
     let ([sx, sy], [nx, ny]) = camera.side_planes();
     let near = camera.near();
-    // Each plane's signed distance, positive inside (as `deviation/screen.rs` clips).
-    let planes: [&dyn Fn(Vec3) -> f32; 5] = [
-        &|p| p.z - near,
-        &|p| (-(-p.x - sx * p.z)) / nx,
-        &|p| (-(p.x - sx * p.z)) / nx,
-        &|p| (-(-p.y - sy * p.z)) / ny,
-        &|p| (-(p.y - sy * p.z)) / ny,
-    ];
-    planes
-        .iter()
-        .any(|inside| view.iter().all(|&p| inside(p) < -w))
+    // Each plane's signed distance outside (as `deviation/screen.rs` clips, negated).
+    view.iter().all(|p| near - p.z > w)
+        || view.iter().all(|p| (-p.x - sx * p.z) / nx > w)
+        || view.iter().all(|p| (p.x - sx * p.z) / nx > w)
+        || view.iter().all(|p| (-p.y - sy * p.z) / ny > w)
+        || view.iter().all(|p| (p.y - sy * p.z) / ny > w)
 }

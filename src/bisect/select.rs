@@ -216,6 +216,8 @@ impl<'t, 's> Selection<'t, 's> {
     pub(super) fn split_vertex(&self, h: &Pending) -> Option<u32> {
         match self.tree.node(h) {
             Some(n) if n.children != 0 => bit(self.active(), n.vertex).then_some(n.vertex),
+            // Below the bake: in the pool, if anything is (most frames make nothing there).
+            _ if self.pool.used == 0 => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
                 let base = self.tree.vertices.len() as u32;

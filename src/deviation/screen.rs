@@ -174,21 +174,25 @@ pub(crate) fn bound_on_screen(
         n: 3,
     };
     front.v[..3].copy_from_slice(&corners);
-    let planes = [
-        &|p: Vec3| p.z - near,
-        &|p: Vec3| w - (-p.x - sx * p.z) / nx,
-        &|p: Vec3| w - (p.x - sx * p.z) / nx,
-        &|p: Vec3| w - (-p.y - sy * p.z) / ny,
-        &|p: Vec3| w - (p.y - sy * p.z) / ny,
-    ] as [&dyn Fn(Vec3) -> f32; 5];
     // A triangle inside every plane is its own clipped polygon (the common case: no copy).
-    let inside = corners
-        .iter()
-        .all(|&p| planes.iter().all(|plane| plane(p) >= 0.0));
+    // Tested without the clip's divisions (`nx`, `ny` > 0): where the two forms round apart,
+    // a corner on a plane, the test may skip a clip that would move it by a rounding, which
+    // only leaves the polygon a hair larger.
+    let (wx, wy) = (w * nx, w * ny);
+    let inside = corners.iter().all(|&p| {
+        p.z >= near
+            && (-p.x - sx * p.z) <= wx
+            && (p.x - sx * p.z) <= wx
+            && (-p.y - sy * p.z) <= wy
+            && (p.y - sy * p.z) <= wy
+    });
     if !inside {
-        for plane in planes {
-            front = front.clip(plane);
-        }
+        front = front
+            .clip(|p| p.z - near)
+            .clip(|p| w - (-p.x - sx * p.z) / nx)
+            .clip(|p| w - (p.x - sx * p.z) / nx)
+            .clip(|p| w - (-p.y - sy * p.z) / ny)
+            .clip(|p| w - (p.y - sy * p.z) / ny);
     }
     if front.n == 0 {
         return 0.0;
