@@ -234,7 +234,7 @@ On the Cortex-M4F: `cargo run --release --example fw_bisect --target thumbv7em-n
 (the teapot's hierarchy at 2e-3 in flash; fw_tessellate's four 240x240 views: a view, a small
 orbit step, a dolly in, half the tolerance, the last below the bake; instructions cover the
 selection and the indexed write; the storage line gives the run time's RAM: two bits per
-vertex and per node, a stack of 256 waiting triangles, a pool of 2,048 vertices below the
+vertex and three per node, a stack of 256 waiting triangles, a pool of 2,048 vertices below the
 bake):
 
 ```text

@@ -23,7 +23,8 @@
 //!
 //! Bits, in the caller's `u32`s ([`Bintree::bit_words`]): per vertex, whether it is in the
 //! mesh (its triangles halved) and whether the frame's count has seen it; per node, whether it
-//! was judged and whether it is hidden (not written out). A stack of waiting triangles, and a
+//! was judged, whether it is hidden (not written out), and whether a leaf of the bake is halved
+//! below it. A stack of waiting triangles, and a
 //! pool of vertices below the bake ([`RefinedVertex`]), both of any length.
 
 use core::fmt;
@@ -96,9 +97,9 @@ impl core::error::Error for SelectionError {}
 
 impl Bintree<'_> {
     /// `u32` words of [`Selection`]'s bit storage for this hierarchy: two bits per vertex
-    /// and two per node.
+    /// and three per node.
     pub fn bit_words(&self) -> usize {
-        2 * self.vertices.len().div_ceil(32) + 2 * self.nodes.len().div_ceil(32)
+        2 * self.vertices.len().div_ceil(32) + 3 * self.nodes.len().div_ceil(32)
     }
 }
 
@@ -116,17 +117,19 @@ pub struct Selection<'t, 's> {
     stack: &'s mut [Pending],
     len: usize,
     full: bool,
+    layout: Layout,
     /// The last frame's view.
     view: Option<View>,
     pub(super) stats: SelectionStats,
 }
 
 /// Offsets of the bit sets in [`Selection::bits`].
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Layout {
     seen: usize,
     judged: usize,
     hidden: usize,
+    refined: usize,
 }
 
 impl Layout {
@@ -139,6 +142,7 @@ impl Layout {
             seen: v,
             judged: 2 * v,
             hidden: 2 * v + n,
+            refined: 2 * v + 2 * n,
         }
     }
 }
@@ -188,6 +192,7 @@ impl<'t, 's> Selection<'t, 's> {
             stack,
             len: 0,
             full: false,
+            layout: Layout::of(&tree),
             view: None,
             stats: SelectionStats::default(),
         })
@@ -204,7 +209,7 @@ impl<'t, 's> Selection<'t, 's> {
     }
 
     fn layout(&self) -> Layout {
-        Layout::of(&self.tree)
+        self.layout
     }
 
     /// The vertices' bits: set where a vertex is in the mesh.
@@ -216,8 +221,10 @@ impl<'t, 's> Selection<'t, 's> {
     pub(super) fn split_vertex(&self, h: &Pending) -> Option<u32> {
         match self.tree.node(h) {
             Some(n) if n.children != 0 => bit(self.active(), n.vertex).then_some(n.vertex),
-            // Below the bake: in the pool, if anything is (most frames make nothing there).
+            // Below the bake: in the pool, if anything is (most frames make nothing there, and
+            // most leaves of the bake are not halved).
             _ if self.pool.used == 0 => None,
+            Some(_) if !bit(&self.bits[self.layout.refined..], h.node) => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
                 let base = self.tree.vertices.len() as u32;
@@ -395,6 +402,12 @@ impl<'t, 's> Selection<'t, 's> {
             _ => match self.pool.make(&tree, &h.tri, tree.vertices.len() as u32) {
                 Some(v) => {
                     self.stats.refined += 1;
+                    let refined = self.layout().refined;
+                    for x in [across, Some(*h)].into_iter().flatten() {
+                        if x.node != RUN_TIME {
+                            set(&mut self.bits[refined..], x.node);
+                        }
+                    }
                     v
                 }
                 None => return false,
