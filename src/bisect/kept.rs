@@ -25,8 +25,13 @@ use glam::Vec3;
 use crate::deviation::EPS;
 use crate::math::{length, max};
 
-/// Deviation vectors a node keeps.
-pub const KEPT: usize = 8;
+/// Deviation vectors a node keeps (besides zero). With the bake's lattice of step 1/12 (a
+/// remainder a quarter of the 1/6 lattice's) four are as good as eight: measured 2026-11-25
+/// (`BAKE_REL=2.5e-4 ENGINE=bintree error_figures`, the seven views), 8, 6, 4, 3 and
+/// 2 vectors took Gumbo 0.570, 0.569, 0.574, 0.592 and 0.705 of the verified grid and the
+/// teapot 0.71-0.75, 0.71-0.74, 0.71-0.74, 0.72-0.76 and 0.83-0.88; four take 12 bytes a
+/// triangle where eight took 24.
+pub const KEPT: usize = 4;
 
 /// Frank-Wolfe steps per distance: while choosing the vectors to keep, and for the widening.
 const CHOOSING_STEPS: usize = 16;
@@ -247,11 +252,10 @@ mod tests {
         let d = dequantize(&k.vectors, k.scale);
         let n = d.iter().filter(|x| **x != Vec3::ZERO).count();
         assert_eq!(n, KEPT);
-        let mut worst_gap = 0.0f32;
         for e in v {
             // A lower bound of e's distance to the hull, from the plane through the hull's
-            // farthest point along the direction from the hull's nearest vertex to e: the
-            // widening must be above it, and not far above.
+            // farthest point along a direction from one of its vertices to e: the widening
+            // must be above it.
             let mut lower = 0.0f32;
             for a in d.iter().chain([Vec3::ZERO].iter()) {
                 let dir = e - *a;
@@ -263,9 +267,7 @@ mod tests {
                 lower = lower.max(e.dot(dir) - reach);
             }
             assert!(lower <= k.widening, "{lower} > {}", k.widening);
-            worst_gap = worst_gap.max(k.widening - lower);
         }
         assert!(k.widening < 0.5, "{}", k.widening);
-        let _ = worst_gap;
     }
 }
