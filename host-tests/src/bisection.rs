@@ -110,13 +110,6 @@ impl SelectionStorage {
 /// The current frame as streamed triangles.
 pub fn streamed(selection: &Selection<'_, '_>) -> Vec<Streamed> {
     let mut out = Vec::new();
-    selection.stream_with_info(|info, c| {
-        out.push(Streamed {
-            patch: info.patch,
-            corners: [*c[0], *c[1], *c[2]],
-            uv: info.uv,
-            bound: info.bound,
-        })
-    });
+    selection.stream_with_info(|info, c| out.push(Streamed::of(info, c)));
     out
 }

@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use spline_tess::tessellator::Tessellator;
-use spline_tess::{DomainIndex, Vertex};
+use spline_tess::{DomainIndex, TriangleInfo, Vertex};
 
 pub use crate::runtime_storage::RuntimeStorage;
 
@@ -42,17 +42,22 @@ pub struct Streamed {
     pub bound: f32,
 }
 
-/// The current frame as streamed triangles.
-pub fn streamed<Ix: DomainIndex>(tess: &Tessellator<'_, '_, Ix>) -> Vec<Streamed> {
-    let mut out = Vec::new();
-    tess.stream_with_info(|info, c| {
-        out.push(Streamed {
+impl Streamed {
+    /// A streamed triangle as a `stream_with_info` hands it out.
+    pub fn of(info: &TriangleInfo, c: [&Vertex; 3]) -> Streamed {
+        Streamed {
             patch: info.patch,
             corners: [*c[0], *c[1], *c[2]],
             uv: info.uv,
             bound: info.bound,
-        })
-    });
+        }
+    }
+}
+
+/// The current frame as streamed triangles.
+pub fn streamed<Ix: DomainIndex>(tess: &Tessellator<'_, '_, Ix>) -> Vec<Streamed> {
+    let mut out = Vec::new();
+    tess.stream_with_info(|info, c| out.push(Streamed::of(info, c)));
     out
 }
 

@@ -36,13 +36,23 @@ const BAKE: BintreeSettings = BintreeSettings {
     max_depth: 24,
 };
 
-fn run_model(path: &std::path::Path) {
-    let label = name(path);
+/// A model file, its hierarchy with [`BAKE`], and its patches in the `f64` reference.
+fn baked(path: &std::path::Path) -> (ModelFile, BakedBintree, Vec<RefPatch>) {
     let file = ModelFile::read(path.to_str().unwrap()).unwrap();
     let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+    let refs = file
+        .patches()
+        .iter()
+        .map(|p| RefPatch::from_kernel(&p))
+        .collect();
+    (file, baked, refs)
+}
+
+fn run_model(path: &std::path::Path) {
+    let label = name(path);
+    let (file, baked, refs) = baked(path);
     let tree = baked.tree();
     let patches = file.patches();
-    let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
     let aabb = patches.aabb().unwrap();
     let (center, diag) = (aabb.center(), aabb.diagonal());
     let (edges, uses): (Vec<[EdgeLink; 4]>, Vec<u32>) = file
@@ -198,11 +208,9 @@ fn run_model(path: &std::path::Path) {
 /// way: by their corners' points in model space) splitting by the bake's own bounds.
 fn coarsest(path: &std::path::Path) {
     let label = name(path);
-    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
-    let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+    let (file, baked, refs) = baked(path);
     let tree = baked.tree();
     let patches = file.patches();
-    let refs: Vec<RefPatch> = patches.iter().map(|p| RefPatch::from_kernel(&p)).collect();
     let diag = patches.aabb().unwrap().diagonal() as f64;
     // Every baked triangle's bound, by its corners on the oracles' grid (half the kernel's).
     let mut bounds: HashMap<Bin, f32> = HashMap::new();

@@ -345,6 +345,18 @@ fn dense_reference(file: &ModelFile, n: usize) -> (Vec<Vertex>, Vec<[u32; 3]>) {
     (vs, ts)
 }
 
+/// What `source` draws onto a counting target of `size` with a depth band of `rows` rows.
+fn draw_banded(
+    size: [u32; 2],
+    rows: u32,
+    source: &dyn Fn(&mut Renderer, &mut Counting),
+) -> Counting {
+    let mut depth = vec![0u16; (size[0] * rows) as usize];
+    let mut target = Counting::new(size[0], size[1]);
+    source(&mut Renderer::new(&mut depth), &mut target);
+    target
+}
+
 fn mask_of(source: &impl TriangleSource, camera: &Camera, band_rows: u32) -> Counting {
     let [w, h] = camera.viewport();
     let mut target = Counting::new(w, h);
@@ -427,10 +439,7 @@ fn bands_streaming_and_repeats_give_the_same_pixels() {
         })
         .unwrap();
         let draw = |source: &dyn Fn(&mut Renderer, &mut Counting), rows: u32| {
-            let mut depth = vec![0u16; 200 * rows as usize];
-            let mut target = Counting::new(200, 150);
-            source(&mut Renderer::new(&mut depth), &mut target);
-            target
+            draw_banded([200, 150], rows, source)
         };
         let streamed = |r: &mut Renderer, t: &mut Counting| {
             r.draw(&tess, &camera, &style, t).unwrap();
@@ -583,10 +592,7 @@ fn bisection_frames_cover_the_surface_and_draw_as_their_mesh() {
             bound: selection.bound(),
         };
         let draw = |source: &dyn Fn(&mut Renderer, &mut Counting), rows: u32| {
-            let mut depth = vec![0u16; 320 * rows as usize];
-            let mut target = Counting::new(320, 240);
-            source(&mut Renderer::new(&mut depth), &mut target);
-            target
+            draw_banded([320, 240], rows, source)
         };
         let from_mesh = draw(
             &|r: &mut Renderer, t: &mut Counting| {
