@@ -361,7 +361,8 @@ impl Baker<'_, '_> {
 
     /// Halves leaf `i` and the triangle across its hypotenuse (halving coarser ones first
     /// where needed, so that one of their halves is across), unless it is at the depth
-    /// limit. `depth` guards the recursion.
+    /// limit or the triangle across cannot be made. `depth` guards the recursion (a coarser
+    /// triangle across is at least one level up, so the guard is never reached by 30 levels).
     fn split(&mut self, i: usize, depth: u32) -> Result<(), BintreeBakeError> {
         let t = self.scratch[i].tri;
         if self.nodes[i].children != 0 || !t.can_split() || self.level(&t) >= self.max_depth {
@@ -379,12 +380,13 @@ impl Baker<'_, '_> {
                 }
                 let before = self.node_count;
                 if depth > 64 {
-                    break;
+                    return Ok(());
                 }
                 self.split(leaf, depth + 1)?;
                 if self.node_count == before {
-                    // The coarser leaf stays whole (depth limit): nothing across.
-                    break;
+                    // The coarser leaf stays whole (it cannot be halved): so does this one,
+                    // which would otherwise leave a vertex on its side.
+                    return Ok(());
                 }
             }
         }
