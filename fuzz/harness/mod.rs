@@ -7,6 +7,7 @@
 
 #![allow(dead_code)]
 
+pub mod bisect;
 pub mod bytes;
 pub mod inputs;
 #[path = "../../examples/common/model_file.rs"]
@@ -28,4 +29,5 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("baked_model", inputs::baked_model),
     ("runtime", runtime::runtime),
     ("render", render::render),
+    ("bisect", bisect::bisect),
 ];

@@ -22,7 +22,7 @@ use super::runtime_storage::RuntimeStorage;
 
 /// The models: poles (teaspoon, teapot, hemisphere), seams (torus), a degree-1 direction and
 /// open edges (quarter cylinder).
-const MODELS: [(&str, &str); 5] = [
+pub(crate) const MODELS: [(&str, &str); 5] = [
     ("bpt", include_str!("../../examples/models/teaspoon.bpt")),
     ("bpt", include_str!("../../examples/models/teapot.bpt")),
     (
@@ -85,7 +85,7 @@ fn baked(model: usize, bake: usize) -> &'static Baked {
 }
 
 /// Tolerances that must be refused or survived.
-const SPECIAL: [f32; 10] = [
+pub(crate) const SPECIAL: [f32; 10] = [
     1.0,
     0.5,
     2.0,
@@ -98,7 +98,7 @@ const SPECIAL: [f32; 10] = [
     f32::MIN_POSITIVE,
 ];
 
-fn camera(r: &mut Bytes<'_>, center: Vec3, diag: f32) -> Option<Camera> {
+pub(crate) fn camera(r: &mut Bytes<'_>, center: Vec3, diag: f32) -> Option<Camera> {
     let coord = |r: &mut Bytes<'_>, s: f32| r.i8() as f32 / 32.0 * s;
     let eye = center + Vec3::new(coord(r, diag), coord(r, diag), coord(r, diag));
     let target = center
@@ -128,7 +128,7 @@ fn camera(r: &mut Bytes<'_>, center: Vec3, diag: f32) -> Option<Camera> {
 }
 
 /// Bit-exact digest of a vertex.
-fn vertex_bits(v: &Vertex) -> [u32; 9] {
+pub(crate) fn vertex_bits(v: &Vertex) -> [u32; 9] {
     let p = v.position.map(f32::to_bits);
     let n = v.normal.map(f32::to_bits);
     let t = v.uv.map(f32::to_bits);

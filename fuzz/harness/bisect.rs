@@ -1,0 +1,222 @@
+//! The bisection run time under arbitrary use: bytes choose a model of the runtime target's
+//! set, a bake tolerance, the run time's stack and pool sizes, and a sequence of views
+//! (cameras, object tolerances, budgets, any of them invalid); every frame is written into
+//! small and exact buffers and streamed.
+//!
+//! What must hold: no panic; a refused write leaves the buffers untouched; every written index
+//! points at a written vertex; the stream is the indexed mesh, vertex for vertex; a frame with
+//! nothing left over is within its tolerance by its own bound; the same view again gives the
+//! same mesh, and so does a run time with another stack (history and storage do not matter); a
+//! budget frame keeps its budget.
+
+use std::sync::OnceLock;
+
+use spline_tess::bake::Tolerance;
+use spline_tess::bisect::{
+    bake_bintree, BakeScratch, Bintree, BintreeBakeError, BintreeBuffers, BintreeNode,
+    BintreePatch, BintreeSettings, BintreeVertex, Pending, RefinedVertex, Selection,
+};
+use spline_tess::{TriangleSink, Vertex, View, WriteError};
+
+use super::bytes::Bytes;
+use super::model_file::ModelFile;
+use super::runtime::{camera, vertex_bits, MODELS, SPECIAL};
+
+/// Bake tolerances, relative to the diagonal.
+const BAKES: [f32; 2] = [1e-2, 3e-3];
+
+struct Baked {
+    file: ModelFile,
+    nodes: Vec<BintreeNode>,
+    vertices: Vec<BintreeVertex>,
+    patches: Vec<BintreePatch>,
+}
+
+impl Baked {
+    fn tree(&self) -> Bintree<'_> {
+        Bintree::new(
+            self.file.patches(),
+            &self.nodes,
+            &self.vertices,
+            &self.patches,
+        )
+        .expect("a fresh bake checks")
+    }
+}
+
+fn baked(model: usize, bake: usize) -> &'static Baked {
+    static CACHE: [[OnceLock<Baked>; BAKES.len()]; MODELS.len()] =
+        [const { [const { OnceLock::new() }; BAKES.len()] }; MODELS.len()];
+    CACHE[model][bake].get_or_init(|| {
+        let (kind, text) = MODELS[model];
+        let file = if kind == "bpt" {
+            ModelFile::from_bpt(text)
+        } else {
+            ModelFile::from_nurbs_json(text)
+        }
+        .expect("a repository model parses");
+        let settings = BintreeSettings {
+            tolerance: Tolerance::Relative(BAKES[bake]),
+            ..BintreeSettings::default()
+        };
+        let count = file.patches().len();
+        let (mut n, mut v) = (1usize << 14, 1usize << 13);
+        loop {
+            let mut nodes = vec![BintreeNode::default(); n];
+            let mut vertices = vec![BintreeVertex::default(); v];
+            let mut patches = vec![BintreePatch::default(); count];
+            let mut scratch = vec![BakeScratch::default(); n];
+            let result = file
+                .with_model(|m| {
+                    bake_bintree(
+                        m,
+                        &settings,
+                        BintreeBuffers {
+                            nodes: &mut nodes,
+                            vertices: &mut vertices,
+                            patches: &mut patches,
+                            scratch: &mut scratch,
+                        },
+                    )
+                })
+                .expect("a repository model has a topology");
+            match result {
+                Ok(size) => {
+                    nodes.truncate(size.nodes);
+                    vertices.truncate(size.vertices);
+                    return Baked {
+                        file,
+                        nodes,
+                        vertices,
+                        patches,
+                    };
+                }
+                Err(BintreeBakeError::NodesFull { .. }) => n *= 2,
+                Err(BintreeBakeError::VerticesFull { .. }) => v *= 2,
+                Err(e) => panic!("a repository model bakes: {e}"),
+            }
+        }
+    })
+}
+
+/// Collects the stream.
+#[derive(Default, PartialEq)]
+struct Stream {
+    triangles: Vec<(u32, [[u32; 9]; 3])>,
+}
+
+impl TriangleSink for Stream {
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
+        self.triangles.push((patch, corners.map(vertex_bits)));
+    }
+}
+
+/// The current frame written whole (`None` past `limit` triangles), after a write into small
+/// buffers that must be refused untouched or succeed.
+fn written(
+    s: &Selection<'_, '_>,
+    r: &mut Bytes<'_>,
+    limit: usize,
+) -> Option<(Vec<Vertex>, Vec<[u32; 3]>)> {
+    let need = s.mesh_size();
+    let mut remap = vec![0u32; s.remap_len()];
+    let marker = Vertex {
+        patch: 0xdead_beef,
+        ..Vertex::default()
+    };
+    let (sv, st) = (
+        (r.u16() as usize).min(need.vertices + 1),
+        (r.u16() as usize).min(need.triangles + 1),
+    );
+    let mut vs = vec![marker; sv];
+    let mut ts = vec![[7u32; 3]; st];
+    match s.write_mesh(&mut vs, &mut ts, &mut remap) {
+        Ok(size) => {
+            assert_eq!(size, need);
+            assert!(vs[size.vertices..].iter().all(|v| *v == marker));
+        }
+        Err(WriteError::BuffersTooSmall { needed }) => {
+            assert_eq!(needed, need);
+            assert!(vs.iter().all(|v| *v == marker) && ts.iter().all(|t| *t == [7; 3]));
+        }
+        Err(e) => panic!("a write into remap_len entries: {e}"),
+    }
+    if need.triangles > limit {
+        return None;
+    }
+    let mut vs = vec![Vertex::default(); need.vertices];
+    let mut ts = vec![[0u32; 3]; need.triangles];
+    s.write_mesh(&mut vs, &mut ts, &mut remap)
+        .expect("exact buffers");
+    for t in &ts {
+        assert!(t.iter().all(|&i| (i as usize) < vs.len()), "{t:?}");
+    }
+    let mut stream = Stream::default();
+    s.stream(&mut stream);
+    assert_eq!(stream.triangles.len(), ts.len(), "stream != mesh count");
+    for ((_, corners), t) in stream.triangles.iter().zip(&ts) {
+        assert_eq!(
+            *corners,
+            t.map(|i| vertex_bits(&vs[i as usize])),
+            "the stream is not the indexed mesh"
+        );
+    }
+    Some((vs, ts))
+}
+
+/// The `bisect` target.
+pub fn bisect(data: &[u8]) {
+    let mut r = Bytes::new(data);
+    let model = r.u8() as usize % MODELS.len();
+    let bake = r.u8() as usize % BAKES.len();
+    let b = baked(model, bake);
+    let tree = b.tree();
+    let stack = 4 + r.u8() as usize % 64;
+    let pool = [0, 16, 256, 4096][r.u8() as usize % 4];
+    let mut bits = vec![0u32; tree.bit_words()];
+    let mut stack_slots = vec![Pending::default(); stack];
+    let mut pool_slots = vec![RefinedVertex::default(); pool];
+    let mut s = Selection::new(tree, &mut bits, &mut stack_slots, &mut pool_slots)
+        .expect("storage sized for the tree");
+    let aabb = b.file.patches().aabb().expect("a model has patches");
+    let (center, diag) = ((aabb.min + aabb.max) * 0.5, aabb.diagonal());
+    for _ in 0..4 {
+        if r.is_empty() {
+            break;
+        }
+        let view = match r.u8() % 3 {
+            0 => View::Object {
+                tolerance: r.value(&SPECIAL, 2e-3) * diag,
+            },
+            _ => match camera(&mut r, center, diag) {
+                Some(camera) => View::Screen {
+                    camera,
+                    tolerance_px: r.value(&SPECIAL, 1.0),
+                },
+                None => continue,
+            },
+        };
+        if r.u8().is_multiple_of(4) {
+            let budget = r.u16() as usize;
+            if let Ok(fit) = s.update_to_budget(&view, budget) {
+                assert!(fit.stats.triangles <= budget, "over budget");
+            }
+            continue;
+        }
+        let stats = s.update(&view);
+        let tolerance = view.tolerance();
+        if stats.left_over == 0 && tolerance > 0.0 {
+            assert!(
+                !(stats.worst_bound > tolerance),
+                "bound {} over {tolerance} with nothing left over",
+                stats.worst_bound
+            );
+        }
+        let Some(first) = written(&s, &mut r, 1 << 14) else {
+            continue;
+        };
+        s.update(&view);
+        let again = written(&s, &mut r, 1 << 14).expect("the same frame again");
+        assert!(first == again, "the same view twice differs");
+    }
+}
