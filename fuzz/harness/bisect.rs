@@ -207,7 +207,7 @@ pub fn bisect(data: &[u8]) {
         let tolerance = view.tolerance();
         if stats.left_over == 0 && tolerance > 0.0 {
             assert!(
-                !(stats.worst_bound > tolerance),
+                stats.worst_bound <= tolerance,
                 "bound {} over {tolerance} with nothing left over",
                 stats.worst_bound
             );
