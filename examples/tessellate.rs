@@ -18,6 +18,10 @@
 //! diagonal). `--split` tessellates the model with every patch split into four
 //! (`PatchSet::split`, baked on the fly): fewer triangles where a patch spans many depths; the
 //! OBJ's groups are then the quarters (`patch_K` is quarter K, a part of patch K / 4).
+//! `--bisect` uses the bisection run time (`spline_tess::bisect`) instead of the prefix
+//! tessellator: the model's hierarchy is baked on the fly at the bake tolerance, every frame
+//! is found from scratch, and the JSON line gives its own figures (triangles judged, vertices
+//! made below the bake, leaves left over, the bound the frame honours).
 //!
 //! OBJ: `v` and `vn` per vertex (vertices on shared curves are shared by index, so the mesh is
 //! welded), `vt` per face corner's own parameters (the patch's; for NURBS, the surface's), one
@@ -30,17 +34,18 @@ mod common;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use common::model_file::{bake_to_vec, ModelFile};
-use common::obj::{frame_faces, write_obj};
+use common::model_file::{bake_to_vec, BakedBintree, ModelFile};
+use common::obj::{faces_of, frame_faces, write_obj};
 use common::runtime_storage::RuntimeStorage;
 use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
 use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, FrameStats, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
                      --eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG --viewport WxH) \
                      [--budget N] [--path FILE] [--baked FILE.bin] [--bake-tolerance REL] \
-                     [--near D] [--split] --obj OUT.obj";
+                     [--near D] [--split] [--bisect] --obj OUT.obj";
 
 #[derive(Default)]
 struct Args {
@@ -58,6 +63,7 @@ struct Args {
     bake_tolerance: Option<f32>,
     near: Option<f32>,
     split: bool,
+    bisect: bool,
     obj: String,
 }
 
@@ -108,6 +114,7 @@ fn parse_args() -> Result<Args, String> {
             "--baked" => a.baked = Some(value(&x, args.next())?),
             "--bake-tolerance" => a.bake_tolerance = Some(value(&x, args.next())?),
             "--split" => a.split = true,
+            "--bisect" => a.bisect = true,
             "--near" => a.near = Some(value(&x, args.next())?),
             "--obj" => obj = Some(value::<String>(&x, args.next())?),
             "-h" | "--help" => return Err(USAGE.to_string()),
@@ -201,6 +208,53 @@ fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
     )
 }
 
+/// The frames through the bisection run time (`--bisect`).
+fn run_bisect(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Result<(), String> {
+    let settings = BintreeSettings {
+        tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
+        ..BintreeSettings::default()
+    };
+    let bake = BakedBintree::bake(file, &settings).map_err(|e| format!("bake: {e}"))?;
+    let tree = bake.tree();
+    let mut bits = vec![0u32; tree.bit_words()];
+    let mut stack = vec![Pending::default(); 4096];
+    let mut pool = vec![RefinedVertex::default(); 1 << 16];
+    let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool)
+        .map_err(|e| format!("run time: {e}"))?;
+    let mut remap = vec![0u32; selection.remap_len()];
+    let (mut vertices, mut triangles) = (Vec::new(), Vec::<[u32; 3]>::new());
+    for (frame, view) in views.iter().enumerate() {
+        let start = Instant::now();
+        let (s, tolerance) = match args.budget {
+            Some(n) => {
+                let fit = selection
+                    .update_to_budget(view, n)
+                    .map_err(|e| format!("frame {frame}: {e}"))?;
+                (fit.stats, fit.tolerance)
+            }
+            None => (selection.update(view), view.tolerance()),
+        };
+        let size = selection.mesh_size();
+        vertices.resize(size.vertices, Vertex::default());
+        triangles.resize(size.triangles, [0; 3]);
+        selection
+            .write_mesh(&mut vertices, &mut triangles, &mut remap)
+            .map_err(|e| format!("frame {frame}: {e}"))?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        println!(
+            "{{\"frame\":{frame},\"tolerance\":{tolerance},\"triangles\":{},\"vertices\":{},\
+             \"judged\":{},\"hidden\":{},\"refined\":{},\"left_over\":{},\"worst_bound\":{},\
+             \"ms\":{ms:.3}}}",
+            s.triangles, s.vertices, s.judged, s.hidden, s.refined, s.left_over, s.worst_bound
+        );
+    }
+    let faces = faces_of(
+        |f| selection.stream_with_info(|info, _| f(info)),
+        &triangles,
+    );
+    write_obj(&args.obj, file, nurbs, &vertices, &faces)
+}
+
 fn run() -> Result<(), String> {
     let args = parse_args()?;
     let read = ModelFile::read(&args.model)?;
@@ -208,6 +262,12 @@ fn run() -> Result<(), String> {
     let diag = read.patches().aabb().map_or(1.0, |b| b.diagonal());
     let file = if args.split { read.split()?.0 } else { read };
     let nurbs = args.model.ends_with(".json");
+    if args.bisect {
+        if args.baked.is_some() {
+            return Err("--bisect bakes its hierarchy on the fly: drop --baked".into());
+        }
+        return run_bisect(&args, &file, &views(&args, diag)?, nurbs);
+    }
     let bytes = match &args.baked {
         Some(_) if args.split => return Err("--split bakes on the fly: drop --baked".into()),
         Some(path) => std::fs::read(path).map_err(|e| format!("{path}: {e}"))?,

@@ -3,6 +3,7 @@
 # the same views in one run on one machine, alternating the two binaries.
 #
 #   scripts/compare_speed.sh REV [RUNS]      # e.g. scripts/compare_speed.sh a21668d 5
+#   NEW_ARGS=--bisect scripts/compare_speed.sh REV [RUNS]   # this checkout with extra arguments
 #
 # REV is built in a git worktree under target/compare (its own target directory, so the first
 # run is a cold build of a few minutes). Each line gives the best of RUNS frame times (the
@@ -29,13 +30,17 @@ view() {
     for bin in "$old" "$new"; do
         best=""
         tris=""
+        extra=()
+        if [ "$bin" = "$new" ] && [ -n "${NEW_ARGS:-}" ]; then
+            read -r -a extra <<<"$NEW_ARGS"
+        fi
         for _ in $(seq "$runs"); do
-            line=$("$bin" "$model" "$@" --obj "$obj" | grep '^{' | head -1)
+            line=$("$bin" "$model" "$@" "${extra[@]}" --obj "$obj" | grep '^{' | head -1)
             ms=$(sed -n 's/.*"ms":\([0-9.]*\).*/\1/p' <<<"$line")
             tris=$(sed -n 's/.*"triangles":\([0-9]*\).*/\1/p' <<<"$line")
             best=$(awk -v a="$best" -v b="$ms" 'BEGIN { if (a == "" || b < a) print b; else print a }')
         done
-        name=$([ "$bin" = "$old" ] && echo "$rev" || echo "this checkout")
+        name=$([ "$bin" = "$old" ] && echo "$rev" || echo "this checkout ${NEW_ARGS:-}")
         printf '| %s | %s | %s | %s |\n' "$(basename "$model") $*" "$name" "$tris" "$best"
     done
 }

@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
-use spline_tess::{ParamRect, Tessellator, Vertex};
+use spline_tess::{ParamRect, Tessellator, TriangleInfo, Vertex};
 
 use super::model_file::ModelFile;
 
@@ -30,9 +30,17 @@ pub struct ObjFace {
 /// The faces of the tessellator's current frame: `triangles` as `write_mesh` wrote them, with
 /// each corner's parameters in the face's own patch.
 pub fn frame_faces(tess: &Tessellator<'_, '_>, triangles: &[[u32; 3]]) -> Vec<ObjFace> {
+    faces_of(|f| tess.stream_with_info(|info, _| f(info)), triangles)
+}
+
+/// The faces of a frame whose `stream_with_info` is `stream`, `triangles` as its
+/// `write_mesh` wrote them (the stream gives the triangles in the write's order).
+pub fn faces_of(
+    stream: impl FnOnce(&mut dyn FnMut(&TriangleInfo)),
+    triangles: &[[u32; 3]],
+) -> Vec<ObjFace> {
     let mut faces = Vec::with_capacity(triangles.len());
-    // `stream_with_info` gives the triangles in `write_mesh`'s order.
-    tess.stream_with_info(|info, _| {
+    stream(&mut |info| {
         let k = faces.len();
         faces.push(ObjFace {
             patch: info.patch,

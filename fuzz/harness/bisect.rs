@@ -12,40 +12,18 @@
 use std::sync::OnceLock;
 
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{
-    bake_bintree, BakeScratch, Bintree, BintreeBakeError, BintreeBuffers, BintreeNode,
-    BintreePatch, BintreeSettings, BintreeVertex, Pending, RefinedVertex, Selection,
-};
+use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
 use spline_tess::{TriangleSink, Vertex, View, WriteError};
 
 use super::bytes::Bytes;
-use super::model_file::ModelFile;
+use super::model_file::{BakedBintree, ModelFile};
 use super::runtime::{camera, vertex_bits, MODELS, SPECIAL};
 
 /// Bake tolerances, relative to the diagonal.
 const BAKES: [f32; 2] = [1e-2, 3e-3];
 
-struct Baked {
-    file: ModelFile,
-    nodes: Vec<BintreeNode>,
-    vertices: Vec<BintreeVertex>,
-    patches: Vec<BintreePatch>,
-}
-
-impl Baked {
-    fn tree(&self) -> Bintree<'_> {
-        Bintree::new(
-            self.file.patches(),
-            &self.nodes,
-            &self.vertices,
-            &self.patches,
-        )
-        .expect("a fresh bake checks")
-    }
-}
-
-fn baked(model: usize, bake: usize) -> &'static Baked {
-    static CACHE: [[OnceLock<Baked>; BAKES.len()]; MODELS.len()] =
+fn baked(model: usize, bake: usize) -> &'static BakedBintree {
+    static CACHE: [[OnceLock<BakedBintree>; BAKES.len()]; MODELS.len()] =
         [const { [const { OnceLock::new() }; BAKES.len()] }; MODELS.len()];
     CACHE[model][bake].get_or_init(|| {
         let (kind, text) = MODELS[model];
@@ -59,43 +37,7 @@ fn baked(model: usize, bake: usize) -> &'static Baked {
             tolerance: Tolerance::Relative(BAKES[bake]),
             ..BintreeSettings::default()
         };
-        let count = file.patches().len();
-        let (mut n, mut v) = (1usize << 14, 1usize << 13);
-        loop {
-            let mut nodes = vec![BintreeNode::default(); n];
-            let mut vertices = vec![BintreeVertex::default(); v];
-            let mut patches = vec![BintreePatch::default(); count];
-            let mut scratch = vec![BakeScratch::default(); n];
-            let result = file
-                .with_model(|m| {
-                    bake_bintree(
-                        m,
-                        &settings,
-                        BintreeBuffers {
-                            nodes: &mut nodes,
-                            vertices: &mut vertices,
-                            patches: &mut patches,
-                            scratch: &mut scratch,
-                        },
-                    )
-                })
-                .expect("a repository model has a topology");
-            match result {
-                Ok(size) => {
-                    nodes.truncate(size.nodes);
-                    vertices.truncate(size.vertices);
-                    return Baked {
-                        file,
-                        nodes,
-                        vertices,
-                        patches,
-                    };
-                }
-                Err(BintreeBakeError::NodesFull { .. }) => n *= 2,
-                Err(BintreeBakeError::VerticesFull { .. }) => v *= 2,
-                Err(e) => panic!("a repository model bakes: {e}"),
-            }
-        }
+        BakedBintree::bake(&file, &settings).expect("a repository model bakes")
     })
 }
 
