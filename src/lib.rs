@@ -24,6 +24,14 @@
 //!   meshes are updated in place, triangles past the samples are refined with edge factors
 //!   both sides agree on, and the crack-free mesh is written to caller buffers or streamed to a
 //!   [`TriangleSink`];
+//! - [`bisect`]: the other run time, by longest-edge bisection. Its bake halves every patch's
+//!   square until each triangle is within the tolerance and records each triangle's bound (a
+//!   few deviation vectors and a remainder, so the bound is a bound); a frame selects every
+//!   triangle by its own bound on screen (the coarsest conforming mesh within the tolerance,
+//!   history-free), goes on below the bake into a caller pool where a view is finer, fits
+//!   budgets, and streams or writes its mesh. Fewer triangles for the same verified error than
+//!   the prefixes (BENCHMARKS.md), at several times the bake's flash; see
+//!   [`Selection::update_to_budget`](bisect::Selection::update_to_budget) for a whole use;
 //! - `render` (feature `embedded-graphics`): the band renderer for displays.
 //!
 //! Nothing allocates: every capacity is a caller slice, and running out of room is an error that

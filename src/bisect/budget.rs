@@ -24,7 +24,8 @@ pub struct BintreeFit {
     pub bound: f32,
     /// The frame's figures.
     pub stats: SelectionStats,
-    /// True when a tolerance a millionth of the view's still fits: no finer one was tried.
+    /// True when a tolerance a millionth of the view's still fits, or a finer tolerance met a
+    /// full pool below the bake: no finer one was tried.
     pub exhausted: bool,
 }
 
@@ -106,6 +107,8 @@ impl Selection<'_, '_> {
             return Err(BintreeFitError::BadTolerance);
         }
         let count = |s: &mut Self, t: f32| s.update(&view.with_tolerance(t)).triangles;
+        // A frame left over (its pool below the bake full) is as fine as finer tolerances get.
+        let saturated = |s: &Self| s.stats().left_over > 0;
         let coarsest = count(self, f32::MAX);
         if coarsest > budget {
             return Err(BintreeFitError::TooSmall { minimum: coarsest });
@@ -115,7 +118,7 @@ impl Selection<'_, '_> {
         if count(self, start) <= budget {
             loop {
                 lo *= 0.5;
-                if lo < start * 1e-6 {
+                if lo < start * 1e-6 || saturated(self) {
                     let stats = self.update(&view.with_tolerance(hi));
                     return Ok(BintreeFit {
                         tolerance: hi,

@@ -91,6 +91,12 @@ impl Pool<'_> {
         self.used = 0;
     }
 
+    /// Whether the pool takes no more vertices (past seven eighths, to keep probes short).
+    pub fn is_full(&self) -> bool {
+        let len = self.entries.len();
+        self.used + 1 > len - len / 8
+    }
+
     /// The slot of the vertex at `at` (a [`key`]), if the pool holds it.
     pub fn find(&self, at: (u32, Point)) -> Option<usize> {
         let key = packed(at);
@@ -110,10 +116,10 @@ impl Pool<'_> {
     /// from the patch that names it, written out as the pole where `t`'s hypotenuse lies on a
     /// collapsed side; `base` is added to the slot to make its vertex number.
     pub fn make(&mut self, tree: &Bintree<'_>, t: &Tri, base: u32) -> Option<u32> {
-        let len = self.entries.len();
-        if self.used + 1 > len - len / 8 {
+        if self.is_full() {
             return None;
         }
+        let len = self.entries.len();
         let at = key(tree, t.patch, t.midpoint());
         let k = packed(at);
         let mut i = start(k, len);

@@ -160,6 +160,12 @@ fn set(bits: &mut [u32], i: u32) {
     }
 }
 
+/// Most walks of a frame for the leaves its stack had no room for. Each walk judges the
+/// leaves below the bake again (they have no bit), so a stack far too short for a frame deep
+/// below the bake could take many: past this many, the frame stops searching and reports the
+/// bound it honours (see [`SelectionStats::worst_bound`]).
+const MAX_SWEEPS: usize = 16;
+
 impl<'t, 's> Selection<'t, 's> {
     /// Fewest stack entries a run time takes.
     pub const MIN_STACK: usize = 4;
@@ -309,7 +315,7 @@ impl<'t, 's> Selection<'t, 's> {
             }
             self.drain(view, tolerance);
         }
-        while self.full {
+        while self.full && self.stats.sweeps < MAX_SWEEPS {
             self.full = false;
             self.stats.sweeps += 1;
             walk(tree, |h| {
@@ -320,8 +326,33 @@ impl<'t, 's> Selection<'t, 's> {
                 self.split_vertex(h)
             });
         }
+        if self.stats.sweeps > 0 && (self.full || self.pool.used > 0) {
+            // Leaves below the bake have no bit: a walk judged them again (and counted them
+            // again where left over), and a search cut short left leaves unjudged. One
+            // judgement of every leaf gives the frame's true figures.
+            self.account(view, tolerance);
+        }
         self.count();
         self.stats
+    }
+
+    /// Judges every leaf of the current mesh once: the frame's worst bound and its leaves
+    /// left over, whatever the search did.
+    fn account(&mut self, view: &View, tolerance: f32) {
+        let (mut worst, mut over) = (0.0f32, 0);
+        walk(self.tree, |h| {
+            if let Some(v) = self.split_vertex(h) {
+                return Some(v);
+            }
+            let j = judge(self, view, h);
+            if !j.hidden {
+                worst = max(worst, j.bound);
+                over += usize::from(j.bound > tolerance || j.bound.is_nan());
+            }
+            None
+        });
+        self.stats.worst_bound = worst;
+        self.stats.left_over = over;
     }
 
     /// Judges the queued leaves, halving those over `tolerance`.
@@ -378,6 +409,11 @@ impl<'t, 's> Selection<'t, 's> {
             return true;
         }
         if !h.tri.can_split() || depth > 64 {
+            return false;
+        }
+        let baked = self.tree.node(h).is_some_and(|n| n.children != 0);
+        if !baked && self.pool.is_full() {
+            // No room below the bake: no need to look across.
             return false;
         }
         let tree = self.tree;

@@ -14,6 +14,7 @@ pub(super) const RUN_TIME: u32 = u32::MAX;
 /// range, so no frame reads out of bounds. Where a view is finer than the bake, the run time
 /// goes on from the patches.
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Bintree<'a> {
     pub(super) model: PatchSet<'a>,
     pub(super) nodes: &'a [BintreeNode],
