@@ -117,6 +117,12 @@ pub struct Selection<'t, 's> {
     stack: &'s mut [Pending],
     len: usize,
     full: bool,
+    /// A triangle below the bake found no room on the stack this frame.
+    dropped_below: bool,
+    /// A walk judged leaves below the bake again: the figures need a recount.
+    recount: bool,
+    /// Triangles below the bake being judged at once, one inside the other.
+    inline: usize,
     layout: Layout,
     /// The last frame's view.
     view: Option<View>,
@@ -166,6 +172,9 @@ fn set(bits: &mut [u32], i: u32) {
 /// bound it honours (see [`SelectionStats::worst_bound`]).
 const MAX_SWEEPS: usize = 16;
 
+/// Deepest nesting of triangles below the bake judged at once for want of stack room.
+const INLINE_DEPTH: usize = 16;
+
 impl<'t, 's> Selection<'t, 's> {
     /// Fewest stack entries a run time takes.
     pub const MIN_STACK: usize = 4;
@@ -198,6 +207,9 @@ impl<'t, 's> Selection<'t, 's> {
             stack,
             len: 0,
             full: false,
+            dropped_below: false,
+            recount: false,
+            inline: 0,
             layout: Layout::of(&tree),
             view: None,
             stats: SelectionStats::default(),
@@ -289,6 +301,9 @@ impl<'t, 's> Selection<'t, 's> {
     }
 
     /// Queues `h`, or notes that a walk must find it.
+    /// A triangle below the bake that finds the stack full is judged at once instead (it has
+    /// no bit a walk could find it by), up to [`INLINE_DEPTH`] deep; past that it is dropped
+    /// and the frame's figures are recounted (see [`update`](Self::update)).
     fn push(&mut self, h: Pending) {
         match self.stack.get_mut(self.len) {
             Some(slot) => {
@@ -296,7 +311,17 @@ impl<'t, 's> Selection<'t, 's> {
                 self.len += 1;
                 self.stats.stack_peak = self.stats.stack_peak.max(self.len);
             }
-            None => self.full = true,
+            None if h.node == RUN_TIME && self.inline < INLINE_DEPTH => {
+                if let Some(view) = self.view {
+                    self.inline += 1;
+                    self.process(&view, view.tolerance(), h);
+                    self.inline -= 1;
+                }
+            }
+            None => {
+                self.full = true;
+                self.dropped_below |= h.node == RUN_TIME;
+            }
         }
     }
 
@@ -308,6 +333,7 @@ impl<'t, 's> Selection<'t, 's> {
         self.pool.clear();
         self.stats = SelectionStats::default();
         self.view = Some(*view);
+        (self.full, self.dropped_below, self.recount) = (false, false, false);
         let (tree, tolerance) = (self.tree, view.tolerance());
         for p in 0..tree.patches.len() as u32 {
             for k in 0..2 {
@@ -318,18 +344,27 @@ impl<'t, 's> Selection<'t, 's> {
         while self.full && self.stats.sweeps < MAX_SWEEPS {
             self.full = false;
             self.stats.sweeps += 1;
+            // Leaves below the bake were judged (they are never dropped but past the inline
+            // depth): a walk looks for them only then.
+            let below = core::mem::take(&mut self.dropped_below);
             walk(tree, |h| {
-                if !self.is_split(h) && !self.is_judged(h) {
+                let unjudged = if h.node == RUN_TIME {
+                    below
+                } else {
+                    !self.is_judged(h)
+                };
+                if unjudged && !self.is_split(h) {
                     self.push(*h);
                     self.drain(view, tolerance);
                 }
                 self.split_vertex(h)
             });
+            self.recount |= below;
         }
-        if self.stats.sweeps > 0 && (self.full || self.pool.used > 0) {
-            // Leaves below the bake have no bit: a walk judged them again (and counted them
-            // again where left over), and a search cut short left leaves unjudged. One
-            // judgement of every leaf gives the frame's true figures.
+        if self.full || self.recount {
+            // A walk judged leaves below the bake again (and counted them again where left
+            // over), or the search was cut short: one judgement of every leaf gives the
+            // frame's true figures.
             self.account(view, tolerance);
         }
         self.count();
@@ -357,32 +392,38 @@ impl<'t, 's> Selection<'t, 's> {
 
     /// Judges the queued leaves, halving those over `tolerance`.
     fn drain(&mut self, view: &View, tolerance: f32) {
-        let layout = self.layout();
         while self.len > 0 {
             self.len -= 1;
             let h = self.stack[self.len];
-            if self.is_split(&h) || self.is_judged(&h) {
-                continue;
-            }
+            self.process(view, tolerance, h);
+        }
+    }
+
+    /// Judges leaf `h` (if it still is one, and not judged yet), halving it if it is over
+    /// `tolerance`.
+    fn process(&mut self, view: &View, tolerance: f32, h: Pending) {
+        let layout = self.layout();
+        if self.is_split(&h) || self.is_judged(&h) {
+            return;
+        }
+        if h.node != RUN_TIME {
+            set(&mut self.bits[layout.judged..], h.node);
+        }
+        self.stats.judged += 1;
+        let j = judge(self, view, &h);
+        if j.hidden {
             if h.node != RUN_TIME {
-                set(&mut self.bits[layout.judged..], h.node);
+                set(&mut self.bits[layout.hidden..], h.node);
             }
-            self.stats.judged += 1;
-            let j = judge(self, view, &h);
-            if j.hidden {
-                if h.node != RUN_TIME {
-                    set(&mut self.bits[layout.hidden..], h.node);
-                }
-                continue;
-            }
-            if j.bound <= tolerance {
-                self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
-                continue;
-            }
-            if !self.split(&h, 0) {
-                self.stats.left_over += 1;
-                self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
-            }
+            return;
+        }
+        if j.bound <= tolerance {
+            self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            return;
+        }
+        if !self.split(&h, 0) {
+            self.stats.left_over += 1;
+            self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
         }
     }
 
