@@ -39,7 +39,8 @@ mod data {
 }
 
 /// Words of bits the hierarchy takes.
-const BITS: usize = frames::bit_words(baked::TEAPOT_NODES.len(), baked::TEAPOT_VERTICES.len());
+const BITS: usize =
+    spline_tess::bisect::bit_words_for(baked::TEAPOT_NODES.len(), baked::TEAPOT_VERTICES.len());
 
 /// Bytes of the hierarchy in flash: its nodes, vertices and patch records.
 const FLASH_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_NODES)

@@ -1,6 +1,7 @@
-//! Firmware demo: the baked Utah teapot in flash, tessellated and drawn at 240x240 Rgb565 on
-//! the Cortex-M4F with no framebuffer. Each frame is projected once into a triangle list
-//! (when it fits; otherwise streamed from the tessellator band by band), rasterised into one
+//! Firmware demo: the Utah teapot's bisection hierarchy in flash (`spline_tess::bisect`,
+//! shared with `fw_bisect`), its frames selected and drawn at 240x240 Rgb565 on the
+//! Cortex-M4F with no framebuffer. Each frame is projected once into a triangle list (when it
+//! fits; otherwise its first patches are, and the rest streamed band by band), rasterised into one
 //! 240x4 band at a time (a depth band and a colour band of big-endian Rgb565 bytes) and each
 //! band's bytes pushed as a DMA transfer would take them (`Renderer::draw_bands_rgb565`), into
 //! a model of an SPI display that counts the windows and bytes and hashes the byte stream. Each frame's hash is compared with the host's hash of the same
@@ -20,7 +21,8 @@
 //! fw_teapot: frame K render listed L list_slots S passes N windows W pixels_drawn D
 //! ```
 //!
-//! and at the end the RAM in bytes: the tessellator storage, the bands (depth and colour), the
+//! and at the end the RAM in bytes: the run time's storage (its bits, its stack of waiting
+//! triangles and its pool of vertices below the bake), the bands (depth and colour), the
 //! stack the frames used (painted before the first frame, on top of the buffers, which sit on
 //! the stack here), static RAM, and the triangle list:
 //!
@@ -40,14 +42,11 @@ mod data {
     include!("data/teapot.rs");
 }
 mod baked {
-    include!("data/fw_tessellate_baked.rs");
+    include!("data/fw_bisect_baked.rs");
 }
 mod expected {
     include!("data/fw_teapot_expected.rs");
 }
-#[allow(dead_code)]
-#[path = "common/fw_tessellate_frames.rs"]
-mod frames;
 #[allow(dead_code)]
 #[path = "common/fw_views.rs"]
 mod fw_views;
@@ -65,9 +64,13 @@ mod teapot;
 mod runtime_storage;
 
 use spi_display::SpiDisplay;
-use spline_tess::bake::BakedModel;
+use spline_tess::bisect::{Bintree, Pending, RefinedVertex, Selection};
 use spline_tess::render::ListSlot;
-use spline_tess::{PatchSet, Tessellator};
+use spline_tess::PatchSet;
+
+/// Words of bits the hierarchy takes.
+const BITS: usize =
+    spline_tess::bisect::bit_words_for(baked::TEAPOT_NODES.len(), baked::TEAPOT_VERTICES.len());
 
 /// One frame's measurements (the instruction counts are printed by the firmware only).
 #[derive(Clone, Copy, Default)]
@@ -81,19 +84,21 @@ struct Measured {
     listed: u32,
     list_slots: u32,
     passes: u32,
-    mesh_vertices: u32,
-    mesh_triangles: u32,
-    prefix_scale: f32,
-    max_error: f32,
-    patches_without_states: u32,
-    states_needed: u32,
+    vertices: u32,
+    judged: u32,
+    refined: u32,
+    left_over: u32,
+    worst_bound: f32,
+    stack_peak: u32,
     update: u64,
     render: u64,
 }
 
-/// Buffer sizes in bytes: tessellator storage, the two bands, the triangle list.
+/// Buffer sizes in bytes: the run time's storage, the two bands, the triangle list.
 #[cfg_attr(fw_quiet, allow(dead_code))]
-const STORAGE_BYTES: usize = core::mem::size_of::<teapot::Storage>();
+const STORAGE_BYTES: usize = 4 * BITS
+    + teapot::STACK * core::mem::size_of::<Pending>()
+    + teapot::POOL * core::mem::size_of::<RefinedVertex>();
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const BAND_BYTES: usize = teapot::BAND * (2 + 2); // a depth value and two colour bytes a pixel
 #[cfg_attr(fw_quiet, allow(dead_code))]
@@ -110,7 +115,7 @@ struct Buffers {
 /// measured apart from the buffers.
 #[inline(never)]
 fn frame(
-    tess: &mut teapot::Tessellator<'_, '_>,
+    tess: &mut Selection<'_, '_>,
     k: usize,
     buffers: &mut Buffers,
     display: &mut SpiDisplay,
@@ -137,12 +142,12 @@ fn frame(
         listed: drawn.listed,
         list_slots: drawn.list_slots,
         passes: drawn.passes,
-        mesh_vertices: stats.mesh_vertices as u32,
-        mesh_triangles: stats.mesh_triangles as u32,
-        prefix_scale: stats.prefix_scale,
-        max_error: stats.max_predicted_error,
-        patches_without_states: stats.patches_without_states as u32,
-        states_needed: stats.triangle_states_needed as u32,
+        vertices: stats.vertices as u32,
+        judged: stats.judged as u32,
+        refined: stats.refined as u32,
+        left_over: stats.left_over as u32,
+        worst_bound: stats.worst_bound,
+        stack_peak: stats.stack_peak as u32,
         update: t1.saturating_sub(t0),
         render: t2.saturating_sub(t1),
     })
@@ -158,12 +163,18 @@ fn run(
     let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
         return false;
     };
-    let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) else {
+    let Ok(tree) = Bintree::new(
+        patches,
+        &baked::TEAPOT_NODES,
+        &baked::TEAPOT_VERTICES,
+        &baked::TEAPOT_PATCHES,
+    ) else {
         return false;
     };
-    let mut storage = teapot::Storage::new();
-    let Ok(mut tess) = Tessellator::indexed(patches, baked, frames::SETTINGS, storage.as_storage())
-    else {
+    let mut bits = [0u32; BITS];
+    let mut stack = [Pending::default(); teapot::STACK];
+    let mut pool = [RefinedVertex::default(); teapot::POOL];
+    let Ok(mut tess) = Selection::new(tree, &mut bits, &mut stack, &mut pool) else {
         return false;
     };
     let mut buffers = Buffers {
@@ -267,8 +278,8 @@ fn main() -> std::process::ExitCode {
         |k, m, ok| {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
-                 listed {} list_slots {} passes {} pool_vertices {} pool_triangles {} prefix_scale {:.3} \
-                 bound_px {:.3} states_needed {} patches_without_states {} {}",
+                 listed {} list_slots {} passes {} vertices {} judged {} stack_peak {} \
+                 refined {} left_over {} bound_px {:.3} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
@@ -276,74 +287,37 @@ fn main() -> std::process::ExitCode {
                 m.listed,
                 m.list_slots,
                 m.passes,
-                m.mesh_vertices,
-                m.mesh_triangles,
-                m.prefix_scale,
-                m.max_error,
-                m.states_needed,
-                m.patches_without_states,
+                m.vertices,
+                m.judged,
+                m.stack_peak,
+                m.refined,
+                m.left_over,
+                m.worst_bound,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )
         },
         || 0,
         || {},
     );
-    // The storage with a pool for every baked step, and the least storage (with the demo's
-    // slot numbers).
-    if let Ok(baked) = BakedModel::from_bytes(&baked::BAKED) {
-        use core::mem::size_of;
-        use spline_tess::tessellator::{
-            BoundSlot, CurveSlot, PatchSlot, PointSlot, StorageSize, TriangleSlot,
-        };
-        use spline_tess::{MeshTriangle, MeshVertex};
-        let bytes = |n: &StorageSize| {
-            n.patches * size_of::<PatchSlot>()
-                + n.curves * size_of::<CurveSlot>()
-                + n.curve_order * 2
-                + n.vertices * size_of::<MeshVertex<teapot::Index>>()
-                + n.triangles * size_of::<MeshTriangle<teapot::Index>>()
-                + n.triangle_states * size_of::<TriangleSlot>()
-                + n.bounds * size_of::<BoundSlot>()
-                + n.vertex_points * size_of::<PointSlot>()
-                + n.scratch * 4
-        };
-        let (all, least) = (
-            StorageSize::of_indexed::<teapot::Index>(&baked, &frames::SETTINGS),
-            StorageSize::minimum(&baked, &frames::SETTINGS),
-        );
-        println!(
-            "fw_teapot (host): storage_all {} storage_least {} bytes (all: {all:?})",
-            bytes(&all),
-            bytes(&least)
-        );
-        // The same frames in that storage: every baked step, a state for every triangle.
-        if let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) {
-            let mut storage = runtime_storage::RuntimeStorage::<teapot::Index>::indexed(&all);
-            let mut tess = storage.tessellator(patches, baked, frames::SETTINGS);
-            for k in 0..teapot::FRAMES.len() {
-                if let Some(s) = teapot::update(&mut tess, k) {
-                    println!(
-                        "fw_teapot (host): storage_all frame {k} triangles {} bound_px {:.3}",
-                        s.triangles, s.max_predicted_error
-                    );
-                }
-            }
-        }
-    }
     println!(
         "fw_teapot (host): storage {STORAGE_BYTES} bands {BAND_BYTES} list {LIST_BYTES} \
          baked {} control_points {} bytes",
-        baked::BAKED.len(),
+        core::mem::size_of_val(&baked::TEAPOT_NODES)
+            + core::mem::size_of_val(&baked::TEAPOT_VERTICES)
+            + core::mem::size_of_val(&baked::TEAPOT_PATCHES),
         core::mem::size_of_val(&data::TEAPOT_POINTS)
             + core::mem::size_of_val(&data::TEAPOT_HEADERS)
     );
     println!(
-        "fw_teapot (host): sizing pool_vertices {} pool_triangles {} triangle_states {} bounds {} \
-         list_capacity {} list_slot {} band_rows {} width {} height {}",
-        teapot::POOL_VERTICES,
-        teapot::POOL_TRIANGLES,
-        teapot::STATES,
-        teapot::BOUNDS,
+        "fw_teapot (host): sizing bit_words {} stack {} stack_entry {} pool {} pool_entry {} \
+         nodes {} hierarchy_vertices {} list_capacity {} list_slot {} band_rows {} width {} height {}",
+        BITS,
+        teapot::STACK,
+        core::mem::size_of::<Pending>(),
+        teapot::POOL,
+        core::mem::size_of::<RefinedVertex>(),
+        baked::TEAPOT_NODES.len(),
+        baked::TEAPOT_VERTICES.len(),
         teapot::LIST,
         core::mem::size_of::<ListSlot>(),
         teapot::BAND_ROWS,

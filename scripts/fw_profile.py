@@ -10,9 +10,9 @@ QEMU logs every translated block once (`-d in_asm`: its guest instructions) and 
 executes (`-d exec,nochain`: its address and symbol). Each execution is charged the block's
 instruction count, so the total is the frame's guest instructions, as `-icount` counts them,
 to within the blocks QEMU translates more than once. The window of a frame's update runs from
-its call of `Tessellator::apply` (the one function named `apply`) to the demo's call of its
-`render` (`teapot::render` in `examples/common/fw_teapot_frames.rs`, never inlined); its render from there to the
-next `apply` (the last frame's render to the end of the program). Needs `qemu-system-arm`,
+the demo's call of `teapot::update` to its call of `teapot::render` (both in
+`examples/common/fw_teapot_frames.rs`, never inlined); its render from there to the next
+`update` (the last frame's render to the end of the program). Needs `qemu-system-arm`,
 `arm-none-eabi-nm` and Python 3; reads about 100 MB of log per million instructions through a pipe, nothing on disk.
 """
 
@@ -34,19 +34,18 @@ PARTS = [
     ("band loop: fill, push, display model", ["fw_teapot5frame", "6teapot6render"]),
     ("surface evaluation", ["frame_at", "8evaluate", "pole_at", "sqrtf", "is_collapsed",
                             "fmaxf", "fminf"]),
-    ("domain mesh traversal and corner keys", ["stream_patch", "edge_factor", "curve_point",
-                                               "BakedModel5patch", "PatchView$LT$Ix$GT$6refine",
-                                               "vertex_data"]),
+    ("hierarchy walk and corner keys", ["each_written", "walk", "stream_keyed",
+                                        "vertex_record", "written"]),
     ("corner cache, view transform, shading", ["CornerCache", "Setup6corner", "Setup5shade",
                                                "normalize"]),
     ("clip test, projection, packing into the list", ["ListSink4take", "ListSink8try_push",
                                                       "contains", "keyed_triangle"]),
     ("list scan: decoding a band's listed triangles", ["for_each_listed", "ListedTriangle",
                                                         "draw_list"]),
-    ("Delaunay insertion and removal", ["domain6insert", "domain6remove", "in_circle",
-                                        "predicates"]),
-    ("selection, bounds and refinement", ["5apply17h", "select", "refine",
-                                          "deviation", "bound_cache", "triangle_scale"]),
+    ("refinement below the bake", ["refine", "lattice", "patch_bounds", "PatchBounds"]),
+    ("judging: bounds on screen, culling", ["judge", "deviation", "sqrt_above", "to_view",
+                                            "rotate_to_view"]),
+    ("selection: the walk, halving, bits", ["select", "bisect", "6teapot6update17h"]),
     ("memcpy, memclr", ["memcpy", "memclr", "memmove", "memset"]),
 ]
 
@@ -68,8 +67,8 @@ def main():
     what, frame = sys.argv[1], int(sys.argv[2])
     blocks_of = sys.argv[3] if len(sys.argv) == 4 else None
     by_block = collections.Counter()
-    start, stop = ("5apply17h", "6teapot6render17h") if what == "update" else (
-        "6teapot6render17h", "5apply17h")
+    start, stop = ("6teapot6update17h", "6teapot6render17h") if what == "update" else (
+        "6teapot6render17h", "6teapot6update17h")
     stops = function_addresses(stop)
     qemu = subprocess.Popen(QEMU + [ELF], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True, errors="replace")

@@ -29,12 +29,6 @@ pub const OUT_VERTICES: usize = 6000;
 /// Output triangles.
 pub const OUT_TRIANGLES: usize = 12000;
 
-/// `u32` words of bits for a hierarchy of `nodes` nodes and `vertices` vertices (as
-/// `Bintree::bit_words`), for sizing storage at compile time.
-pub const fn bit_words(nodes: usize, vertices: usize) -> usize {
-    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32)
-}
-
 /// One frame's numbers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Frame {

@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, checksum of the pixels pushed), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [1230, 6382, 0xd9658e1d],
-    [1231, 6389, 0x79350176],
-    [1570, 21665, 0xce003678],
-    [1549, 52725, 0xec7883ec],
+    [1070, 6196, 0xfe0ad0b4],
+    [1069, 6192, 0xbfe097ea],
+    [2114, 21251, 0x11d8b2da],
+    [2111, 53295, 0x80f7f3bd],
 ];

@@ -271,10 +271,14 @@ fn fw_tessellate_frames_are_real() {
 #[path = "../../examples/common/fw_bisect_frames.rs"]
 mod fw_bisect;
 
-/// The teapot's bisection hierarchy with fw_bisect's settings.
-fn fw_bisect_bake() -> host_tests::bisection::BakedBintree {
-    let file = host_tests::model_file::ModelFile::from_bpt(&teapot_text()).unwrap();
-    host_tests::bisection::BakedBintree::bake(&file, &fw_bisect::BAKE).unwrap()
+/// The teapot's bisection hierarchy with fw_bisect's settings (fw_teapot's too), baked once.
+fn fw_bisect_bake() -> &'static host_tests::bisection::BakedBintree {
+    static BAKE: std::sync::OnceLock<host_tests::bisection::BakedBintree> =
+        std::sync::OnceLock::new();
+    BAKE.get_or_init(|| {
+        let file = host_tests::model_file::ModelFile::from_bpt(&teapot_text()).unwrap();
+        host_tests::bisection::BakedBintree::bake(&file, &fw_bisect::BAKE).unwrap()
+    })
 }
 
 fn fw_bisect_baked_source(bake: &host_tests::bisection::BakedBintree) -> String {
@@ -327,7 +331,7 @@ fn fw_bisect_expected_source(bake: &host_tests::bisection::BakedBintree) -> Stri
 #[test]
 fn fw_bisect_frames_are_real() {
     let bake = fw_bisect_bake();
-    let frames = fw_bisect_frames(&bake);
+    let frames = fw_bisect_frames(bake);
     assert!(frames.iter().all(|f| f[0] > 100));
     assert!(frames[2][0] > frames[0][0], "dollying in adds triangles");
     assert!(
@@ -347,22 +351,18 @@ mod fw_teapot;
 #[path = "../../examples/common/spi_display.rs"]
 mod spi_display;
 
-/// Runs `f` on a tessellator over the firmware's bake of the teapot, in fw_teapot's storage.
-fn with_fw_teapot_tessellator<R>(f: impl FnOnce(&mut fw_teapot::Tessellator<'_, '_>) -> R) -> R {
-    with_firmware_bake(|patches, baked| {
-        assert!(fw_teapot::Storage::covers(
-            &spline_tess::tessellator::StorageSize::minimum(&baked, &fw_tessellate::SETTINGS)
-        ));
-        let mut storage = Box::new(fw_teapot::Storage::new());
-        let mut tess = spline_tess::Tessellator::indexed(
-            patches,
-            baked,
-            fw_tessellate::SETTINGS,
-            storage.as_storage(),
-        )
-        .expect("capacities cover the bake");
-        f(&mut tess)
-    })
+/// Runs `f` on a selection over the firmware's hierarchy of the teapot, in fw_teapot's
+/// storage.
+fn with_fw_teapot_tessellator<R>(
+    f: impl FnOnce(&mut spline_tess::bisect::Selection<'_, '_>) -> R,
+) -> R {
+    let tree = fw_bisect_bake().tree();
+    let mut bits = vec![0u32; tree.bit_words()];
+    let mut stack = vec![spline_tess::bisect::Pending::default(); fw_teapot::STACK];
+    let mut pool = vec![spline_tess::bisect::RefinedVertex::default(); fw_teapot::POOL];
+    let mut selection =
+        spline_tess::bisect::Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+    f(&mut selection)
 }
 
 /// Every frame of fw_teapot drawn on the host with the same code: triangles, pixels drawn,
@@ -382,17 +382,18 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
         (0..fw_teapot::FRAMES.len())
             .map(|f| {
                 let stats = fw_teapot::update(tess, f).expect("frame updates");
-                // The first frames hold every triangle state they need and are within the
-                // tolerance; a near frame short of states is within the bound it reports.
+                // The first frames are within the bake and the tolerance; a near frame that
+                // fills the pool of vertices below the bake is within the bound it reports.
                 let tolerance = fw_teapot::FRAMES[f].1;
                 if f < 2 {
-                    assert_eq!(stats.patches_without_states, 0, "frame {f}");
+                    assert_eq!(stats.left_over, 0, "frame {f}");
+                    assert_eq!(stats.refined, 0, "frame {f}");
                 }
                 assert!(
-                    stats.max_predicted_error <= tolerance * (1.0 + 1e-6)
-                        || stats.patches_without_states > 0,
-                    "frame {f}: bound {} over the tolerance",
-                    stats.max_predicted_error
+                    (stats.worst_bound <= tolerance) == (stats.left_over == 0),
+                    "frame {f}: bound {} with {} left over",
+                    stats.worst_bound,
+                    stats.left_over
                 );
                 let mut draw = |list: &mut [ListSlot]| {
                     let drawn =
@@ -491,9 +492,9 @@ fn fw_teapot_frames_are_real() {
     let frames = fw_teapot_frames();
     assert!(frames.iter().all(|f| f[0] > 100 && f[1] > 1000));
     assert!(frames[2][1] > frames[0][1], "dollying in draws more pixels");
-    // (Closer still draws more pixels; its triangles need not grow: the demo's triangle
-    // states hold the first frames, and the near ones leave the patches without states
-    // uncut, within the bound they report.)
+    // (Closer still draws more pixels; its triangles need not grow: the demo's pool of
+    // vertices below the bake is small, and the nearest frame leaves leaves whole once it is
+    // full, within the bound it reports.)
     assert!(
         frames[3][1] > frames[2][1],
         "closer still draws more pixels"
@@ -519,8 +520,8 @@ fn firmware_data_is_current() {
         ("fw_tessellate_baked.rs", fw_tessellate_baked_source()),
         ("fw_tessellate_expected.rs", fw_tessellate_expected_source()),
         ("fw_teapot_expected.rs", fw_teapot_expected_source()),
-        ("fw_bisect_baked.rs", fw_bisect_baked_source(&bisect)),
-        ("fw_bisect_expected.rs", fw_bisect_expected_source(&bisect)),
+        ("fw_bisect_baked.rs", fw_bisect_baked_source(bisect)),
+        ("fw_bisect_expected.rs", fw_bisect_expected_source(bisect)),
     ] {
         let path = data_dir().join(file);
         if bless {

@@ -53,7 +53,7 @@ pub use bake::{
 pub use budget::{BintreeFit, BintreeFitError};
 pub use kept::KEPT;
 pub use refine::RefinedVertex;
-pub use select::{Selection, SelectionError, SelectionStats};
+pub use select::{bit_words_for, Selection, SelectionError, SelectionStats};
 pub use source::write_rust_source;
 pub use tree::{Bintree, BintreeError, Pending};
 

@@ -3,21 +3,32 @@
 
 use super::address::unit;
 use super::select::Selection;
-use super::tree::{walk, Pending};
+use super::tree::{walk_patches, Pending};
 use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
 
 impl Selection<'_, '_> {
     /// Calls `f` on every written leaf of the current mesh, patch by patch, with its
     /// vertices.
     fn each_written(&self, mut f: impl FnMut(&Pending, [u32; 3])) {
+        self.each_written_of(&mut (), |_, _| true, |_, h, corners| f(h, corners));
+    }
+
+    /// [`each_written`](Self::each_written) over the patches `wants` takes, both callbacks
+    /// given `state`.
+    fn each_written_of<S: ?Sized>(
+        &self,
+        state: &mut S,
+        wants: impl FnMut(&mut S, u32) -> bool,
+        mut f: impl FnMut(&mut S, &Pending, [u32; 3]),
+    ) {
         let mut bounds = None;
-        walk(self.tree, |h| {
+        walk_patches(self.tree, state, wants, |state, h| {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
             if !self.is_hidden(h, &mut bounds) {
                 if let Some(corners) = self.written(h) {
-                    f(h, corners);
+                    f(state, h, corners);
                 }
             }
             None
@@ -47,18 +58,23 @@ impl Selection<'_, '_> {
         });
     }
 
-    /// Streams the current mesh as [`keyed_triangle`](TriangleSink::keyed_triangle)s do: its
-    /// patch, its corners' keys (their vertex numbers: equal keys, equal vertices, within a
-    /// frame) and a function giving corner `i`.
+    /// Streams the current mesh's triangles of the patches `wants` takes to `sink` as
+    /// [`keyed_triangle`](TriangleSink::keyed_triangle)s: their corners' keys are their vertex
+    /// numbers (equal keys, equal vertices, within a frame).
     #[cfg(feature = "embedded-graphics")]
     pub(crate) fn stream_keyed(
         &self,
-        mut f: impl FnMut(u32, [u64; 3], &mut dyn FnMut(usize) -> Vertex),
+        sink: &mut dyn TriangleSink,
+        mut wants: impl FnMut(&mut dyn TriangleSink, u32) -> bool,
     ) {
-        self.each_written(|h, corners| {
-            let mut corner = |i: usize| self.vertex(corners[i % 3]);
-            f(h.tri.patch, corners.map(u64::from), &mut corner);
-        });
+        self.each_written_of(
+            sink,
+            |sink, p| wants(sink, p),
+            |sink, h, corners| {
+                let mut corner = |i: usize| self.vertex(corners[i % 3]);
+                sink.keyed_triangle(h.tri.patch, corners.map(u64::from), &mut corner);
+            },
+        );
     }
 
     /// Streams the current mesh with each triangle's parameters in its own patch and its

@@ -99,8 +99,22 @@ impl Bintree<'_> {
     /// `u32` words of [`Selection`]'s bit storage for this hierarchy: two bits per vertex
     /// and three per node.
     pub fn bit_words(&self) -> usize {
-        2 * self.vertices.len().div_ceil(32) + 3 * self.nodes.len().div_ceil(32)
+        bit_words_for(self.nodes.len(), self.vertices.len())
     }
+}
+
+/// `u32` words of [`Selection`]'s bit storage for a hierarchy of `nodes` nodes and `vertices`
+/// vertices (as [`Bintree::bit_words`]), for sizing storage at compile time from the lengths
+/// of a hierarchy's statics.
+///
+/// ```
+/// use spline_tess::bisect::bit_words_for;
+/// const BITS: usize = bit_words_for(7520, 3900);
+/// let bits = [0u32; BITS];
+/// assert_eq!(bits.len(), 2 * 122 + 3 * 235);
+/// ```
+pub const fn bit_words_for(nodes: usize, vertices: usize) -> usize {
+    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32)
 }
 
 /// The run time of a baked hierarchy: each [`update`](Self::update) finds the frame's mesh

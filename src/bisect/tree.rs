@@ -228,15 +228,28 @@ const WALK: usize = 34;
 /// halves). `visit` may halve triangles: the walk goes by what `visit` returns when it gets
 /// to each.
 pub(super) fn walk(tree: Bintree<'_>, mut visit: impl FnMut(&Pending) -> Option<u32>) {
+    walk_patches(tree, &mut (), |_, _| true, |_, h| visit(h));
+}
+
+/// [`walk`] over the patches `wants` takes, both callbacks given `state`.
+pub(super) fn walk_patches<S: ?Sized>(
+    tree: Bintree<'_>,
+    state: &mut S,
+    mut wants: impl FnMut(&mut S, u32) -> bool,
+    mut visit: impl FnMut(&mut S, &Pending) -> Option<u32>,
+) {
     let mut stack = [Pending::default(); WALK];
     for p in 0..tree.patches.len() as u32 {
+        if !wants(state, p) {
+            continue;
+        }
         stack[0] = tree.root(p, 1);
         stack[1] = tree.root(p, 0);
         let mut n = 2;
         while n > 0 {
             n -= 1;
             let h = stack[n];
-            if let Some(v) = visit(&h).filter(|_| n + 2 <= WALK) {
+            if let Some(v) = visit(state, &h).filter(|_| n + 2 <= WALK) {
                 let [h0, h1] = tree.halves(&h, v);
                 stack[n] = h1;
                 stack[n + 1] = h0;

@@ -72,22 +72,10 @@ impl TriangleSource for Selection<'_, '_> {
 
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
         let patches = self.tree().model();
-        // The stream goes patch by patch: whether a patch reaches the rows is worked out once.
-        let mut current: Option<(u32, bool)> = None;
-        self.stream_keyed(|patch, keys, corner| {
-            let near = match current {
-                Some((p, near)) if p == patch => near,
-                _ => {
-                    let near =
-                        reaches(projected_rows(patches.patch(patch as usize), camera), &rows)
-                            && sink.wants_patch(patch);
-                    current = Some((patch, near));
-                    near
-                }
-            };
-            if near {
-                sink.keyed_triangle(patch, keys, corner);
-            }
+        // A patch that cannot reach the rows, or that the sink does not want, is not walked.
+        self.stream_keyed(sink, |sink, patch| {
+            sink.wants_patch(patch)
+                && reaches(projected_rows(patches.patch(patch as usize), camera), &rows)
         });
     }
 }
