@@ -9,8 +9,12 @@
 //! `host-tests/tests/firmware_data.rs` with the same code, `examples/common/fw_teapot_frames.rs`).
 //!
 //! ```text
-//! cargo run --release --example fw_teapot --target thumbv7em-none-eabihf
+//! cargo run --release --example fw_teapot --target thumbv7em-none-eabihf --no-default-features
 //! ```
+//!
+//! It ships without the crate's default feature `refine` (no refinement below the bake, so no
+//! surface evaluation in its code): its frames are the same with it, as its pool of vertices
+//! below the bake is empty.
 //!
 //! Runs under QEMU `mps2-an386` and exits 0 when every frame matches bit for bit and pushes
 //! each pixel of the screen exactly once. Per frame it prints integers only (instructions from

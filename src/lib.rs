@@ -47,6 +47,75 @@
 //! triangle slot, for meshes of up to 130 vertices a patch ([`Tessellator::indexed`], and the
 //! last parameter of [`FixedStorage`](tessellator::FixedStorage), firmware's storage).
 //!
+//! ## On a microcontroller
+//!
+//! A bisection hierarchy is baked on the host ([`bisect::bake_bintree`]) and written as
+//! statics ([`bisect::write_rust_source`]) that the firmware reads in place from flash. The run
+//! time's storage is three arrays sized at compile time, whatever the view: bits for the
+//! hierarchy ([`bisect::bit_words_for`]), a stack of waiting triangles (any length from
+//! [`Selection::MIN_STACK`](bisect::Selection::MIN_STACK); a short one walks the mesh again
+//! for what it had no room for), and a pool of vertices below the bake (empty here: a view
+//! finer than the bake leaves its triangles whole, and the frame reports the bound it keeps).
+//! The firmware demo `fw_teapot` does this in 5.4 KB, and draws the frame band by band with
+//! `render` (README, *Footprint*).
+//!
+//! ```
+//! # use spline_tess::bisect::{bake_bintree, BakeScratch, Bintree, BintreeBuffers, BintreeNode,
+//! #     BintreePatch, BintreeSettings, BintreeVertex};
+//! # use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
+//! use spline_tess::bisect::{bit_words_for, Pending, RefinedVertex, Selection};
+//! use spline_tess::{Camera, Projection, Vec3, View};
+//!
+//! // The hierarchy's statics, as `write_rust_source` writes them (here baked in place).
+//! const NODES: usize = 2048;
+//! const VERTICES: usize = 1024;
+//! # let mut points = [[0.0f32; 3]; 16];
+//! # for (k, p) in points.iter_mut().enumerate() {
+//! #     let (i, j) = (k / 4, k % 4);
+//! #     let z = if (1..3).contains(&i) && (1..3).contains(&j) { 1.0 } else { 0.0 };
+//! #     *p = [i as f32, j as f32, z];
+//! # }
+//! # let headers = [PatchHeader { degree_u: 3, degree_v: 3, first_point: 0 }];
+//! # let patches = PatchSet::new(&headers, &points, None)?;
+//! # let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
+//! # let model = Model::build(patches, &mut edges, &mut curves)?;
+//! # let mut nodes = [BintreeNode::default(); NODES];
+//! # let mut vertices = [BintreeVertex::default(); VERTICES];
+//! # let mut records = [BintreePatch::default()];
+//! # let mut scratch = vec![BakeScratch::default(); 4096];
+//! # let buffers = BintreeBuffers {
+//! #     nodes: &mut nodes,
+//! #     vertices: &mut vertices,
+//! #     patches: &mut records,
+//! #     scratch: &mut scratch,
+//! # };
+//! # let size = bake_bintree(&model, &BintreeSettings::default(), buffers)?;
+//! # let (nodes, vertices) = (&nodes[..size.nodes], &vertices[..size.vertices]);
+//! let tree = Bintree::new(patches, nodes, vertices, &records)?;
+//!
+//! // The run time's storage: bits, a stack, no pool.
+//! let mut bits = [0u32; bit_words_for(NODES, VERTICES)];
+//! let mut stack = [Pending::default(); 64];
+//! let mut pool: [RefinedVertex; 0] = [];
+//! let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool)?;
+//!
+//! // A frame: 1 px on a 240x240 display.
+//! let camera = Camera::new(
+//!     Vec3::new(6.0, -4.0, 5.0),
+//!     Vec3::new(1.5, 1.5, 0.5),
+//!     Vec3::Z,
+//!     Projection::Perspective { fov_y_degrees: 40.0 },
+//!     0.1,
+//!     [240, 240],
+//! )?;
+//! let stats = selection.update(&View::Screen { camera, tolerance_px: 1.0 });
+//! assert!(stats.left_over > 0 || stats.worst_bound <= 1.0);
+//! let mut drawn = 0;
+//! selection.stream_with_info(|_info, _corners| drawn += 1);
+//! assert_eq!(drawn, stats.triangles);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ## Example
 //!
 //! ```
@@ -77,6 +146,11 @@
 //!
 //! ## Crate features
 //!
+//! - `refine` (default): refinement below a bisection hierarchy's bake, in the caller's pool
+//!   of vertices ([`bisect`]). A firmware whose views stay within its bake can leave it out:
+//!   its code then holds no surface evaluation (20 KB less at opt-level "s" in `fw_teapot`),
+//!   and a view finer than the bake leaves its triangles whole, within the bound the frame
+//!   reports, as with a full pool.
 //! - `defmt`: every public type implements `defmt::Format`.
 //! - `embedded-graphics`: `render`, a band-by-band, z-buffered rasteriser that draws a
 //!   tessellator's triangles (streamed, no mesh buffer) or an indexed mesh onto any

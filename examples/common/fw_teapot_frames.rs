@@ -18,11 +18,10 @@ pub const WIDTH: u32 = 240;
 /// Display size.
 pub const HEIGHT: u32 = 240;
 /// Rows per band: the depth and colour band buffers hold `WIDTH * BAND_ROWS` values each.
-/// Measured 2026-11-24 under QEMU (with the prefix tessellator, which this demo used then):
-/// 8 rows instead of 16 saved 7,680 bytes for 0.28M more render instructions in frame 0 and
-/// 0.34M in frame 1; 4 rows instead of 8 save 3,840 more for 0.46M more in frame 0 and 0.55M
-/// in frame 1 (a triangle is set up once per band it meets).
-pub const BAND_ROWS: u32 = 4;
+/// Measured 2026-11-26 under QEMU: 8 rows instead of 4 (3,840 bytes more) take frame 0's render
+/// from 3.88M to 3.54M instructions and frame 1's from 4.20M to 3.84M (a triangle is set up
+/// once per band it meets, and a band decodes the list's groups that meet it).
+pub const BAND_ROWS: u32 = 8;
 /// Pixels of one band: depth values, and colours (two bytes each).
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
@@ -37,11 +36,13 @@ pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2900 };
 /// Triangles waiting to be judged (`Pending`, 32 bytes each). Measured 2026-11-26 under QEMU:
 /// 256 entries instead of 64 (6 KiB more) spare frames 0 and 1 2% of their update.
 pub const STACK: usize = 64;
-/// Vertices below the bake (`RefinedVertex`, 48 bytes each; the pool takes at most 7/8 of
-/// them). Frames 0 to 2 need none; frame 3 fills it and leaves 184 leaves whole, within the
-/// bound it reports (`SelectionStats::worst_bound`, printed by the host run as `bound_px`:
-/// 1.9 px).
-pub const POOL: usize = 64;
+/// Vertices below the bake (`RefinedVertex`, 48 bytes each): none. Frames 0 to 2 are within
+/// the bake; frame 3 is not, and leaves 250 triangles whole, within the bound it reports
+/// (`SelectionStats::worst_bound`, printed by the host run as `bound_px`: 1.9 px). Measured
+/// 2026-11-26: a pool of 64 (3 KB) makes 56 vertices in frame 3 and leaves its bound at 1.9 px,
+/// so the demo keeps none, and is built without the crate's `refine` feature (20 KB less code
+/// at opt-level "s"; `scripts/footprint.sh`).
+pub const POOL: usize = 0;
 /// The frames: eye, tolerance in pixels, shading, wireframe. All look at the teapot's middle.
 pub const FRAMES: [([f32; 3], f32, Shading, bool); 4] = [
     ([9.0, -12.0, 7.0], 1.0, Shading::Gouraud, false),

@@ -44,7 +44,11 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
         let kept = node.kept();
         return judge_vectors(view, corners, &kept, longest_of(&kept), node.remainder);
     }
-    let Some(patch) = tree.patch_of(h.tri.patch) else {
+    let patch = tree
+        .patch_of(h.tri.patch)
+        .filter(|_| cfg!(feature = "refine"));
+    let Some(patch) = patch else {
+        // (A build without refinement makes no triangle below the bake.)
         return Judged {
             bound: f32::INFINITY,
             hidden: false,

@@ -255,7 +255,7 @@ impl<'t, 's> Selection<'t, 's> {
             Some(n) if n.children != 0 => bit(self.active(), n.vertex).then_some(n.vertex),
             // Below the bake: in the pool, if anything is (most frames make nothing there, and
             // most leaves of the bake are not halved).
-            _ if self.pool.used == 0 => None,
+            _ if self.pool.used == 0 || !cfg!(feature = "refine") => None,
             Some(_) if !bit(&self.bits[self.layout.refined..], h.node) => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
@@ -275,6 +275,9 @@ impl<'t, 's> Selection<'t, 's> {
     pub(super) fn is_hidden(&self, h: &Pending, bounds: &mut Option<(u32, PatchBounds)>) -> bool {
         if h.node != RUN_TIME {
             return bit(&self.bits[self.layout().hidden..], h.node);
+        }
+        if !cfg!(feature = "refine") {
+            return false; // (never reached: such a build makes no triangle below the bake)
         }
         let Some(View::Screen { camera, .. }) = &self.view else {
             return false;
@@ -490,6 +493,8 @@ impl<'t, 's> Selection<'t, 's> {
                 set(self.bits, n.vertex);
                 n.vertex
             }
+            // Below the bake (the code is left out of builds without refinement).
+            _ if !cfg!(feature = "refine") => return false,
             _ => match self.pool.make(&tree, &h.tri, tree.vertices.len() as u32) {
                 Some(v) => {
                     self.stats.refined += 1;
