@@ -18,7 +18,7 @@ pub const WIDTH: u32 = 240;
 /// Display size.
 pub const HEIGHT: u32 = 240;
 /// Rows per band: the depth and colour band buffers hold `WIDTH * BAND_ROWS` values each.
-/// Measured 2026-11-26 under QEMU: 8 rows instead of 4 (3,840 bytes more) take frame 0's render
+/// Measured 2026-11-25 under QEMU: 8 rows instead of 4 (3,840 bytes more) take frame 0's render
 /// from 3.88M to 3.54M instructions and frame 1's from 4.20M to 3.84M (a triangle is set up
 /// once per band it meets, and a band decodes the list's groups that meet it).
 pub const BAND_ROWS: u32 = 8;
@@ -26,20 +26,20 @@ pub const BAND_ROWS: u32 = 8;
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
 /// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner). Frames 0, 1 and 3
-/// take 1,223, 1,218 and 2,494 (the host run prints `list_slots`); frame 2, flat-shaded, keeps
-/// its first patches there and streams the rest band by band. Measured 2026-11-26 under QEMU:
-/// with 1,552 slots frames 2 and 3 render in 25.6M and 30.1M instead of 14.2M and 16.0M.
-/// `--cfg fw_no_list` builds the demo without a list, to measure the streaming path on every
-/// frame.
+/// take 1,223, 1,218 and 2,389 (the host run prints `list_slots`); frame 2, flat-shaded, keeps
+/// its first patches there and streams the rest band by band. Measured 2026-11-25 under QEMU
+/// (4-row bands, a pool of 64): with 1,552 slots frames 2 and 3 rendered in 25.6M and 30.1M
+/// instructions instead of 14.2M and 16.0M. `--cfg fw_no_list` builds the demo without a list,
+/// to measure the streaming path on every frame.
 pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2900 };
 
-/// Triangles waiting to be judged (`Pending`, 32 bytes each). Measured 2026-11-26 under QEMU:
+/// Triangles waiting to be judged (`Pending`, 32 bytes each). Measured 2026-11-25 under QEMU:
 /// 256 entries instead of 64 (6 KiB more) spare frames 0 and 1 2% of their update.
 pub const STACK: usize = 64;
 /// Vertices below the bake (`RefinedVertex`, 48 bytes each): none. Frames 0 to 2 are within
 /// the bake; frame 3 is not, and leaves 250 triangles whole, within the bound it reports
 /// (`SelectionStats::worst_bound`, printed by the host run as `bound_px`: 1.9 px). Measured
-/// 2026-11-26: a pool of 64 (3 KB) makes 56 vertices in frame 3 and leaves its bound at 1.9 px,
+/// 2026-11-25: a pool of 64 (3 KB) makes 56 vertices in frame 3 and leaves its bound at 1.9 px,
 /// so the demo keeps none, and is built without the crate's `refine` feature (20 KB less code
 /// at opt-level "s"; `scripts/footprint.sh`).
 pub const POOL: usize = 0;
