@@ -31,8 +31,13 @@
 //! `deviation/screen.rs`), so a deviation along the line of sight counts for what it moves on
 //! screen, and a triangle off screen for nothing.
 //!
-//! Where the bake's triangles run out (a view finer than the bake), a leaf over the tolerance
-//! is reported ([`SelectionStats::left_over`], with the bound it has), not hidden.
+//! Where the bake's triangles run out (a view finer than the bake), the run time halves them
+//! further into a caller pool of vertices ([`RefinedVertex`]), evaluating the new vertices and
+//! bounding the new triangles itself. That takes the crate's default feature `refine`: a build
+//! without it (a firmware that keeps its views within the bake, and so holds no surface
+//! evaluation in its code) leaves such leaves whole, as a full pool does. Either way a leaf
+//! still over the tolerance is reported ([`SelectionStats::left_over`], with the bound it has
+//! in [`SelectionStats::worst_bound`]), not hidden.
 
 mod address;
 mod bake;

@@ -14,6 +14,9 @@
 //! When the pool is full (past seven eighths, to keep probes short), a leaf that needs a new
 //! vertex stays whole and is counted as left over, with its bound in the frame's worst: the
 //! frame reports what it honours.
+//!
+//! Without the crate feature `refine` the selection makes no vertex here (as with a full
+//! pool), and this code and the surface evaluation it calls are left out of a build.
 
 use super::address::{point_on, side_parameter, unit, Point, Tri};
 use super::tree::Bintree;

@@ -559,3 +559,75 @@ impl<'t, 's> Selection<'t, 's> {
         self.stats.hidden = hidden;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::Tolerance;
+    use crate::bisect::{
+        bake_bintree, BakeScratch, BintreeBuffers, BintreeNode, BintreePatch, BintreeSettings,
+        BintreeVertex,
+    };
+    use crate::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
+
+    /// A view finer than the bake is refined into the pool with the feature `refine`, and
+    /// left whole without it (as with a full pool), its bound reported either way.
+    #[test]
+    fn views_finer_than_the_bake_refine_only_with_the_feature() {
+        let mut points = [[0.0f32; 3]; 16];
+        for (k, p) in points.iter_mut().enumerate() {
+            let (i, j) = (k / 4, k % 4);
+            let z = if (1..3).contains(&i) && (1..3).contains(&j) { 1.0 } else { 0.0 };
+            *p = [i as f32, j as f32, z];
+        }
+        let headers = [PatchHeader {
+            degree_u: 3,
+            degree_v: 3,
+            first_point: 0,
+        }];
+        let patches = PatchSet::new(&headers, &points, None).unwrap();
+        let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
+        let model = Model::build(patches, &mut edges, &mut curves).unwrap();
+        let mut nodes = [BintreeNode::default(); 512];
+        let mut vertices = [BintreeVertex::default(); 256];
+        let mut records = [BintreePatch::default()];
+        let mut scratch = [BakeScratch::default(); 512];
+        let buffers = BintreeBuffers {
+            nodes: &mut nodes,
+            vertices: &mut vertices,
+            patches: &mut records,
+            scratch: &mut scratch,
+        };
+        let settings = BintreeSettings {
+            tolerance: Tolerance::Relative(2e-2),
+            ..BintreeSettings::default()
+        };
+        let size = bake_bintree(&model, &settings, buffers).unwrap();
+        let tree =
+            Bintree::new(patches, &nodes[..size.nodes], &vertices[..size.vertices], &records)
+                .unwrap();
+        let mut bits = [0u32; 64];
+        let mut stack = [Pending::default(); 64];
+        let mut pool = [RefinedVertex::default(); 256];
+        let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+        // A hundredth of the bake's tolerance: far below the bake.
+        let tolerance = 1e-2 * size_of_bake(&settings, &model);
+        let stats = selection.update(&View::Object { tolerance });
+        if cfg!(feature = "refine") {
+            assert!(stats.refined > 0);
+        } else {
+            assert_eq!(stats.refined, 0);
+            assert!(stats.left_over > 0);
+        }
+        assert!((stats.worst_bound > tolerance) == (stats.left_over > 0));
+        assert!(stats.worst_bound.is_finite());
+    }
+
+    /// The bake's tolerance in model units.
+    fn size_of_bake(settings: &BintreeSettings, model: &Model<'_>) -> f32 {
+        match settings.tolerance {
+            Tolerance::Relative(r) => r * model.patches.aabb().unwrap().diagonal(),
+            Tolerance::Absolute(a) => a,
+        }
+    }
+}
