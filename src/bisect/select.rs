@@ -577,7 +577,11 @@ mod tests {
         let mut points = [[0.0f32; 3]; 16];
         for (k, p) in points.iter_mut().enumerate() {
             let (i, j) = (k / 4, k % 4);
-            let z = if (1..3).contains(&i) && (1..3).contains(&j) { 1.0 } else { 0.0 };
+            let z = if (1..3).contains(&i) && (1..3).contains(&j) {
+                1.0
+            } else {
+                0.0
+            };
             *p = [i as f32, j as f32, z];
         }
         let headers = [PatchHeader {
@@ -603,9 +607,13 @@ mod tests {
             ..BintreeSettings::default()
         };
         let size = bake_bintree(&model, &settings, buffers).unwrap();
-        let tree =
-            Bintree::new(patches, &nodes[..size.nodes], &vertices[..size.vertices], &records)
-                .unwrap();
+        let tree = Bintree::new(
+            patches,
+            &nodes[..size.nodes],
+            &vertices[..size.vertices],
+            &records,
+        )
+        .unwrap();
         let mut bits = [0u32; 64];
         let mut stack = [Pending::default(); 64];
         let mut pool = [RefinedVertex::default(); 256];
