@@ -256,6 +256,11 @@ impl<'t, 's> Selection<'t, 's> {
             // Below the bake: in the pool, if anything is (most frames make nothing there, and
             // most leaves of the bake are not halved).
             _ if self.pool.used == 0 || !cfg!(feature = "refine") => None,
+            // A triangle that cannot be halved never was: its hypotenuse's midpoint, rounded
+            // to the grid, may be another vertex of the pool (found by the bisect fuzz
+            // target: a walk took such triangles as halved, and below them every triangle
+            // again, down to its depth limit, 2^30 triangles).
+            _ if !h.tri.can_split() => None,
             Some(_) if !bit(&self.bits[self.layout.refined..], h.node) => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
