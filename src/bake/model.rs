@@ -13,7 +13,6 @@ use super::interior::{
 };
 use super::quantize::PointBox;
 use crate::domain::{DomainMesh, GridPoint, InsertError, MeshTriangle, MeshVertex};
-use crate::math::length;
 use crate::model::{EdgeLink, Model};
 use crate::patch::Side;
 
@@ -25,6 +24,17 @@ pub enum Tolerance {
     Absolute(f32),
     /// As a fraction of the diagonal of the model's control-point bounding box.
     Relative(f32),
+}
+
+impl Tolerance {
+    /// The tolerance in model units, for a model whose control-point bounding box has
+    /// diagonal `diagonal`.
+    pub(crate) fn in_model_units(self, diagonal: f32) -> f32 {
+        match self {
+            Tolerance::Absolute(t) => t,
+            Tolerance::Relative(r) => r * diagonal,
+        }
+    }
 }
 
 /// What to bake.
@@ -265,13 +275,8 @@ pub fn bake_model(
 ) -> Result<BakeSummary, BakeError> {
     let patches = &model.patches;
     let curves = model.topology.curves();
-    let tolerance = match settings.tolerance {
-        Tolerance::Absolute(t) => t,
-        Tolerance::Relative(r) => {
-            let diagonal = patches.aabb().map_or(0.0, |b| length(b.max - b.min));
-            r * diagonal
-        }
-    };
+    let diagonal = patches.aabb().map_or(0.0, |b| b.diagonal());
+    let tolerance = settings.tolerance.in_model_units(diagonal);
     if !(tolerance.is_finite() && tolerance >= 0.0) {
         return Err(BakeError::BadTolerance);
     }

@@ -11,7 +11,7 @@ use super::kept::{dequantize, keep, KEPT};
 use super::lattice::{coarse, deviation_vectors, POINTS, STEPS};
 use super::{BintreeNode, BintreePatch, BintreeVertex, NO_VERTEX};
 use crate::bake::Tolerance;
-use crate::math::{length, max};
+use crate::math::max;
 use crate::model::Model;
 use crate::patch::Side;
 
@@ -134,15 +134,8 @@ pub fn bake_bintree(
     if settings.max_depth > 30 {
         return Err(BintreeBakeError::TooDeep(settings.max_depth));
     }
-    let tolerance = match settings.tolerance {
-        Tolerance::Absolute(t) => t,
-        Tolerance::Relative(r) => {
-            r * model
-                .patches
-                .aabb()
-                .map_or(f32::NAN, |b| length(b.max - b.min))
-        }
-    };
+    let diagonal = model.patches.aabb().map_or(f32::NAN, |b| b.diagonal());
+    let tolerance = settings.tolerance.in_model_units(diagonal);
     if !(tolerance > 0.0 && tolerance.is_finite()) {
         return Err(BintreeBakeError::BadTolerance(tolerance));
     }

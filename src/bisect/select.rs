@@ -624,7 +624,8 @@ mod tests {
         let mut pool = [RefinedVertex::default(); 256];
         let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
         // A hundredth of the bake's tolerance: far below the bake.
-        let tolerance = 1e-2 * size_of_bake(&settings, &model);
+        let diagonal = model.patches.aabb().unwrap().diagonal();
+        let tolerance = 1e-2 * settings.tolerance.in_model_units(diagonal);
         let stats = selection.update(&View::Object { tolerance });
         if cfg!(feature = "refine") {
             assert!(stats.refined > 0);
@@ -634,13 +635,5 @@ mod tests {
         }
         assert!((stats.worst_bound > tolerance) == (stats.left_over > 0));
         assert!(stats.worst_bound.is_finite());
-    }
-
-    /// The bake's tolerance in model units.
-    fn size_of_bake(settings: &BintreeSettings, model: &Model<'_>) -> f32 {
-        match settings.tolerance {
-            Tolerance::Relative(r) => r * model.patches.aabb().unwrap().diagonal(),
-            Tolerance::Absolute(a) => a,
-        }
     }
 }
