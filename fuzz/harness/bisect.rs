@@ -16,8 +16,8 @@ use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
 use spline_tess::{TriangleSink, Vertex, View, WriteError};
 
 use super::bytes::Bytes;
-use super::model_file::{BakedBintree, ModelFile};
-use super::runtime::{camera, vertex_bits, MODELS, SPECIAL};
+use super::model_file::BakedBintree;
+use super::runtime::{camera, model_file, vertex_bits, MODELS, SPECIAL};
 
 /// Bake tolerances, relative to the diagonal.
 const BAKES: [f32; 2] = [1e-2, 3e-3];
@@ -26,13 +26,7 @@ fn baked(model: usize, bake: usize) -> &'static BakedBintree {
     static CACHE: [[OnceLock<BakedBintree>; BAKES.len()]; MODELS.len()] =
         [const { [const { OnceLock::new() }; BAKES.len()] }; MODELS.len()];
     CACHE[model][bake].get_or_init(|| {
-        let (kind, text) = MODELS[model];
-        let file = if kind == "bpt" {
-            ModelFile::from_bpt(text)
-        } else {
-            ModelFile::from_nurbs_json(text)
-        }
-        .expect("a repository model parses");
+        let file = model_file(model);
         let settings = BintreeSettings {
             tolerance: Tolerance::Relative(BAKES[bake]),
             ..BintreeSettings::default()

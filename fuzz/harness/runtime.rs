@@ -53,17 +53,22 @@ struct Baked {
     center: Vec3,
 }
 
+/// Model `model` of [`MODELS`], parsed.
+pub(crate) fn model_file(model: usize) -> ModelFile {
+    let (kind, text) = MODELS[model];
+    if kind == "bpt" {
+        ModelFile::from_bpt(text)
+    } else {
+        ModelFile::from_nurbs_json(text)
+    }
+    .expect("a repository model parses")
+}
+
 fn baked(model: usize, bake: usize) -> &'static Baked {
     static CACHE: [[OnceLock<Baked>; BAKES.len()]; MODELS.len()] =
         [const { [const { OnceLock::new() }; BAKES.len()] }; MODELS.len()];
     CACHE[model][bake].get_or_init(|| {
-        let (kind, text) = MODELS[model];
-        let file = if kind == "bpt" {
-            ModelFile::from_bpt(text)
-        } else {
-            ModelFile::from_nurbs_json(text)
-        }
-        .expect("a repository model parses");
+        let file = model_file(model);
         let (tol, curve, interior) = BAKES[bake];
         let settings = BakeSettings {
             tolerance: Tolerance::Relative(tol),
