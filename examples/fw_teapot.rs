@@ -28,7 +28,7 @@
 //! and at the end the RAM in bytes: the run time's storage (its bits, its stack of waiting
 //! triangles and its pool of vertices below the bake), the bands (depth and colour), the
 //! stack the frames used (painted before the first frame, on top of the buffers, which sit on
-//! the stack here), static RAM, and the triangle list:
+//! the stack here), static RAM, and the triangle list with its vertex map:
 //!
 //! ```text
 //! fw_teapot: ram total N storage S bands B stack K static D list L
@@ -106,13 +106,22 @@ const STORAGE_BYTES: usize = 4 * BITS
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const BAND_BYTES: usize = teapot::BAND * (2 + 2); // a depth value and two colour bytes a pixel
 #[cfg_attr(fw_quiet, allow(dead_code))]
-const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ListSlot>();
+const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ListSlot>() + 2 * MAP;
+
+/// Entries of the triangle list's vertex map: one per vertex of the hierarchy and of the pool
+/// (`Renderer::with_vertex_map`). None without a list.
+const MAP: usize = if teapot::LIST == 0 {
+    0
+} else {
+    baked::TEAPOT_VERTICES.len() + teapot::POOL
+};
 
 /// The caller buffers of the renderer.
 struct Buffers {
     depth: [u16; teapot::BAND],
     colors: [u8; 2 * teapot::BAND],
     list: [ListSlot; teapot::LIST],
+    map: [u16; MAP],
 }
 
 /// Updates and draws frame `k`. Not inlined, so that its stack (and its callees') is
@@ -134,6 +143,7 @@ fn frame(
         &mut buffers.depth,
         &mut buffers.colors,
         &mut buffers.list,
+        &mut buffers.map,
         display,
     )?;
     let t2 = clock();
@@ -185,6 +195,7 @@ fn run(
         depth: [0; teapot::BAND],
         colors: [0; 2 * teapot::BAND],
         list: [ListSlot::default(); teapot::LIST],
+        map: [0; MAP],
     };
     let mut display = SpiDisplay::new(teapot::WIDTH, teapot::HEIGHT);
     let mut all = true;

@@ -96,7 +96,8 @@ pub fn update(selection: &mut Selection<'_, '_>, k: usize) -> Option<SelectionSt
 
 /// Draws `selection`'s current frame as frame `k` onto `display`, band by band: `depth` (`BAND`
 /// values) and `colors` (`2 * BAND` bytes, big-endian Rgb565) hold one band, each band's bytes
-/// are pushed as they are (as to a DMA transfer), `list` (may be empty) the frame's triangles. Not
+/// are pushed as they are (as to a DMA transfer), `list` (may be empty) the frame's triangles,
+/// `map` (may be empty) the list's vertex map (one entry per vertex of the hierarchy). Not
 /// inlined: the renderer's locals then take the stack after the update's, not beside them.
 #[inline(never)]
 pub fn render(
@@ -105,12 +106,14 @@ pub fn render(
     depth: &mut [u16],
     colors: &mut [u8],
     list: &mut [ListSlot],
+    map: &mut [u16],
     display: &mut SpiDisplay,
 ) -> Option<RenderStats> {
     let camera = camera(k)?;
     let style = style(k)?;
     display.begin_frame();
     Renderer::with_triangle_list(depth, list)
+        .with_vertex_map(map)
         .draw_bands_rgb565(selection, &camera, &style, colors, |area, bytes| {
             display.push_band(area, bytes);
             Ok::<(), core::convert::Infallible>(())

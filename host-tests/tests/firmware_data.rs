@@ -377,6 +377,7 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
         let mut depth = vec![0u16; fw_teapot::BAND];
         let mut colors = vec![0u8; 2 * fw_teapot::BAND];
         let mut list = vec![ListSlot::default(); fw_teapot::LIST];
+        let mut map = vec![0u16; tess.remap_len()];
         let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
         let bands = fw_teapot::HEIGHT.div_ceil(fw_teapot::BAND_ROWS);
         (0..fw_teapot::FRAMES.len())
@@ -395,18 +396,28 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
                     stats.worst_bound,
                     stats.left_over
                 );
-                let mut draw = |list: &mut [ListSlot]| {
-                    let drawn =
-                        fw_teapot::render(tess, f, &mut depth, &mut colors, list, &mut display)
-                            .expect("frame draws");
+                let mut draw = |list: &mut [ListSlot], map: &mut [u16]| {
+                    let drawn = fw_teapot::render(
+                        tess,
+                        f,
+                        &mut depth,
+                        &mut colors,
+                        list,
+                        map,
+                        &mut display,
+                    )
+                    .expect("frame draws");
                     assert!(display.tiled_once(), "frame {f}: each pixel pushed once");
                     assert_eq!(display.windows, bands, "frame {f}: one window per band");
                     (drawn, display.checksum())
                 };
-                let (listed, sum) = draw(&mut list);
-                let (streamed, again) = draw(&mut []);
+                let (listed, sum) = draw(&mut list, &mut map);
+                let (unmapped, by_cache) = draw(&mut list, &mut []);
+                let (streamed, again) = draw(&mut [], &mut []);
                 assert_eq!(sum, again, "frame {f}: listed and streamed pixels differ");
+                assert_eq!(sum, by_cache, "frame {f}: a list without its vertex map differs");
                 assert_eq!(listed.pixels, streamed.pixels);
+                assert_eq!(listed.listed, unmapped.listed, "frame {f}");
                 assert_eq!(streamed.passes, bands);
                 // The same frame as colours through the display model's `DrawTarget`
                 // (`draw_bands`, one `fill_contiguous` per band) sends the same bytes.
@@ -468,18 +479,25 @@ fn fw_teapot_lists_of_any_length_draw_the_same() {
         let mut display = spi_display::SpiDisplay::new(fw_teapot::WIDTH, fw_teapot::HEIGHT);
         for f in 0..fw_teapot::FRAMES.len() {
             fw_teapot::update(tess, f).expect("frame updates");
-            let mut draw = |list: &mut [ListSlot]| {
-                let stats = fw_teapot::render(tess, f, &mut depth, &mut colors, list, &mut display)
-                    .expect("frame draws");
+            let mut draw = |list: &mut [ListSlot], map: &mut [u16]| {
+                let stats =
+                    fw_teapot::render(tess, f, &mut depth, &mut colors, list, map, &mut display)
+                        .expect("frame draws");
                 (display.checksum(), stats.listed < stats.triangles)
             };
-            let (streamed, _) = draw(&mut []);
+            let (streamed, _) = draw(&mut [], &mut []);
             let mut partial = 0;
+            let mut map = vec![0u16; tess.remap_len()];
             for len in (1..4000).step_by(41) {
                 let mut list = vec![ListSlot::default(); len];
-                let (sum, cut) = draw(&mut list);
+                let (sum, cut) = draw(&mut list, &mut []);
                 assert_eq!(sum, streamed, "frame {f}, a list of {len} slots");
                 partial += usize::from(cut);
+                // With a vertex map, through the same cuts (a cut frees the corners of the
+                // patch it cuts, which the map may still name).
+                let (mapped, mapped_cut) = draw(&mut list, &mut map);
+                assert_eq!(mapped, streamed, "frame {f}, a list of {len} slots and a map");
+                assert_eq!(mapped_cut, cut, "frame {f}, {len} slots");
             }
             assert!(partial > 20, "frame {f}: the lists were seldom cut");
         }

@@ -25,6 +25,14 @@ pub trait TriangleSource {
     /// does not [want](TriangleSink::wants_patch). Called once per band, or once per frame
     /// with a triangle list, so a source should skip what it cheaply can.
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink);
+
+    /// `Some(n)` when the keys of the [`keyed_triangle`](TriangleSink::keyed_triangle)s this
+    /// source streams are vertex numbers below `n`: a renderer with a
+    /// [vertex map](super::Renderer::with_vertex_map) of at least `n` entries then lists each
+    /// vertex once, by its number. The default, `None`: keys are only names.
+    fn vertex_numbers(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// The current frame of a tessellator, streamed without a mesh buffer: each band streams only
@@ -77,6 +85,11 @@ impl TriangleSource for Selection<'_, '_> {
             sink.wants_patch(patch)
                 && reaches(projected_rows(patches.patch(patch as usize), camera), &rows)
         });
+    }
+
+    /// The bake's vertices and the pool's ([`Selection::remap_len`]).
+    fn vertex_numbers(&self) -> Option<usize> {
+        Some(self.remap_len())
     }
 }
 

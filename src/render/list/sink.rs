@@ -13,6 +13,9 @@ use crate::sink::{TriangleSink, Vertex};
 /// Entries of the table that finds a corner already in the list by its value.
 const SHARED: usize = 256;
 
+/// An entry of the vertex map for a vertex with no corner in the list.
+pub(in crate::render) const NO_SLOT: u16 = u16::MAX;
+
 /// Why a triangle did not go into the list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum NoRoom {
@@ -60,6 +63,10 @@ pub(in crate::render) struct ListSink<'a, 'b, 'c> {
     /// the cache keeps it.
     values: [ListSlot; CORNER_CACHE],
     projected: u64,
+    /// The list slot of each vertex's corner, by vertex number (see
+    /// [`Renderer::with_vertex_map`](crate::render::Renderer::with_vertex_map)), or [`NO_SLOT`];
+    /// empty when the source's keys are not vertex numbers this map holds.
+    map: &'c mut [u16],
 }
 
 impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
@@ -67,6 +74,7 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
         setup: &'a Setup<'a>,
         list: &'b mut [ListSlot],
         corners: &'c mut CornerCache,
+        map: &'c mut [u16],
     ) -> Self {
         let end = list.len().min(MAX_SLOTS);
         ListSink {
@@ -85,6 +93,7 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
             corners,
             values: [ListSlot::default(); CORNER_CACHE],
             projected: 0,
+            map,
         }
     }
 }
@@ -108,12 +117,27 @@ impl ListSink<'_, '_, '_> {
     }
 
     /// The offset below `base` of a corner with value `value`: a slot already in the list
-    /// within the window below `base`, or a new one.
-    fn corner_slot(&mut self, value: ListSlot, base: usize) -> Result<u8, NoRoom> {
-        let [x, y, d, s] = value.0;
-        let h = (x as u32 | (y as u32) << 16) ^ (d as u32 | (s as u32) << 16).rotate_left(7);
-        let entry = (h.wrapping_mul(0x9e37_79b1) >> 24) as usize % SHARED;
-        let known = self.shared[entry] as usize;
+    /// within the window below `base`, or a new one. `vertex`: the corner's entry in the
+    /// vertex map, which then finds its slot (else a table of values does, which may miss).
+    fn corner_slot(
+        &mut self,
+        value: ListSlot,
+        base: usize,
+        vertex: Option<usize>,
+    ) -> Result<u8, NoRoom> {
+        let entry = match vertex {
+            Some(v) => v,
+            None => {
+                let [x, y, d, s] = value.0;
+                let h = (x as u32 | (y as u32) << 16) ^ (d as u32 | (s as u32) << 16).rotate_left(7);
+                (h.wrapping_mul(0x9e37_79b1) >> 24) as usize % SHARED
+            }
+        };
+        let table: &mut [u16] = match vertex {
+            Some(_) => &mut *self.map,
+            None => &mut self.shared,
+        };
+        let known = table.get(entry).map_or(usize::MAX, |&s| s as usize);
         let window = base.saturating_sub(WINDOW)..base;
         if known >= self.top && window.contains(&known) && self.list.get(known) == Some(&value) {
             return Ok((base - 1 - known) as u8);
@@ -126,7 +150,9 @@ impl ListSink<'_, '_, '_> {
         }
         self.top -= 1;
         self.list[self.top] = value;
-        self.shared[entry] = self.top as u16;
+        if let Some(e) = table.get_mut(entry) {
+            *e = self.top as u16;
+        }
         Ok((base - 1 - self.top) as u8)
     }
 
@@ -156,19 +182,25 @@ impl ListSink<'_, '_, '_> {
             *value = c;
         }
         let level = flat.then(|| shade_to_u8(v[0].shade));
-        self.push_values(values, wire, level)
+        self.push_values(values, wire, level, None)
     }
 
-    /// Adds a triangle of corner values `values`; false when it does not fit (nothing is
-    /// added then).
-    fn push_values(&mut self, values: [ListSlot; 3], wire: [bool; 3], level: Option<u8>) -> bool {
+    /// Adds a triangle of corner values `values` (of vertex map entries `vertices`, when
+    /// known); false when it does not fit (nothing is added then).
+    fn push_values(
+        &mut self,
+        values: [ListSlot; 3],
+        wire: [bool; 3],
+        level: Option<u8>,
+        vertices: Option<[usize; 3]>,
+    ) -> bool {
         let y = values.map(|v| v.y());
         // A corner out of the open group's window closes it: the next group's window starts
         // at the free slots.
-        match self.try_push(values, y, wire, level) {
+        match self.try_push(values, y, wire, level, vertices) {
             Err(NoRoom::Window) => {
                 self.group = None;
-                self.try_push(values, y, wire, level).is_ok()
+                self.try_push(values, y, wire, level, vertices).is_ok()
             }
             pushed => pushed.is_ok(),
         }
@@ -188,6 +220,7 @@ impl ListSink<'_, '_, '_> {
         y: [i16; 3],
         wire: [bool; 3],
         level: Option<u8>,
+        vertices: Option<[usize; 3]>,
     ) -> Result<(), NoRoom> {
         let (len, top, group) = (self.len, self.top, self.group);
         let restore = |sink: &mut Self| (sink.len, sink.top, sink.group) = (len, top, group);
@@ -207,8 +240,8 @@ impl ListSink<'_, '_, '_> {
         };
         let base = self.list[header].group_base();
         let mut offsets = [0u8; 3];
-        for (offset, value) in offsets.iter_mut().zip(values) {
-            match self.corner_slot(value, base) {
+        for (i, (offset, value)) in offsets.iter_mut().zip(values).enumerate() {
+            match self.corner_slot(value, base, vertices.map(|v| v[i])) {
                 Ok(o) => *offset = o,
                 Err(e) => {
                     restore(self);
@@ -283,9 +316,44 @@ impl ListSink<'_, '_, '_> {
                 .flat_shade(&found.corners)
                 .map(|s| shade_to_u8(quantize_shade(s)));
             let wire = self.setup.style.wireframe.is_some();
-            fits = self.push_values(values, [wire; 3], level);
+            fits = self.push_values(values, [wire; 3], level, None);
         }
         self.end(fits);
+    }
+
+    /// [`take`](Self::take) for a Gouraud-shaded triangle whose corners are vertices `keys`
+    /// of the vertex map: a corner already listed is taken from the list, the others are
+    /// projected once. The same values as `take`. `None` (nothing done) when a corner is not
+    /// in the map or not inside the clip planes: `take` then clips the triangle.
+    fn take_mapped(
+        &mut self,
+        patch: u32,
+        keys: [u64; 3],
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) -> Option<()> {
+        let mut values = [ListSlot::default(); 3];
+        let mut vertices = [0usize; 3];
+        for i in 0..3 {
+            let v = usize::try_from(keys[i]).ok()?;
+            let slot = *self.map.get(v)? as usize;
+            // (A slot below the corners in use was freed when a triangle did not fit.)
+            values[i] = match self.list.get(slot).filter(|_| slot >= self.top) {
+                Some(&listed) => listed,
+                None => {
+                    let c = self.setup.corner(&corner(i));
+                    if !self.setup.inside(&c) {
+                        return None;
+                    }
+                    self.corner_value(&self.setup.screen(&c))?
+                }
+            };
+            vertices[i] = v;
+        }
+        self.begin(patch);
+        let wire = self.setup.style.wireframe.is_some();
+        let fits = self.push_values(values, [wire; 3], None, Some(vertices));
+        self.end(fits);
+        Some(())
     }
 
     /// Opens patch `patch`'s groups when its first triangle comes.
@@ -338,6 +406,10 @@ impl TriangleSink for ListSink<'_, '_, '_> {
         if !self.admit() {
             return;
         }
+        let gouraud = self.setup.style.shading == Shading::Gouraud;
+        if gouraud && !self.map.is_empty() && self.take_mapped(patch, keys, corner).is_some() {
+            return;
+        }
         let found = self.corners.corners_in_entries(self.setup, keys, corner);
         self.projected &= !found.replaced;
         let [a, b, c] = found.entries;
@@ -374,10 +446,17 @@ pub(in crate::render) fn fill<S: TriangleSource>(
     setup: &Setup<'_>,
     list: &mut [ListSlot],
     corners: &mut CornerCache,
+    map: &mut [u16],
     source: &S,
     rows: core::ops::Range<u32>,
 ) -> Filled {
-    let mut sink = ListSink::new(setup, list, corners);
+    // The vertex map serves when it has an entry for every vertex number.
+    let map = match source.vertex_numbers() {
+        Some(n) if n <= map.len() => &mut map[..n],
+        _ => &mut [],
+    };
+    map.fill(NO_SLOT);
+    let mut sink = ListSink::new(setup, list, corners, map);
     source.stream_rows(setup.camera, rows, &mut sink);
     Filled {
         handed: sink.handed,
@@ -452,7 +531,7 @@ mod tests {
         let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
         // A group header, one slot of two triangles and their three shared corners.
         let mut list = [ListSlot::default(); 5];
-        let mut sink = ListSink::new(&setup, &mut list, &mut corners);
+        let mut sink = ListSink::new(&setup, &mut list, &mut corners, &mut []);
         assert!(sink.push(&t, [false; 3]));
         assert!(sink.push(&t, [false; 3]));
         assert_eq!((sink.len, sink.used()), (2, 5));
@@ -483,7 +562,7 @@ mod tests {
             [v(16.0, 16.0), v(a, 1.0), v(a + 0.0625, 30.0)]
         };
         let mut list = [ListSlot::default(); 1024];
-        let mut sink = ListSink::new(&setup, &mut list, &mut corners);
+        let mut sink = ListSink::new(&setup, &mut list, &mut corners, &mut []);
         for k in 0..200 {
             assert!(sink.push(&fan(k), [false; 3]), "{k}");
         }
