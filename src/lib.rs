@@ -151,6 +151,10 @@
 //!   its code then holds no surface evaluation (20 KB less at opt-level "s" in `fw_teapot`),
 //!   and a view finer than the bake leaves its triangles whole, within the bound the frame
 //!   reports, as with a full pool.
+//! - `large-viewports` (default): the renderer draws viewports up to
+//!   `render::MAX_VIEWPORT` = 2^20 pixels across, with 64-bit edge functions where corners
+//!   lie far out. Without it, up to 256 pixels, in 32-bit arithmetic only (2.5 KB less code
+//!   in `fw_teapot`).
 //! - `defmt`: every public type implements `defmt::Format`.
 //! - `embedded-graphics`: `render`, a band-by-band, z-buffered rasteriser that draws a
 //!   tessellator's triangles (streamed, no mesh buffer) or an indexed mesh onto any

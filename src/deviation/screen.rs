@@ -77,9 +77,43 @@ struct Polygon {
     n: usize,
 }
 
+/// A plane the polygon is clipped to, by its signed distance inside.
+#[derive(Clone, Copy)]
+enum ClipPlane {
+    /// `p.z - near`.
+    Near(f32),
+    /// `w - (sign · p[axis] - slope · p.z) / norm` (axis 0: x, 1: y): within `w` of a side
+    /// plane of the view.
+    Side {
+        axis: usize,
+        sign: f32,
+        slope: f32,
+        norm: f32,
+        w: f32,
+    },
+}
+
+impl ClipPlane {
+    fn inside(&self, p: Vec3) -> f32 {
+        match *self {
+            ClipPlane::Near(near) => p.z - near,
+            ClipPlane::Side {
+                axis,
+                sign,
+                slope,
+                norm,
+                w,
+            } => w - (sign * p[axis] - slope * p.z) / norm,
+        }
+    }
+}
+
 impl Polygon {
-    /// The part where `inside` (a linear function) is at least 0 (Sutherland–Hodgman).
-    fn clip(&self, inside: impl Fn(Vec3) -> f32) -> Polygon {
+    /// The part inside `plane` (Sutherland–Hodgman). One copy for every plane, rather than
+    /// one per plane as a closure would make (flash).
+    #[inline(never)]
+    fn clip(&self, plane: ClipPlane) -> Polygon {
+        let inside = |p: Vec3| plane.inside(p);
         let mut out = Polygon {
             v: [Vec3::ZERO; CLIPPED],
             n: 0,
@@ -187,12 +221,25 @@ pub(crate) fn bound_on_screen(
             && (p.y - sy * p.z) <= wy
     });
     if !inside {
-        front = front
-            .clip(|p| p.z - near)
-            .clip(|p| w - (-p.x - sx * p.z) / nx)
-            .clip(|p| w - (p.x - sx * p.z) / nx)
-            .clip(|p| w - (-p.y - sy * p.z) / ny)
-            .clip(|p| w - (p.y - sy * p.z) / ny);
+        let side = |axis: usize, sign: f32| {
+            let (slope, norm) = if axis == 0 { (sx, nx) } else { (sy, ny) };
+            ClipPlane::Side {
+                axis,
+                sign,
+                slope,
+                norm,
+                w,
+            }
+        };
+        for plane in [
+            ClipPlane::Near(near),
+            side(0, -1.0),
+            side(0, 1.0),
+            side(1, -1.0),
+            side(1, 1.0),
+        ] {
+            front = front.clip(plane);
+        }
     }
     if front.n == 0 {
         return 0.0;

@@ -11,8 +11,9 @@ use embedded_graphics::primitives::Rectangle;
 
 use super::clip::ClipVertex;
 use super::list::{for_each_listed, ListSlot, SubpixelRows};
-use super::project::{shade_level, CornerCache, Setup};
-use super::raster::{Span, Triangle};
+use super::project::{CornerCache, Setup};
+use super::raster::{SmallScan, Triangle};
+use super::walk::{draw_span, SpanWalk};
 use super::{RenderStats, Style};
 use crate::sink::{TriangleSink, Vertex};
 
@@ -21,16 +22,43 @@ pub(super) trait BandOutput {
     type Error;
     /// A band covering `area` starts.
     fn begin(&mut self, area: &Rectangle, style: &Style);
-    /// Pixels `x0..x1` of `row` passed the depth test; their colours come from `span`.
-    fn run(
+    /// Draws the pixels of `row` from column `x0` on that pass the depth test against
+    /// `depth` (the band's values under them, one per pixel), along `walk`; the pixels drawn
+    /// and the runs of them.
+    fn span(
         &mut self,
         area: &Rectangle,
         row: i32,
         x0: i32,
-        x1: i32,
-        span: &Span,
+        depth: &mut [u16],
+        walk: SpanWalk,
         style: &Style,
-    ) -> Result<(), Self::Error>;
+    ) -> Result<Drawn, Self::Error>;
+    /// Draws `rows` rows of a small triangle's `scan` from row `top` on, against the band's
+    /// `depth`; by default span by span.
+    fn small(
+        &mut self,
+        area: &Rectangle,
+        top: i32,
+        rows: usize,
+        mut scan: SmallScan,
+        depth: &mut [u16],
+        style: &Style,
+    ) -> Result<Drawn, Self::Error> {
+        let width = area.size.width as usize;
+        let mut drawn = Drawn::default();
+        for row in top..top + rows as i32 {
+            if let Some((x0, n, walk)) = scan.next_row() {
+                let at = (row - area.top_left.y) as usize * width + (x0 - area.top_left.x) as usize;
+                if let Some(depth) = depth.get_mut(at..at + n as usize) {
+                    let d = self.span(area, row, x0, depth, walk, style)?;
+                    drawn.pixels += d.pixels;
+                    drawn.runs += d.runs;
+                }
+            }
+        }
+        Ok(drawn)
+    }
     /// The band is rasterised; `depth` is 0 where no triangle drew.
     fn finish(
         &mut self,
@@ -39,6 +67,15 @@ pub(super) trait BandOutput {
         style: &Style,
         stats: &mut RenderStats,
     ) -> Result<(), Self::Error>;
+}
+
+/// What one span drew.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Drawn {
+    /// Pixels that passed the depth test.
+    pub pixels: u32,
+    /// Runs of them along the row, each sent at once (0 where a band buffer takes them).
+    pub runs: u32,
 }
 
 /// Runs along a row go straight to a draw target, one `fill_contiguous` each.
@@ -53,18 +90,49 @@ where
 
     fn begin(&mut self, _: &Rectangle, _: &Style) {}
 
-    fn run(
+    fn span(
         &mut self,
         _: &Rectangle,
         row: i32,
         x0: i32,
-        x1: i32,
-        span: &Span,
+        depth: &mut [u16],
+        walk: SpanWalk,
         style: &Style,
-    ) -> Result<(), D::Error> {
-        let area = Rectangle::new(Point::new(x0, row), Size::new((x1 - x0) as u32, 1));
-        let colors = (x0..x1).map(|px| color(style, span, px).into());
-        self.0.fill_contiguous(&area, colors)
+    ) -> Result<Drawn, D::Error> {
+        let mut drawn = Drawn::default();
+        let mut at = walk;
+        let mut x = 0;
+        while x < depth.len() {
+            // Skip hidden pixels, then take the run of visible ones.
+            let start = x;
+            let mut w = at;
+            while let Some(d) = depth.get_mut(x) {
+                let key = w.key();
+                if key <= *d {
+                    break;
+                }
+                *d = key;
+                x += 1;
+                w.step::<true>();
+            }
+            if x > start {
+                let n = (x - start) as u32;
+                let area = Rectangle::new(Point::new(x0 + start as i32, row), Size::new(n, 1));
+                let mut c = at;
+                let colors = (0..n).map(|_| {
+                    let color = walk_color(style, &c);
+                    c.step::<true>();
+                    color.into()
+                });
+                self.0.fill_contiguous(&area, colors)?;
+                drawn.pixels += n;
+                drawn.runs += 1;
+            }
+            x += 1;
+            at = walk;
+            at.skip(x as u32);
+        }
+        Ok(drawn)
     }
 
     fn finish(
@@ -110,10 +178,41 @@ pub(super) trait BandPixels {
     fn convert(c: Rgb888) -> Self::Pixel;
     /// Pixels it holds.
     fn pixels(&self) -> usize;
+    /// Draws a span into pixels `at..at + depth.len()` ([`draw_span`]), with the surface
+    /// colour at each shade level `palette` and the wireframe's colour `wire`; the pixels
+    /// drawn (none when they are out of range).
+    fn draw(
+        &mut self,
+        at: usize,
+        depth: &mut [u16],
+        walk: SpanWalk,
+        palette: &[Self::Pixel; 256],
+        wire: Option<Self::Pixel>,
+    ) -> u32;
     /// Sets pixel `i` (ignored when out of range).
     fn set(&mut self, i: usize, p: Self::Pixel);
     /// Sets the first `n` pixels.
     fn fill(&mut self, n: usize, p: Self::Pixel);
+}
+
+/// [`draw_span`] with the colours of `palette` and `wire`, each written by `put`.
+#[inline(always)]
+fn paint_span<P: Copy, T>(
+    depth: &mut [u16],
+    pixels: impl Iterator<Item = T>,
+    walk: SpanWalk,
+    palette: &[P; 256],
+    wire: Option<P>,
+    put: impl Fn(T, P),
+) -> u32 {
+    match wire {
+        Some(line) => draw_span::<true, T>(depth, pixels, walk, |slot, level| {
+            put(slot, level.map_or(line, |l| palette[l]))
+        }),
+        None => draw_span::<false, T>(depth, pixels, walk, |slot, level| {
+            put(slot, palette[level.unwrap_or(0)])
+        }),
+    }
 }
 
 /// Colours of the target's type.
@@ -130,6 +229,23 @@ impl<C: PixelColor + From<Rgb888>> BandPixels for Typed<'_, C> {
         self.0.len()
     }
 
+    fn draw(
+        &mut self,
+        at: usize,
+        depth: &mut [u16],
+        walk: SpanWalk,
+        palette: &[C; 256],
+        wire: Option<C>,
+    ) -> u32 {
+        let Some(pixels) = self.0.get_mut(at..at + depth.len()) else {
+            return 0;
+        };
+        paint_span(depth, pixels.iter_mut(), walk, palette, wire, |slot, p| {
+            *slot = p
+        })
+    }
+
+    #[inline(always)]
     fn set(&mut self, i: usize, p: C) {
         if let Some(slot) = self.0.get_mut(i) {
             *slot = p;
@@ -156,6 +272,24 @@ impl BandPixels for Rgb565Be<'_> {
         self.0.len() / 2
     }
 
+    fn draw(
+        &mut self,
+        at: usize,
+        depth: &mut [u16],
+        walk: SpanWalk,
+        palette: &[[u8; 2]; 256],
+        wire: Option<[u8; 2]>,
+    ) -> u32 {
+        let Some(bytes) = self.0.get_mut(2 * at..2 * (at + depth.len())) else {
+            return 0;
+        };
+        let pixels = bytes.chunks_exact_mut(2);
+        paint_span(depth, pixels, walk, palette, wire, |slot, p| {
+            slot.copy_from_slice(&p)
+        })
+    }
+
+    #[inline(always)]
     fn set(&mut self, i: usize, p: [u8; 2]) {
         if let Some(slot) = self.0.get_mut(2 * i..2 * i + 2) {
             slot.copy_from_slice(&p);
@@ -229,27 +363,46 @@ where
         self.pixels.fill(n, background);
     }
 
-    fn run(
+    fn span(
         &mut self,
         area: &Rectangle,
         row: i32,
         x0: i32,
-        x1: i32,
-        span: &Span,
-        style: &Style,
-    ) -> Result<(), E> {
+        depth: &mut [u16],
+        walk: SpanWalk,
+        _: &Style,
+    ) -> Result<Drawn, E> {
         let width = area.size.width as usize;
-        let base = (row - area.top_left.y) as usize * width;
-        for x in x0..x1 {
-            let i = base + (x - area.top_left.x) as usize;
-            let column = (x - span.x0) as u32;
-            let p = match self.wire.filter(|_| on_wire(style, span, column)) {
-                Some(wire) => wire,
-                None => self.palette[span_level(span, column) as usize],
-            };
-            self.pixels.set(i, p);
-        }
-        Ok(())
+        let at = (row - area.top_left.y) as usize * width + (x0 - area.top_left.x) as usize;
+        let pixels = self.pixels.draw(at, depth, walk, &self.palette, self.wire);
+        Ok(Drawn { pixels, runs: 0 })
+    }
+
+    fn small(
+        &mut self,
+        area: &Rectangle,
+        top: i32,
+        rows: usize,
+        scan: SmallScan,
+        depth: &mut [u16],
+        _: &Style,
+    ) -> Result<Drawn, E> {
+        let width = area.size.width as usize;
+        let at = (top - area.top_left.y) as usize * width
+            + (scan.first_column() - area.top_left.x) as usize;
+        let (pixels, palette) = (&mut self.pixels, &self.palette);
+        let drawn = match self.wire {
+            Some(line) => scan.draw::<true>(rows, depth, at, width, |i, level| {
+                pixels.set(i, level.map_or(line, |l| palette[l]))
+            }),
+            None => scan.draw::<false>(rows, depth, at, width, |i, level| {
+                pixels.set(i, palette[level.unwrap_or(0)])
+            }),
+        };
+        Ok(Drawn {
+            pixels: drawn,
+            runs: 0,
+        })
     }
 
     fn finish(
@@ -343,114 +496,69 @@ impl<O: BandOutput> Band<'_, '_, O> {
         let (rows, columns) = (self.rows(), self.columns());
         let width = columns.len();
         let style = self.setup.style;
-        for row in first.max(rows.start)..=last.min(rows.end - 1) {
+        let half_width = style.wireframe.map(|w| w.half_width);
+        let (top, bottom) = (first.max(rows.start), last.min(rows.end - 1));
+        if top > bottom {
+            return;
+        }
+        if let Some(scan) = tri.small_scan(top, columns.clone(), half_width) {
+            let n = (bottom - top + 1) as usize;
+            match self.out.small(&self.area, top, n, scan, self.depth, style) {
+                Ok(drawn) => {
+                    self.stats.pixels += drawn.pixels;
+                    self.stats.runs += drawn.runs;
+                }
+                Err(e) => self.error = Some(e),
+            }
+            return;
+        }
+        for row in top..=bottom {
             let Some(span) = tri.span(row, columns.clone()) else {
                 continue;
             };
-            let base = (row - rows.start) as usize * width;
-            let mut x = span.x0;
-            while x < span.x1 {
-                // Skip hidden pixels, then take the run of visible ones.
-                let start = x;
-                while x < span.x1 {
-                    let i = base + (x - columns.start) as usize;
-                    let key = depth_key(&span, x);
-                    match self.depth.get_mut(i) {
-                        Some(d) if key > *d => {
-                            *d = key;
-                            x += 1;
-                        }
-                        _ => break,
-                    }
-                }
-                if x > start {
-                    if let Err(e) = self.out.run(&self.area, row, start, x, &span, style) {
-                        self.error = Some(e);
-                        return;
-                    }
-                    self.stats.pixels += (x - start) as u32;
-                    self.stats.runs += 1;
-                }
-                x += 1;
+            let at = (row - rows.start) as usize * width + (span.x0 - columns.start) as usize;
+            let n = (span.x1 - span.x0) as usize;
+            let walk = SpanWalk::new(&span, half_width);
+            if !self.draw_span(row, span.x0, at, n, walk) {
+                return;
+            }
+        }
+    }
+
+    /// Draws `n` pixels of `row` from column `x0`, the band's pixel `at` on, along `walk`;
+    /// false when the output failed (the error is kept).
+    #[inline(always)]
+    fn draw_span(&mut self, row: i32, x0: i32, at: usize, n: usize, walk: SpanWalk) -> bool {
+        let Some(depth) = self.depth.get_mut(at..at + n) else {
+            return true;
+        };
+        match self
+            .out
+            .span(&self.area, row, x0, depth, walk, self.setup.style)
+        {
+            Ok(drawn) => {
+                self.stats.pixels += drawn.pixels;
+                self.stats.runs += drawn.runs;
+                true
+            }
+            Err(e) => {
+                self.error = Some(e);
+                false
             }
         }
     }
 }
 
-/// Depth key of pixel column `x` of `span`: 1 (far) to 65535 (near), rounded, so that
-/// surfaces at one depth (whose corner keys are the same integer) get the same key.
-fn depth_key(span: &Span, x: i32) -> u16 {
-    let k = span.depth.at((x - span.x0) as u32);
-    // The same as `((k + 0.5) as u16).max(1)` (both saturate, NaN to 0), where the
-    // conversion to `u32` is one instruction on a Cortex-M4F and to `u16` is four.
-    ((k + 0.5) as u32).clamp(1, u16::MAX as u32) as u16
-}
-
-/// Colour of pixel column `x` of `span`.
-fn color(style: &Style, span: &Span, x: i32) -> Rgb888 {
-    let i = (x - span.x0) as u32;
-    wire_color(style, span, i).unwrap_or_else(|| shaded(style.color, span_level(span, i)))
-}
-
-/// The wireframe's colour when column `i` of `span` lies on a drawn edge.
-fn wire_color(style: &Style, span: &Span, i: u32) -> Option<Rgb888> {
-    let w = style.wireframe?;
-    on_wire(style, span, i).then_some(w.color)
-}
-
-/// Whether column `i` of `span` lies on a drawn edge of the wireframe.
-fn on_wire(style: &Style, span: &Span, i: u32) -> bool {
-    style
-        .wireframe
-        .is_some_and(|w| span.edge.iter().any(|e| e.at(i) < w.half_width))
-}
-
-/// The shade of column `i` of `span` as a level from 0 to 255.
-fn span_level(span: &Span, i: u32) -> u32 {
-    shade_level(span.shade.at(i))
+/// Colour of the pixel `walk` is at.
+fn walk_color(style: &Style, walk: &SpanWalk) -> Rgb888 {
+    match style.wireframe {
+        Some(w) if walk.on_wire() => w.color,
+        _ => shaded(style.color, walk.level() as u32),
+    }
 }
 
 /// Colour `c` at shade level `level` (0 to 255).
 fn shaded(c: Rgb888, level: u32) -> Rgb888 {
     let ch = |v: u8| ((v as u32 * level + 127) / 255) as u8;
     Rgb888::new(ch(c.r()), ch(c.g()), ch(c.b()))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::render::raster::Ramp;
-
-    #[test]
-    fn depth_keys_saturate_as_a_conversion_to_u16_does() {
-        let span = |start: f32| Span {
-            x0: 0,
-            x1: 1,
-            depth: Ramp { start, step: 0.0 },
-            ..Span::default()
-        };
-        for k in [
-            f32::NAN,
-            f32::NEG_INFINITY,
-            -1.0e9,
-            -0.6,
-            -0.5,
-            -0.0,
-            0.3,
-            0.5,
-            1.49,
-            1.5,
-            777.5,
-            65_534.4,
-            65_534.5,
-            65_535.0,
-            65_535.5,
-            65_536.0,
-            4.3e9,
-            f32::INFINITY,
-        ] {
-            let old = ((k + 0.5) as u16).max(1);
-            assert_eq!(depth_key(&span(k), 0), old, "{k}");
-        }
-    }
 }

@@ -81,6 +81,7 @@ mod list;
 mod project;
 mod raster;
 mod source;
+mod walk;
 
 use core::fmt;
 
@@ -191,8 +192,13 @@ pub enum RenderError<E> {
     Target(E),
 }
 
-/// Largest viewport width or height the renderer draws, in pixels.
-pub const MAX_VIEWPORT: u32 = 1 << 20;
+/// Largest viewport width or height the renderer draws, in pixels: 2^20 with the feature
+/// `large-viewports` (a default one), 256 without it (see the crate's features).
+pub const MAX_VIEWPORT: u32 = if cfg!(feature = "large-viewports") {
+    1 << 20
+} else {
+    256
+};
 
 impl<E: fmt::Debug> fmt::Display for RenderError<E> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -611,5 +617,52 @@ impl<'d> Renderer<'d> {
             top = bottom;
         }
         Ok(stats)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Projection, Vec3, Vertex};
+    use embedded_graphics::mock_display::MockDisplay;
+    use embedded_graphics::pixelcolor::Rgb565;
+
+    /// Viewports up to [`MAX_VIEWPORT`] draw; past it (257 pixels without the feature
+    /// `large-viewports`, whose 32-bit edge functions reach no further) the frame is refused.
+    #[test]
+    fn viewports_up_to_the_limit_draw() {
+        let corner = |x: f32, y: f32| Vertex {
+            position: [x, y, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            ..Vertex::default()
+        };
+        let vertices = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(0.0, 1.0)];
+        let mesh = IndexedMesh {
+            vertices: &vertices,
+            triangles: &[[0u16, 1, 2]],
+        };
+        let camera = |width: u32| {
+            Camera::new(
+                Vec3::Z * 4.0,
+                Vec3::ZERO,
+                Vec3::Y,
+                Projection::Orthographic { height: 3.0 },
+                0.1,
+                [width, 16],
+            )
+            .unwrap()
+        };
+        let mut depth = [0u16; 2048];
+        let style = Style::default();
+        for width in [256, 257] {
+            let mut display = MockDisplay::<Rgb565>::new();
+            let drawn = Renderer::new(&mut depth).draw(&mesh, &camera(width), &style, &mut display);
+            let fits = width <= MAX_VIEWPORT;
+            assert_eq!(drawn.is_ok(), fits, "{width}");
+            if !fits {
+                assert_eq!(drawn.unwrap_err(), RenderError::ViewportTooLarge);
+            }
+        }
+        assert_eq!(MAX_VIEWPORT == 256, !cfg!(feature = "large-viewports"));
     }
 }

@@ -129,7 +129,8 @@ impl ListSink<'_, '_, '_> {
             Some(v) => v,
             None => {
                 let [x, y, d, s] = value.0;
-                let h = (x as u32 | (y as u32) << 16) ^ (d as u32 | (s as u32) << 16).rotate_left(7);
+                let h =
+                    (x as u32 | (y as u32) << 16) ^ (d as u32 | (s as u32) << 16).rotate_left(7);
                 (h.wrapping_mul(0x9e37_79b1) >> 24) as usize % SHARED
             }
         };

@@ -12,6 +12,9 @@
 use core::ops::Range;
 
 mod edge;
+mod small;
+
+pub(super) use small::SmallScan;
 
 use edge::{ceil_div, inside_columns, wide_columns, EdgeInt, Edges, NARROW_LIMIT};
 
@@ -40,7 +43,7 @@ pub(crate) struct Ramp {
 
 impl Ramp {
     /// Value at `i` pixels from the span's first.
-    #[inline]
+    #[cfg(test)]
     pub fn at(&self, i: u32) -> f32 {
         self.start + self.step * i as f32
     }
@@ -139,8 +142,11 @@ impl Triangle {
         let narrow = NARROW_LIMIT as i32;
         if x.iter().chain(&y).all(|&v| -narrow <= v && v <= narrow) {
             Triangle::set_up(x, y, depth, shade, wire)
-        } else {
+        } else if cfg!(feature = "large-viewports") {
             Triangle::set_up_wide(x.map(i64::from), y.map(i64::from), depth, shade, wire)
+        } else {
+            // (Never for the viewports a build without the feature draws: see `edge`.)
+            None
         }
     }
 
@@ -235,6 +241,17 @@ impl Triangle {
         })
     }
 
+    /// The top-left rule's bias of edge `i` (see [`set_up`](Self::set_up)): 0 for an edge
+    /// going up or a horizontal one going right, else 1.
+    fn bias(&self, i: usize) -> i32 {
+        let (k, dx) = match &self.edges {
+            Edges::Narrow { k, .. } => (k[i] as i64, self.dx[i]),
+            Edges::Wide { k, .. } => (k[i], self.dx[i]),
+        };
+        // `k = -16 dy`.
+        i32::from(!(k > 0 || (k == 0 && dx > 0)))
+    }
+
     /// First and last pixel row whose centres the triangle may cover.
     pub fn rows(&self) -> [i32; 2] {
         self.rows
@@ -251,7 +268,10 @@ impl Triangle {
         let (lo, hi) = (columns.start, columns.end - 1);
         let (lo, hi) = match &self.edges {
             Edges::Narrow { k, m0 } => inside_columns(k, m0, &self.dx, yc, lo, hi)?,
-            Edges::Wide { k, m0 } => wide_columns(k, m0, &self.dx, yc, lo, hi)?,
+            Edges::Wide { k, m0 } if cfg!(feature = "large-viewports") => {
+                wide_columns(k, m0, &self.dx, yc, lo, hi)?
+            }
+            Edges::Wide { .. } => return None,
         };
         let xc = lo * SUBPIXELS as i32 + HALF as i32;
         let (rx, ry) = ((xc - self.x[0]) as f32, (yc - self.y[0]) as f32);
@@ -367,6 +387,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "large-viewports")]
     fn narrow_and_wide_edges_give_the_same_spans() {
         // Corners up to the narrow limit, with wireframe edges, through both arithmetics.
         let mut rng = crate::test_rng::TestRng::new(0x2545_f491_4f6c_dd1d);
@@ -447,8 +468,11 @@ mod tests {
             let t = [corner(0.5, 0.5), corner(bad, 0.5), corner(0.5, 8.5)];
             assert!(Triangle::new(t, [true; 3]).is_none(), "{bad}");
         }
+        // The far end of the range takes 64-bit edge functions, which only the feature
+        // `large-viewports` builds in.
         let far = corner(COORDINATE_LIMIT, 0.5);
-        assert!(Triangle::new([corner(0.5, 0.5), far, corner(0.5, 8.5)], [true; 3]).is_some());
+        let set_up = Triangle::new([corner(0.5, 0.5), far, corner(0.5, 8.5)], [true; 3]);
+        assert_eq!(set_up.is_some(), cfg!(feature = "large-viewports"));
     }
 
     #[test]
