@@ -53,6 +53,16 @@
 //! final scale by `2^-10`. A view whose near plane is within `η` of the eye gives no bound
 //! (infinity): the isotropic one decides there.
 //!
+//! **The isotropic bound without the vectors.** Every vertex `v` of `F` has `v_z >= z_f =
+//! max(min_corners z, near - η)` (clipping only cuts the flat triangle) and lies within the
+//! side planes moved out by `w = m + η`: `|v_x| <= s_x v_z + w n_x`, so `|τ_x| <= T_x = s_x +
+//! w n_x / z_f`, likewise `T_y`. With `φ(τ, e_k) <= |e_k| √(1 + |τ|²)`, `|e_k| <= big`,
+//! `m = big + r` and `spread <= P = 1 + T_x + T_y`, each vertex's term is at most
+//! `m (S + 2 η P / (z_f - η) + 16 ε P)` with `S = √(1 + T_x² + T_y²)`, and `z_min >=
+//! max(near, z_f - m - η)`. So [`isotropic_bound_on_screen`] is at least the bound above,
+//! from the corners and `m` alone: where it is already within a tolerance, the vectors need
+//! not be looked at.
+//!
 //! `host-tests/tests/screen_bound.rs` checks this bound against the deviation measured on
 //! screen in `f64` by dense sampling and reports how tight it is.
 
@@ -271,5 +281,104 @@ pub(crate) fn bound_on_screen(
         f32::INFINITY
     } else {
         bound
+    }
+}
+
+/// An upper bound of [`bound_on_screen`]'s bound (and so of the deviation on screen) from the
+/// corners alone: the isotropic bound over the rays that the flat triangle's part that can
+/// show may have (see the module docs), for a deviation at most `m` long of which `slack` is
+/// the corners' rounding. Infinity where the view's near plane or the triangle come within
+/// the rounding of the eye.
+pub(crate) fn isotropic_bound_on_screen(
+    camera: &Camera,
+    corners: [Vec3; 3],
+    m: f32,
+    slack: f32,
+) -> f32 {
+    let focal = camera.focal();
+    if let Projection::Orthographic { .. } = camera.projection() {
+        return focal * (m * SCREEN_SLACK + 16.0 * EPS * m);
+    }
+    let size = corners
+        .iter()
+        .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
+        .fold(0.0f32, max);
+    let eta = slack + 16.0 * EPS * size;
+    let near = camera.near() - eta;
+    let z_corner = corners.iter().map(|v| v.z).fold(f32::INFINITY, min);
+    let z_f = max(z_corner, near);
+    let z = z_f - eta;
+    if near.is_nan() || near <= 0.0 || z.is_nan() || z <= 0.0 || !m.is_finite() {
+        return f32::INFINITY;
+    }
+    let ([sx, sy], [nx, ny]) = camera.side_planes();
+    let w = m + eta;
+    let (tx, ty) = (sx + w * nx / z_f, sy + w * ny / z_f);
+    let spread = 1.0 + tx + ty;
+    let s = crate::math::sqrt_above(1.0 + tx * tx + ty * ty);
+    let g = m * (s + 2.0 * eta * spread / z + 16.0 * EPS * spread);
+    let z_min = max(camera.near(), z_f - m - eta);
+    let bound = focal / z_min * g * SCREEN_SLACK;
+    if bound.is_nan() {
+        f32::INFINITY
+    } else {
+        bound
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::sqrt_above;
+    use crate::test_rng::TestRng;
+
+    /// The isotropic bound is at least the directional one, for triangles in front of the
+    /// eye, across its near plane and off to the sides, with deviation vectors of any
+    /// direction within `big`; and it is not loose beyond the isotropic form's own slack.
+    #[test]
+    fn the_isotropic_bound_covers_the_directional_one() {
+        let mut rng = TestRng::new(0x1507_0b1e);
+        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
+        let (mut compared, mut worst_ratio) = (0, 0.0f32);
+        for k in 0..4000 {
+            let eye = Vec3::new(unit(10.0), unit(10.0), 8.0 + unit(4.0));
+            let camera = Camera::new(
+                eye,
+                Vec3::new(unit(1.0), unit(1.0), unit(1.0)),
+                Vec3::Z,
+                Projection::Perspective {
+                    fov_y_degrees: 40.0,
+                },
+                0.05,
+                [240, 240],
+            )
+            .unwrap();
+            // Triangles around the target, some reaching behind the eye or past the sides.
+            let reach = [0.5, 3.0, 12.0][k % 3];
+            let centre = Vec3::new(unit(2.0), unit(2.0), unit(2.0));
+            let corners: [Vec3; 3] = core::array::from_fn(|_| {
+                camera.to_view(centre + Vec3::new(unit(reach), unit(reach), unit(reach)))
+            });
+            let big = [1e-3, 2e-2, 0.3][k % 3] * (1.0 + unit(0.5));
+            let vectors: [Vec3; 4] = core::array::from_fn(|_| {
+                let v = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
+                camera.rotate_to_view(v.normalize_or_zero() * big * (0.5 + unit(0.5)).abs())
+            });
+            let longest = vectors.iter().map(|v| v.length()).fold(0.0, max) * 1.0001;
+            let r = big * 0.05;
+            let directional =
+                bound_on_screen(&camera, corners, &vectors, longest, r, r, sqrt_above);
+            let isotropic = isotropic_bound_on_screen(&camera, corners, longest + r, r);
+            assert!(
+                isotropic >= directional,
+                "{k}: isotropic {isotropic} below directional {directional}"
+            );
+            if directional.is_finite() && directional > 0.0 && isotropic.is_finite() {
+                compared += 1;
+                worst_ratio = worst_ratio.max(isotropic / directional);
+            }
+        }
+        assert!(compared > 3000, "{compared}");
+        assert!(worst_ratio > 1.5, "never looser: {worst_ratio}");
     }
 }
