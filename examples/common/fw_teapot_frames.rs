@@ -18,20 +18,22 @@ pub const WIDTH: u32 = 240;
 /// Display size.
 pub const HEIGHT: u32 = 240;
 /// Rows per band: the depth and colour band buffers hold `WIDTH * BAND_ROWS` values each.
-/// Measured 2026-11-25 under QEMU: 8 rows instead of 4 (3,840 bytes more) take frame 0's render
-/// from 3.88M to 3.54M instructions and frame 1's from 4.20M to 3.84M (a triangle is set up
-/// once per band it meets, and a band decodes the list's groups that meet it).
-pub const BAND_ROWS: u32 = 8;
+/// A triangle is set up once per band it meets, and a band decodes the list's groups that meet
+/// it, so taller bands cost fewer instructions and more RAM. Measured 2026-11-26 under QEMU,
+/// with the list below: 16 rows and 2,000 slots render frames 0 to 3 in 3.01M, 3.23M, 9.98M
+/// and 12.25M instructions; 8 rows and 2,900 slots in 3.21M, 3.47M, 10.3M and 11.9M (1,280
+/// bytes less RAM); 20 rows and 1,300 slots in 2.99M, 3.22M, 10.7M and 13.1M.
+pub const BAND_ROWS: u32 = 16;
 /// Pixels of one band: depth values, and colours (two bytes each).
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
-/// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner). Frames 0, 1 and 3
-/// take 1,223, 1,218 and 2,389 (the host run prints `list_slots`); frame 2, flat-shaded, keeps
-/// its first patches there and streams the rest band by band. Measured 2026-11-25 under QEMU
-/// (4-row bands, a pool of 64): with 1,552 slots frames 2 and 3 rendered in 25.6M and 30.1M
-/// instructions instead of 14.2M and 16.0M. `--cfg fw_no_list` builds the demo without a list,
-/// to measure the streaming path on every frame.
-pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2900 };
+/// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner), with a vertex map
+/// beside it (2 bytes per vertex of the hierarchy). Frames 0, 1 and 3 take 1,156, 1,155 and
+/// 2,235 (the host run prints `list_slots`): frames 0 and 1 fit; frames 2 (flat-shaded) and 3
+/// keep their first patches there and stream the rest band by band (see `BAND_ROWS` for what
+/// that costs). `--cfg fw_no_list` builds the demo without a list, to measure the streaming
+/// path on every frame.
+pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2000 };
 
 /// Triangles waiting to be judged (`Pending`, 32 bytes each). Measured 2026-11-25 under QEMU:
 /// 256 entries instead of 64 (6 KiB more) spare frames 0 and 1 2% of their update.
