@@ -423,7 +423,9 @@ fn fw_teapot_frames() -> Vec<[u32; 3]> {
                 // The map finds every corner the table of values finds: its list holds at
                 // least as many triangles.
                 assert!(listed.listed >= unmapped.listed, "frame {f}");
-                assert!(listed.list_slots <= unmapped.list_slots || listed.listed > unmapped.listed);
+                assert!(
+                    listed.list_slots <= unmapped.list_slots || listed.listed > unmapped.listed
+                );
                 assert_eq!(streamed.passes, bands);
                 // The same frame as colours through the display model's `DrawTarget`
                 // (`draw_bands`, one `fill_contiguous` per band) sends the same bytes.

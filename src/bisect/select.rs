@@ -141,6 +141,9 @@ pub struct Selection<'t, 's> {
     /// The last frame's view.
     view: Option<View>,
     pub(super) stats: SelectionStats,
+    /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
+    /// asks for it every frame.
+    model_box: Option<crate::bound::Aabb>,
 }
 
 /// Offsets of the bit sets in [`Selection::bits`].
@@ -227,7 +230,13 @@ impl<'t, 's> Selection<'t, 's> {
             layout: Layout::of(&tree),
             view: None,
             stats: SelectionStats::default(),
+            model_box: tree.model.aabb(),
         })
+    }
+
+    /// The model's box, kept from [`new`](Self::new).
+    pub(crate) fn model_box(&self) -> Option<crate::bound::Aabb> {
+        self.model_box
     }
 
     /// The last frame's figures.

@@ -75,7 +75,7 @@ impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
 /// vertices are the bake's, or the pool's below it.
 impl TriangleSource for Selection<'_, '_> {
     fn bound(&self) -> Option<BoundingSphere> {
-        sphere_around(self.tree().model().aabb()?)
+        sphere_around(self.model_box()?)
     }
 
     fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
