@@ -98,20 +98,27 @@ impl Tri {
     }
 
     /// Three times the centroid (exact in integers).
-    pub(crate) fn centroid3(&self) -> [i64; 2] {
+    pub(crate) fn centroid3(&self) -> [i32; 2] {
         let c = self.corners;
-        [0, 1].map(|k| c[0][k] as i64 + c[1][k] as i64 + c[2][k] as i64)
+        [0, 1].map(|k| c[0][k] as i32 + c[1][k] as i32 + c[2][k] as i32)
     }
 
     /// Which half ([`children`](Self::children)) holds the point `p3` (three times a grid
     /// point, strictly inside one half).
-    pub(crate) fn half_toward(&self, p3: [i64; 2]) -> usize {
-        let [a, b, _] = self.corners.map(|p| [p[0] as i64, p[1] as i64]);
-        let m = self.midpoint().map(|x| x as i64);
-        let side = |q: [i64; 2]| (a[0] - m[0]) * (q[1] - m[1]) - (a[1] - m[1]) * (q[0] - m[0]);
-        let pm = [p3[0] - 3 * m[0], p3[1] - 3 * m[1]];
-        let p = (a[0] - m[0]) * pm[1] - (a[1] - m[1]) * pm[0];
-        if (p > 0) == (side(b) > 0) {
+    ///
+    /// The halves meet on the line from the hypotenuse's midpoint `m` to the right angle `a`.
+    /// A triangle of the hierarchy is right and isosceles, its legs along the grid or its
+    /// diagonals, so `a - m` is `L (u_x, u_y)` with `u` in `{-1, 0, 1}²` and `L > 0`: the side
+    /// of that line a point lies on is the sign of `u_x (q_y - m_y) - u_y (q_x - m_x)`, exact
+    /// in `i32` (coordinates below `2^17`), where the cross product with `a - m` itself would
+    /// take 64 bits.
+    pub(crate) fn half_toward(&self, p3: [i32; 2]) -> usize {
+        let [a, b, _] = self.corners.map(|p| [p[0] as i32, p[1] as i32]);
+        let m = self.midpoint().map(|x| x as i32);
+        let u = [(a[0] - m[0]).signum(), (a[1] - m[1]).signum()];
+        let side = |q: [i32; 2]| u[0] * q[1] - u[1] * q[0];
+        let p = side([p3[0] - 3 * m[0], p3[1] - 3 * m[1]]);
+        if (p > 0) == (side([b[0] - m[0], b[1] - m[1]]) > 0) {
             0
         } else {
             1
@@ -121,7 +128,7 @@ impl Tri {
     /// Which root of its patch ([`roots`](Self::roots)) holds this triangle.
     pub(crate) fn root_index(&self) -> usize {
         let c = self.centroid3();
-        usize::from(c[0] + c[1] > 3 * ONE as i64)
+        usize::from(c[0] + c[1] > 3 * ONE as i32)
     }
 
     /// The side of the square the hypotenuse lies on, if any.
