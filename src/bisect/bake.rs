@@ -455,6 +455,18 @@ impl BintreeNode {
         longest_of(&self.kept())
     }
 
+    /// An upper bound of the longest kept vector's length from the quantised vectors: the
+    /// root of the largest integer square times the scale, rounded up (`q · scale` rounds to
+    /// within a relative `ε` of itself, the root and the product add two more roundings,
+    /// `4 ε` covers them). A few roundings apart from [`longest`](Self::longest), which the
+    /// bake and a view in model units take; the run time's judgements on screen take this one,
+    /// which needs no vector in floats.
+    pub(crate) fn longest_quantised(&self) -> f32 {
+        let square = |q: &[i8; 3]| q.iter().map(|&c| c as i32 * c as i32).sum::<i32>();
+        let n = self.vectors.iter().map(square).max().unwrap_or(0);
+        crate::math::sqrt_above(n as f32) * self.scale * (1.0 + 4.0 * crate::deviation::EPS)
+    }
+
     /// The kept vectors in model units.
     pub(crate) fn kept(&self) -> [Vec3; KEPT] {
         dequantize(&self.vectors, self.scale)

@@ -41,8 +41,13 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
         .map(|v| Vec3::from_array(selection.vertex_record(v).position));
     let tree = &selection.tree;
     if let Some(node) = tree.node(h) {
-        let kept = node.kept();
-        return judge_vectors(view, corners, &kept, longest_of(&kept), node.remainder);
+        // In model units, the bake's own bound (the oracles' too); on screen, one from the
+        // quantised vectors, and the vectors only when the isotropic bound is not enough.
+        let big = match view {
+            View::Object { .. } => node.longest(),
+            View::Screen { .. } => node.longest_quantised(),
+        };
+        return judge_vectors(view, corners, || node.kept(), big, node.remainder);
     }
     let patch = tree
         .patch_of(h.tri.patch)
@@ -68,15 +73,15 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
             hidden: false,
         };
     }
-    judge_vectors(view, corners, &vectors, big, remainder)
+    judge_vectors(view, corners, || vectors, big, remainder)
 }
 
-/// Judges the flat triangle `corners` whose deviation lies in the hull of zero and `vectors`
-/// (the longest `big` long) widened by `remainder`.
+/// Judges the flat triangle `corners` whose deviation lies in the hull of zero and the
+/// vectors `vectors` gives (none longer than `big`) widened by `remainder`.
 fn judge_vectors<const K: usize>(
     view: &View,
     corners: [Vec3; 3],
-    vectors: &[Vec3; K],
+    vectors: impl FnOnce() -> [Vec3; K],
     big: f32,
     remainder: f32,
 ) -> Judged {
@@ -104,7 +109,7 @@ fn judge_vectors<const K: usize>(
                     hidden: false,
                 };
             }
-            let e = vectors.map(|v| camera.rotate_to_view(v));
+            let e = vectors().map(|v| camera.rotate_to_view(v));
             Judged {
                 bound: bound_on_screen(camera, viewed, &e, big, remainder, remainder, sqrt_above),
                 hidden: false,
