@@ -143,6 +143,7 @@ pub struct Selection<'t, 's> {
     pub(super) stats: SelectionStats,
     /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
     /// asks for it every frame.
+    #[cfg(feature = "embedded-graphics")]
     model_box: Option<crate::bound::Aabb>,
 }
 
@@ -230,11 +231,13 @@ impl<'t, 's> Selection<'t, 's> {
             layout: Layout::of(&tree),
             view: None,
             stats: SelectionStats::default(),
+            #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
         })
     }
 
     /// The model's box, kept from [`new`](Self::new).
+    #[cfg(feature = "embedded-graphics")]
     pub(crate) fn model_box(&self) -> Option<crate::bound::Aabb> {
         self.model_box
     }

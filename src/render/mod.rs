@@ -29,7 +29,15 @@
 //! took to view space (with their shade) by name, in a two-way cache on the stack, so a vertex
 //! shared by neighbouring triangles is evaluated and transformed once for most of them.
 //! Triangles whose corners are all inside the clip planes skip the clipper, and while the list
-//! is filled, such a corner is also projected and packed once while the cache holds it.
+//! is filled, such a corner is also projected and packed once while the cache holds it. A source
+//! that names corners by vertex number (a [`Selection`](crate::bisect::Selection)) can be
+//! given a vertex map instead ([`Renderer::with_vertex_map`]): every vertex is then projected
+//! once and found in the list by its number.
+//!
+//! Small triangles (at most 12 pixel columns wide) are scanned over their bounding box with
+//! the same integer edge functions, larger ones span by span; along a row, depth keys and
+//! shades are stepped in fixed point, so that a pixel's values do not depend on which band or
+//! which way the triangle came.
 //!
 //! Each triangle is clipped in view space (the near plane, and a guard band at twice the
 //! viewport), snapped to 1/16 pixel and scan-converted with exact integer edge functions and
