@@ -22,8 +22,8 @@ use super::bake::longest_of;
 use super::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use super::select::Selection;
 use super::tree::Pending;
-use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, EPS};
-use crate::math::{max, sqrt_above};
+use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
+use crate::math::sqrt_above;
 use crate::view::{Camera, Projection, View};
 
 /// A triangle's bound in a view's units (pixels or model units), and whether it is hidden.
@@ -146,10 +146,7 @@ fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], margin: f32) -> bool {
     if let Projection::Orthographic { .. } = camera.projection() {
         return false;
     }
-    let size = view
-        .iter()
-        .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
-        .fold(0.0f32, max);
+    let size = view_extent(&view);
     let w = margin + 16.0 * EPS * size;
     if !w.is_finite() {
         return false;

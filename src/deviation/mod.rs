@@ -74,7 +74,7 @@ mod screen;
 
 pub use patch_bounds::PatchBounds;
 pub(crate) use patch_bounds::PreparedBounds;
-pub(crate) use screen::{bound_on_screen, isotropic_bound_on_screen};
+pub(crate) use screen::{bound_on_screen, isotropic_bound_on_screen, view_extent};
 
 /// Lattice steps per side of a bounded triangle or chord.
 pub const LATTICE: u32 = 6;

@@ -202,10 +202,7 @@ pub(crate) fn bound_on_screen(
         let worst = e.iter().map(|d| d.x * d.x + d.y * d.y).fold(0.0f32, max);
         return focal * ((root(worst) + r) * SCREEN_SLACK + 16.0 * EPS * m);
     }
-    let size = corners
-        .iter()
-        .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
-        .fold(0.0f32, max);
+    let size = view_extent(&corners);
     let eta = slack + 16.0 * EPS * size;
     let near = camera.near() - eta;
     if near.is_nan() || near <= 0.0 || !m.is_finite() || !eta.is_finite() {
@@ -284,6 +281,15 @@ pub(crate) fn bound_on_screen(
     }
 }
 
+/// The largest `|x| + |y| + |z|` of points in view coordinates: the `Σ` of the rounding
+/// `η = slack + 16 ε Σ` of moving them there (see the module docs).
+pub(crate) fn view_extent(points: &[Vec3; 3]) -> f32 {
+    points
+        .iter()
+        .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
+        .fold(0.0f32, max)
+}
+
 /// An upper bound of [`bound_on_screen`]'s bound (and so of the deviation on screen) from the
 /// corners alone: the isotropic bound over the rays that the flat triangle's part that can
 /// show may have (see the module docs), for a deviation at most `m` long of which `slack` is
@@ -299,10 +305,7 @@ pub(crate) fn isotropic_bound_on_screen(
     if let Projection::Orthographic { .. } = camera.projection() {
         return focal * (m * SCREEN_SLACK + 16.0 * EPS * m);
     }
-    let size = corners
-        .iter()
-        .map(|v| v.x.abs() + v.y.abs() + v.z.abs())
-        .fold(0.0f32, max);
+    let size = view_extent(&corners);
     let eta = slack + 16.0 * EPS * size;
     let near = camera.near() - eta;
     let z_corner = corners.iter().map(|v| v.z).fold(f32::INFINITY, min);
