@@ -122,7 +122,7 @@ def main():
         print(f"{n:>10} {100 * n / total:5.1f}%  {symbol[:120]}")
     if blocks_of:
         print(f"\nblocks of *{blocks_of}* (objdump -d the ELF at these addresses):")
-        for pc, n in by_block.most_common(40):
+        for pc, n in by_block.most_common(int(__import__("os").environ.get("BLOCKS", "40"))):
             print(f"{n:>10} {100 * n / total:5.1f}%  {pc:#x} ({n // sizes.get(pc, 1)} runs)")
 
 
