@@ -298,7 +298,16 @@ impl BandPixels for Rgb565Be<'_> {
 
     fn fill(&mut self, n: usize, p: [u8; 2]) {
         let n = n.min(self.0.len() / 2);
-        fill_doubling(&mut self.0[..2 * n], 2, |first| first.copy_from_slice(&p));
+        // Sixteen pixels a step, as word stores (a copy of the filled part after itself,
+        // as `fill_doubling` does, is a `memcpy` of a word a loop on the Cortex-M4F).
+        let block: [u8; 32] = core::array::from_fn(|i| p[i % 2]);
+        let mut blocks = self.0[..2 * n].chunks_exact_mut(32);
+        for b in &mut blocks {
+            b.copy_from_slice(&block);
+        }
+        for (i, b) in blocks.into_remainder().iter_mut().enumerate() {
+            *b = p[i % 2];
+        }
     }
 }
 
