@@ -13,8 +13,13 @@ use crate::sink::{TriangleSink, Vertex};
 /// Entries of the table that finds a corner already in the list by its value.
 const SHARED: usize = 256;
 
-/// An entry of the vertex map for a vertex with no corner in the list.
-pub(in crate::render) const NO_SLOT: u16 = u16::MAX;
+/// An entry of the vertex map (and of the table of values) for a vertex with no corner in
+/// the list. Slot 0 never holds a corner: a group's header comes before its triangles'
+/// corners, at the front, so corners take slots from the top down to 1 at the lowest, and
+/// a lookup takes an entry only at or above the corners in use. (0, not `u16::MAX`: clearing
+/// the map is then a `memclr`, which the bands' clears link anyway, and a firmware need not
+/// link `memset` as well: 404 bytes of flash.)
+pub(in crate::render) const NO_SLOT: u16 = 0;
 
 /// Why a triangle did not go into the list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,7 +48,7 @@ pub(in crate::render) struct ListSink<'a, 'b, 'c> {
     group: Option<usize>,
     /// Corner slots in use: `top..` the list's usable end.
     top: usize,
-    /// Corner slots by a hash of their value (`u16::MAX`: none).
+    /// Corner slots by a hash of their value ([`NO_SLOT`]: none).
     shared: [u16; SHARED],
     /// Triangles handed over by the source.
     pub handed: u32,
@@ -84,7 +89,7 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
             listed: 0,
             group: None,
             top: end,
-            shared: [u16::MAX; SHARED],
+            shared: [NO_SLOT; SHARED],
             handed: 0,
             current: None,
             increasing: true,
