@@ -35,7 +35,7 @@ PARTS = [
     ("surface evaluation", ["frame_at", "8evaluate", "pole_at", "is_collapsed",
                             "fmaxf", "fminf"]),
     ("hierarchy walk and corner keys", ["each_written", "walk", "stream_keyed",
-                                        "vertex_record", "written"]),
+                                        "vertex_record", "written", "4sink4fill"]),
     ("corner cache, view transform, shading", ["CornerCache", "Setup6corner", "Setup5shade",
                                                "normalize", "sqrtf"]),
     ("clip test, projection, packing into the list", ["ListSink4take", "ListSink8try_push",
