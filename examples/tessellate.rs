@@ -245,7 +245,7 @@ fn run_bisect(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
             "{{\"frame\":{frame},\"tolerance\":{tolerance},\"triangles\":{},\"vertices\":{},\
              \"judged\":{},\"hidden\":{},\"refined\":{},\"left_over\":{},\"worst_bound\":{},\
              \"ms\":{ms:.3}}}",
-            s.triangles, s.vertices, s.judged, s.hidden, s.refined, s.left_over, s.worst_bound
+            s.triangles, size.vertices, s.judged, s.hidden, s.refined, s.left_over, s.worst_bound
         );
     }
     let faces = faces_of(

@@ -50,7 +50,7 @@ impl TriangleSink for Stream {
 /// The current frame written whole (`None` past `limit` triangles), after a write into small
 /// buffers that must be refused untouched or succeed.
 fn written(
-    s: &Selection<'_, '_>,
+    s: &mut Selection<'_, '_>,
     r: &mut Bytes<'_>,
     limit: usize,
 ) -> Option<(Vec<Vertex>, Vec<[u32; 3]>)> {
@@ -148,11 +148,11 @@ pub fn bisect(data: &[u8]) {
                 stats.worst_bound
             );
         }
-        let Some(first) = written(&s, &mut r, 1 << 14) else {
+        let Some(first) = written(&mut s, &mut r, 1 << 14) else {
             continue;
         };
         s.update(&view);
-        let again = written(&s, &mut r, 1 << 14).expect("the same frame again");
+        let again = written(&mut s, &mut r, 1 << 14).expect("the same frame again");
         assert!(first == again, "the same view twice differs");
     }
 }

@@ -132,7 +132,7 @@ fn run_model(path: &std::path::Path) {
              over, stack {} ({} sweeps), {gaps} open edges out of sight, bound {:.3}, measured \
              {worst:.3} (allowed {allowed:.3}), bound / true at least {tightest:.3}",
             stats.triangles,
-            stats.vertices,
+            size.vertices,
             stats.refined,
             stats.judged,
             stats.hidden,

@@ -105,10 +105,19 @@ impl Selection<'_, '_> {
         super::judge::judge(self, &crate::View::Object { tolerance: 0.0 }, h).bound
     }
 
-    /// Size of the mesh [`write_mesh`](Self::write_mesh) writes.
-    pub fn mesh_size(&self) -> MeshSize {
+    /// Size of the mesh [`write_mesh`](Self::write_mesh) writes: the frame's triangles, and
+    /// the vertices they use, counted by a walk of the mesh (a frame that is only drawn
+    /// needs no count of its vertices, so [`update`](Self::update) leaves it to this).
+    pub fn mesh_size(&mut self) -> MeshSize {
+        let vertices = match self.vertices {
+            Some(n) => n,
+            None => {
+                self.count();
+                self.vertices.unwrap_or(0)
+            }
+        };
         MeshSize {
-            vertices: self.stats.vertices,
+            vertices,
             triangles: self.stats.triangles,
         }
     }
@@ -122,7 +131,33 @@ impl Selection<'_, '_> {
         triangles: &mut [[I; 3]],
         remap: &mut [u32],
     ) -> Result<MeshSize, WriteError> {
-        let size = self.mesh_size();
+        let needed = self.remap_len();
+        let Some(remap) = remap.get_mut(..needed) else {
+            return Err(WriteError::ScratchTooSmall { needed });
+        };
+        // The mesh's size first, so that a mesh that does not fit leaves the buffers
+        // untouched: counted by `update` or `mesh_size`, or else here (`remap` marks the
+        // vertices seen).
+        let size = match self.vertices {
+            Some(vertices) => MeshSize {
+                vertices,
+                triangles: self.stats.triangles,
+            },
+            None => {
+                remap.fill(u32::MAX);
+                let mut size = MeshSize::default();
+                self.each_written(|_, corners| {
+                    for v in corners {
+                        if let Some(slot) = remap.get_mut(v as usize).filter(|s| **s == u32::MAX) {
+                            *slot = 0;
+                            size.vertices += 1;
+                        }
+                    }
+                    size.triangles += 1;
+                });
+                size
+            }
+        };
         if vertices.len() < size.vertices || triangles.len() < size.triangles {
             return Err(WriteError::BuffersTooSmall { needed: size });
         }
@@ -131,11 +166,7 @@ impl Selection<'_, '_> {
                 vertices: size.vertices,
             });
         }
-        let needed = self.remap_len();
-        if remap.len() < needed {
-            return Err(WriteError::ScratchTooSmall { needed });
-        }
-        remap[..needed].fill(u32::MAX);
+        remap.fill(u32::MAX);
         let (mut nv, mut nt) = (0usize, 0usize);
         self.each_written(|_, corners| {
             let mut out = [I::default(); 3];

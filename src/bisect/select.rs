@@ -42,10 +42,9 @@ use crate::view::View;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SelectionStats {
-    /// Triangles written out.
+    /// Triangles written out. (The vertices they use are counted on demand:
+    /// [`Selection::mesh_size`].)
     pub triangles: usize,
-    /// Vertices they use.
-    pub vertices: usize,
     /// Triangles judged.
     pub judged: usize,
     /// Triangles left out for lying beyond a plane of the view.
@@ -137,6 +136,9 @@ pub struct Selection<'t, 's> {
     recount: bool,
     /// Triangles below the bake being judged at once, one inside the other.
     inline: usize,
+    /// The vertices the frame's written triangles use, once a walk counted them (see
+    /// [`count`](Self::count)).
+    pub(super) vertices: Option<usize>,
     layout: Layout,
     /// The last frame's view.
     view: Option<View>,
@@ -228,6 +230,7 @@ impl<'t, 's> Selection<'t, 's> {
             dropped_below: false,
             recount: false,
             inline: 0,
+            vertices: None,
             layout: Layout::of(&tree),
             view: None,
             stats: SelectionStats::default(),
@@ -366,6 +369,7 @@ impl<'t, 's> Selection<'t, 's> {
         self.bits[..words].fill(0);
         self.pool.clear();
         self.stats = SelectionStats::default();
+        self.vertices = None;
         self.view = Some(*view);
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         let (tree, tolerance) = (self.tree, view.tolerance());
@@ -401,7 +405,11 @@ impl<'t, 's> Selection<'t, 's> {
             // frame's true figures.
             self.account(view, tolerance);
         }
-        self.count();
+        if self.full || self.recount || self.pool.used > 0 {
+            // Leaves below the bake have no bit to say they were counted, and a search cut
+            // short may have counted some twice: a walk counts.
+            self.count();
+        }
         self.stats
     }
 
@@ -449,15 +457,44 @@ impl<'t, 's> Selection<'t, 's> {
             if h.node != RUN_TIME {
                 set(&mut self.bits[layout.hidden..], h.node);
             }
+            self.stats.hidden += 1;
             return;
         }
         if j.bound <= tolerance {
             self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            self.count_leaf(&h);
             return;
         }
         if !self.split(&h, 0) {
             self.stats.left_over += 1;
             self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            self.count_leaf(&h);
+        }
+    }
+
+    /// Counts leaf `h`, judged and kept whole, as a triangle written out (if it is).
+    ///
+    /// The frame's triangles and hidden leaves are counted as the search judges them, so that
+    /// a frame needs no walk to count them (a walk was an eighth of a `fw_teapot` update): a
+    /// leaf halved later is taken off again ([`uncount_leaf`](Self::uncount_leaf)). A frame
+    /// with leaves below the bake, which have no bit to say they were judged, is counted by a
+    /// walk instead (see [`update`](Self::update)); a test checks both ways agree. The
+    /// vertices, which a frame that is only drawn does not need, are counted by a walk on
+    /// demand ([`mesh_size`](Self::mesh_size), [`write_mesh`](Self::write_mesh)).
+    fn count_leaf(&mut self, h: &Pending) {
+        self.stats.triangles += usize::from(self.written(h).is_some());
+    }
+
+    /// Takes leaf `x`, about to be halved, off the frame's figures where
+    /// [`count_leaf`](Self::count_leaf) or a judgement of hidden counted it.
+    fn uncount_leaf(&mut self, x: &Pending) {
+        if !self.is_judged(x) {
+            return;
+        }
+        if bit(&self.bits[self.layout.hidden..], x.node) {
+            self.stats.hidden = self.stats.hidden.saturating_sub(1);
+        } else if self.written(x).is_some() {
+            self.stats.triangles = self.stats.triangles.saturating_sub(1);
         }
     }
 
@@ -526,6 +563,14 @@ impl<'t, 's> Selection<'t, 's> {
                 None => return false,
             },
         };
+        // Leaves judged and kept whole until now stop being leaves: all but `h` at the top of
+        // the recursion, which `process` halves as soon as it judged it.
+        if let Some(x) = across {
+            self.uncount_leaf(&x);
+        }
+        if depth > 0 {
+            self.uncount_leaf(h);
+        }
         // The halves across first, so that `h`'s own are judged first: the search goes down
         // into `h` before it goes across.
         for x in [across, Some(*h)].into_iter().flatten() {
@@ -536,11 +581,13 @@ impl<'t, 's> Selection<'t, 's> {
         true
     }
 
-    /// Counts the frame's written triangles and their vertices, and the hidden ones.
-    fn count(&mut self) {
+    /// Counts the frame's written triangles, the vertices they use and the hidden leaves, by
+    /// a walk of the mesh (the frame's `seen` bits mark the vertices).
+    pub(super) fn count(&mut self) {
         let layout = self.layout();
         let tree = self.tree;
         let (mut triangles, mut vertices, mut hidden) = (0, 0, 0);
+        self.bits[layout.seen..layout.judged].fill(0);
         for e in self.pool.entries.iter_mut() {
             e.seen = false;
         }
@@ -572,8 +619,8 @@ impl<'t, 's> Selection<'t, 's> {
             None
         });
         self.stats.triangles = triangles;
-        self.stats.vertices = vertices;
         self.stats.hidden = hidden;
+        self.vertices = Some(vertices);
     }
 }
 
@@ -586,11 +633,11 @@ mod tests {
         BintreeVertex,
     };
     use crate::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
+    use glam::Vec3;
 
-    /// A view finer than the bake is refined into the pool with the feature `refine`, and
-    /// left whole without it (as with a full pool), its bound reported either way.
-    #[test]
-    fn views_finer_than_the_bake_refine_only_with_the_feature() {
+    /// The one-patch bump (a bicubic square with its middle raised), baked at `relative` of
+    /// its diagonal into buffers of `N` nodes, handed to `f` with its model and its diagonal.
+    fn with_bump<const N: usize>(relative: f32, f: impl FnOnce(&Model<'_>, Bintree<'_>, f32)) {
         let mut points = [[0.0f32; 3]; 16];
         for (k, p) in points.iter_mut().enumerate() {
             let (i, j) = (k / 4, k % 4);
@@ -609,10 +656,10 @@ mod tests {
         let patches = PatchSet::new(&headers, &points, None).unwrap();
         let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
         let model = Model::build(patches, &mut edges, &mut curves).unwrap();
-        let mut nodes = [BintreeNode::default(); 512];
-        let mut vertices = [BintreeVertex::default(); 256];
+        let mut nodes = [BintreeNode::default(); N];
+        let mut vertices = [BintreeVertex::default(); N];
         let mut records = [BintreePatch::default()];
-        let mut scratch = [BakeScratch::default(); 512];
+        let mut scratch = [BakeScratch::default(); N];
         let buffers = BintreeBuffers {
             nodes: &mut nodes,
             vertices: &mut vertices,
@@ -620,7 +667,7 @@ mod tests {
             scratch: &mut scratch,
         };
         let settings = BintreeSettings {
-            tolerance: Tolerance::Relative(2e-2),
+            tolerance: Tolerance::Relative(relative),
             ..BintreeSettings::default()
         };
         let size = bake_bintree(&model, &settings, buffers).unwrap();
@@ -631,21 +678,91 @@ mod tests {
             &records,
         )
         .unwrap();
-        let mut bits = [0u32; 64];
-        let mut stack = [Pending::default(); 64];
-        let mut pool = [RefinedVertex::default(); 256];
-        let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
-        // A hundredth of the bake's tolerance: far below the bake.
-        let diagonal = model.patches.aabb().unwrap().diagonal();
-        let tolerance = 1e-2 * settings.tolerance.in_model_units(diagonal);
-        let stats = selection.update(&View::Object { tolerance });
-        if cfg!(feature = "refine") {
-            assert!(stats.refined > 0);
-        } else {
-            assert_eq!(stats.refined, 0);
-            assert!(stats.left_over > 0);
-        }
-        assert!((stats.worst_bound > tolerance) == (stats.left_over > 0));
-        assert!(stats.worst_bound.is_finite());
+        f(&model, tree, model.patches.aabb().unwrap().diagonal());
+    }
+
+    /// A view finer than the bake is refined into the pool with the feature `refine`, and
+    /// left whole without it (as with a full pool), its bound reported either way.
+    #[test]
+    fn views_finer_than_the_bake_refine_only_with_the_feature() {
+        with_bump::<512>(2e-2, |_, tree, diagonal| {
+            let mut bits = [0u32; 64];
+            let mut stack = [Pending::default(); 64];
+            let mut pool = [RefinedVertex::default(); 256];
+            let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+            // A hundredth of the bake's tolerance: far below the bake.
+            let tolerance = 1e-2 * Tolerance::Relative(2e-2).in_model_units(diagonal);
+            let stats = selection.update(&View::Object { tolerance });
+            if cfg!(feature = "refine") {
+                assert!(stats.refined > 0);
+            } else {
+                assert_eq!(stats.refined, 0);
+                assert!(stats.left_over > 0);
+            }
+            assert!((stats.worst_bound > tolerance) == (stats.left_over > 0));
+            assert!(stats.worst_bound.is_finite());
+        });
+    }
+
+    /// The triangles and hidden leaves the search counts as it goes are those a walk of the
+    /// resulting mesh counts: over views from near and far, some with the bump across the
+    /// near plane or the screen's sides (hidden leaves, and leaves judged whole before a
+    /// neighbour halved them), with a stack long enough and one so short that walks find
+    /// what it had no room for.
+    #[test]
+    fn the_counts_kept_during_the_search_are_the_mesh_walked() {
+        with_bump::<8192>(2e-3, |_, tree, _| {
+            let mut rng = crate::test_rng::TestRng::new(0xc0_4e7);
+            let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
+            let (mut hidden_frames, mut halved_after, mut sweeps) = (0, 0, 0);
+            for length in [Selection::MIN_STACK, 64] {
+                let mut bits = [0u32; 1024];
+                let mut stack = [Pending::default(); 64];
+                let mut selection =
+                    Selection::new(tree, &mut bits, &mut stack[..length], &mut []).unwrap();
+                for k in 0..60 {
+                    let distance = [0.4, 1.5, 6.0][k % 3];
+                    let target = Vec3::new(1.5 + unit(1.5), 1.5 + unit(1.5), 0.5);
+                    let eye = target
+                        + Vec3::new(unit(1.0), unit(1.0), 0.3 + unit(0.25).abs())
+                            .normalize_or_zero()
+                            * distance;
+                    let Ok(camera) = crate::Camera::new(
+                        eye,
+                        target,
+                        Vec3::Z,
+                        crate::Projection::Perspective {
+                            fov_y_degrees: 40.0,
+                        },
+                        0.05,
+                        [240, 240],
+                    ) else {
+                        continue;
+                    };
+                    let view = View::Screen {
+                        camera,
+                        tolerance_px: [0.5, 1.0, 3.0][k % 3],
+                    };
+                    let stats = selection.update(&view);
+                    selection.count();
+                    let walked = selection.stats();
+                    assert_eq!(
+                        (stats.triangles, stats.hidden),
+                        (walked.triangles, walked.hidden),
+                        "view {k}, stack {length}"
+                    );
+                    hidden_frames += usize::from(stats.hidden > 0);
+                    // Leaves judged and then halved by a neighbour: more judged than a
+                    // top-down split of the final mesh needs.
+                    halved_after += usize::from(stats.judged > 2 * stats.triangles);
+                    sweeps += stats.sweeps;
+                }
+            }
+            assert!(
+                hidden_frames > 10,
+                "{hidden_frames} frames with hidden leaves"
+            );
+            assert!(halved_after > 0 && sweeps > 0, "{halved_after} {sweeps}");
+        });
     }
 }
