@@ -210,12 +210,8 @@ pub(crate) fn bound_on_screen(
     }
     let ([sx, sy], [nx, ny]) = camera.side_planes();
     let w = m + eta;
-    let mut front = Polygon {
-        v: [Vec3::ZERO; CLIPPED],
-        n: 3,
-    };
-    front.v[..3].copy_from_slice(&corners);
-    // A triangle inside every plane is its own clipped polygon (the common case: no copy).
+    // A triangle inside every plane is its own clipped polygon (the common case: no copy,
+    // nor a polygon to clear).
     // Tested without the clip's divisions (`nx`, `ny` > 0): where the two forms round apart,
     // a corner on a plane, the test may skip a clip that would move it by a rounding, which
     // only leaves the polygon a hair larger.
@@ -227,7 +223,10 @@ pub(crate) fn bound_on_screen(
             && (-p.y - sy * p.z) <= wy
             && (p.y - sy * p.z) <= wy
     });
-    if !inside {
+    let clipped;
+    let front: &[Vec3] = if inside {
+        &corners
+    } else {
         let side = |axis: usize, sign: f32| {
             let (slope, norm) = if axis == 0 { (sx, nx) } else { (sy, ny) };
             ClipPlane::Side {
@@ -238,6 +237,11 @@ pub(crate) fn bound_on_screen(
                 w,
             }
         };
+        let mut polygon = Polygon {
+            v: [Vec3::ZERO; CLIPPED],
+            n: 3,
+        };
+        polygon.v[..3].copy_from_slice(&corners);
         for plane in [
             ClipPlane::Near(near),
             side(0, -1.0),
@@ -245,15 +249,17 @@ pub(crate) fn bound_on_screen(
             side(1, -1.0),
             side(1, 1.0),
         ] {
-            front = front.clip(plane);
+            polygon = polygon.clip(plane);
         }
-    }
-    if front.n == 0 {
+        clipped = polygon;
+        &clipped.v[..clipped.n]
+    };
+    if front.is_empty() {
         return 0.0;
     }
     let mut z_low = f32::INFINITY;
     let mut worst = 0.0f32;
-    for &v in &front.v[..front.n] {
+    for &v in front {
         z_low = min(z_low, v.z);
         let z = v.z - eta;
         if z.is_nan() || z <= 0.0 {
