@@ -278,8 +278,16 @@ pub(crate) fn bound_on_screen(
         let g = root(phi) + r * root(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
     }
+    on_screen(camera, z_low, m, eta, worst)
+}
+
+/// The bound on screen of a deviation whose worst term over the triangle's corners is `g`
+/// (the corners' nearest depth `z_low`, the deviation at most `m` long, the rounding `eta`):
+/// `g` at the least depth the deviation can reach, `z_low - m - eta` but not nearer than the
+/// near plane, in pixels with the screen's slack; infinity for NaN.
+fn on_screen(camera: &Camera, z_low: f32, m: f32, eta: f32, g: f32) -> f32 {
     let z_min = max(camera.near(), z_low - m - eta);
-    let bound = focal / z_min * worst * SCREEN_SLACK;
+    let bound = camera.focal() / z_min * g * SCREEN_SLACK;
     if bound.is_nan() {
         f32::INFINITY
     } else {
@@ -326,13 +334,7 @@ pub(crate) fn isotropic_bound_on_screen(
     let spread = 1.0 + tx + ty;
     let s = crate::math::sqrt_above(1.0 + tx * tx + ty * ty);
     let g = m * (s + 2.0 * eta * spread / z + 16.0 * EPS * spread);
-    let z_min = max(camera.near(), z_f - m - eta);
-    let bound = focal / z_min * g * SCREEN_SLACK;
-    if bound.is_nan() {
-        f32::INFINITY
-    } else {
-        bound
-    }
+    on_screen(camera, z_f, m, eta, g)
 }
 
 #[cfg(test)]
