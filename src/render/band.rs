@@ -12,7 +12,7 @@ use embedded_graphics::primitives::Rectangle;
 use super::clip::ClipVertex;
 use super::list::{for_each_listed, ListSlot, SubpixelRows};
 use super::project::{CornerCache, Setup};
-use super::raster::{SmallScan, Triangle};
+use super::raster::{BandScan, Scan, Snapped, Triangle};
 use super::walk::{draw_span, SpanWalk};
 use super::{RenderStats, Style};
 use crate::sink::{TriangleSink, Vertex};
@@ -34,14 +34,14 @@ pub(super) trait BandOutput {
         walk: SpanWalk,
         style: &Style,
     ) -> Result<Drawn, Self::Error>;
-    /// Draws `rows` rows of a small triangle's `scan` from row `top` on, against the band's
+    /// Draws `rows` rows of a triangle's `scan` from row `top` on, against the band's
     /// `depth`; by default span by span.
-    fn small(
+    fn scan(
         &mut self,
         area: &Rectangle,
         top: i32,
         rows: usize,
-        mut scan: SmallScan,
+        mut scan: Scan,
         depth: &mut [u16],
         style: &Style,
     ) -> Result<Drawn, Self::Error> {
@@ -387,12 +387,12 @@ where
         Ok(Drawn { pixels, runs: 0 })
     }
 
-    fn small(
+    fn scan(
         &mut self,
         area: &Rectangle,
         top: i32,
         rows: usize,
-        scan: SmallScan,
+        scan: Scan,
         depth: &mut [u16],
         _: &Style,
     ) -> Result<Drawn, E> {
@@ -469,8 +469,8 @@ impl<O: BandOutput> Band<'_, '_, O> {
         self.stats.triangles += 1;
         let setup = self.setup;
         setup.project(corners, inside, |v, wire| {
-            if let Some(tri) = Triangle::new(v, wire) {
-                self.rasterise(&tri);
+            if let Some(snapped) = Snapped::new(v, wire) {
+                self.rasterise(&snapped);
             }
         });
     }
@@ -482,9 +482,7 @@ impl<O: BandOutput> Band<'_, '_, O> {
         let rows = SubpixelRows::new(&self.rows());
         for_each_listed(list, front, &rows, |t| {
             if t.meets(&rows) {
-                if let Some(tri) = t.triangle() {
-                    self.rasterise(&tri);
-                }
+                self.rasterise(&t.snapped());
             }
         });
     }
@@ -497,30 +495,44 @@ impl<O: BandOutput> Band<'_, '_, O> {
         self.area.top_left.x..self.area.top_left.x + self.area.size.width as i32
     }
 
-    fn rasterise(&mut self, tri: &Triangle) {
+    /// Draws a triangle's pixels in the band.
+    fn rasterise(&mut self, snapped: &Snapped) {
         if self.error.is_some() {
             return;
         }
+        let style = self.setup.style;
+        let half_width = style.wireframe.map(|w| w.half_width);
+        match snapped.band_scan(self.rows(), self.columns(), half_width) {
+            BandScan::Off => {}
+            BandScan::Rows { scan, top, rows } => {
+                match self
+                    .out
+                    .scan(&self.area, top, rows, scan, self.depth, style)
+                {
+                    Ok(drawn) => {
+                        self.stats.pixels += drawn.pixels;
+                        self.stats.runs += drawn.runs;
+                    }
+                    Err(e) => self.error = Some(e),
+                }
+            }
+            BandScan::Wide => {
+                if cfg!(feature = "large-viewports") {
+                    if let Some(tri) = snapped.triangle() {
+                        self.rasterise_spans(&tri, half_width);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Draws a triangle's pixels in the band span by span (corners beyond the 32-bit edge
+    /// arithmetic's reach).
+    fn rasterise_spans(&mut self, tri: &Triangle, half_width: Option<f32>) {
         let [first, last] = tri.rows();
         let (rows, columns) = (self.rows(), self.columns());
         let width = columns.len();
-        let style = self.setup.style;
-        let half_width = style.wireframe.map(|w| w.half_width);
         let (top, bottom) = (first.max(rows.start), last.min(rows.end - 1));
-        if top > bottom {
-            return;
-        }
-        if let Some(scan) = tri.small_scan(top, columns.clone(), half_width) {
-            let n = (bottom - top + 1) as usize;
-            match self.out.small(&self.area, top, n, scan, self.depth, style) {
-                Ok(drawn) => {
-                    self.stats.pixels += drawn.pixels;
-                    self.stats.runs += drawn.runs;
-                }
-                Err(e) => self.error = Some(e),
-            }
-            return;
-        }
         for row in top..=bottom {
             let Some(span) = tri.span(row, columns.clone()) else {
                 continue;

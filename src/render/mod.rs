@@ -34,11 +34,10 @@
 //! given a vertex map instead ([`Renderer::with_vertex_map`]): every vertex is then projected
 //! once and found in the list by its number.
 //!
-//! Small triangles (at most 12 pixel columns wide) are scanned row by row over their bounding
-//! box, each row's columns solved from the same integer edge functions with one division per
-//! edge; larger ones go span by span. Along a row, depth keys and shades are stepped in fixed
-//! point, so that a pixel's values do not depend on which band or which way the triangle
-//! came.
+//! Each triangle is scanned row by row over its bounding box, each row's columns solved from
+//! integer edge functions with one division per edge, and its depth keys and shades stepped
+//! in fixed point, exact modulo `2^32`, so that a pixel's values do not depend on which band
+//! or which way the triangle came.
 //!
 //! Each triangle is clipped in view space (the near plane, and a guard band at twice the
 //! viewport), snapped to 1/16 pixel and scan-converted with exact integer edge functions and

@@ -19,7 +19,7 @@ mod sink;
 pub(super) use sink::{fill, Remaining};
 
 use super::project::{depth_from_u16, shade_from_u8};
-use super::raster::{Triangle, HALF, SUBPIXELS};
+use super::raster::{Snapped, HALF, SUBPIXELS};
 
 /// One slot of the frame's triangle list (8 bytes): a screen triangle or one of its corners
 /// (see [`Renderer::with_triangle_list`](super::Renderer::with_triangle_list) and the module
@@ -198,22 +198,22 @@ pub(super) struct ListedTriangle<'l> {
 }
 
 impl ListedTriangle<'_> {
-    /// The triangle ready for scan conversion (as [`Triangle::new`] sets up the same
-    /// corners); `None` when it has no area.
+    /// Its corners as the rasteriser takes them (as [`Snapped::new`] snaps the same
+    /// corners).
     #[inline(always)]
-    pub fn triangle(&self) -> Option<Triangle> {
+    pub fn snapped(&self) -> Snapped {
         let c = self.corners.map(ListSlot::unpack_corner);
         let shade = match self.flat {
             Some(level) => [shade_from_u8(level); 3],
             None => c.map(|c| c.3),
         };
-        Triangle::from_snapped(
-            c.map(|c| c.0),
-            c.map(|c| c.1),
-            c.map(|c| c.2),
+        Snapped {
+            x: c.map(|c| c.0),
+            y: c.map(|c| c.1),
+            depth: c.map(|c| c.2),
             shade,
-            [0, 1, 2].map(|i| self.flags & (1 << i) != 0),
-        )
+            wire: [0, 1, 2].map(|i| self.flags & (1 << i) != 0),
+        }
     }
 
     /// Whether it may cover a pixel centre of the rows `rows` stands for.
@@ -252,7 +252,7 @@ impl SubpixelRows {
 mod tests {
     use super::*;
     use crate::render::project::shade_to_u8;
-    use crate::render::raster::{snap_checked, ScreenVertex};
+    use crate::render::raster::{snap_checked, ScreenVertex, Triangle};
 
     #[test]
     fn a_slot_is_8_bytes() {
@@ -328,7 +328,7 @@ mod tests {
                 );
             }
         }
-        let direct = listed.triangle().unwrap();
+        let direct = listed.snapped().triangle().unwrap();
         assert_eq!(direct.rows(), tri.rows());
         for r in first..=last {
             assert_eq!(direct.span(r, -50..50), tri.span(r, -50..50));
@@ -337,7 +337,7 @@ mod tests {
         list[0].group_add(1, y);
         list[1].set_half(0, triangle_half([2, 1, 0], wire, true));
         list[1].set_half(1, [200, 0]);
-        let flat = first_of(&list).unwrap().triangle().unwrap();
+        let flat = first_of(&list).unwrap().snapped().triangle().unwrap();
         let mut shaded = back;
         for c in &mut shaded {
             c.shade = shade_from_u8(200);

@@ -549,7 +549,9 @@ mod tests {
         }
         let all = SubpixelRows::new(&(-100..100));
         let mut drawn = 0;
-        for_each_listed(&list, 2, &all, |l| drawn += l.triangle().is_some() as usize);
+        for_each_listed(&list, 2, &all, |l| {
+            drawn += l.snapped().triangle().is_some() as usize
+        });
         assert_eq!(drawn, 2);
     }
 

@@ -1,20 +1,21 @@
-//! Triangle set-up and scanline spans from fixed-point edge functions.
+//! Triangle set-up and scan conversion from fixed-point edge functions.
 //!
 //! Vertices snap to 1/16 pixel. A pixel belongs to a triangle when its centre is inside, with
 //! ties on an edge broken by the top-left rule: as if the centre were nudged right by `ε` and
 //! down by `ε²`. That perturbation is the same for every triangle, so triangles that share
 //! edges (and vertices) cover each pixel of their union exactly once. Every inside test is exact
-//! integer arithmetic; only the attributes (depth, shade, distance to the edges) are `f32`,
-//! set up once per triangle as planes through its first corner, so that a row's attributes
-//! cost a few multiply-adds of small integer offsets (no 64-bit conversion, a library call on
-//! 32-bit cores).
+//! integer arithmetic; only the attributes (depth, shade) are `f32` planes through the first
+//! corner, set up once per triangle and put in fixed point for the scan (`scan`). Triangles
+//! with a corner beyond 512 pixels of the origin (only with feature `large-viewports`) go span
+//! by span in 64-bit edge arithmetic instead ([`Triangle::span`]), with `f32` attributes at
+//! each row's first pixel.
 
 use core::ops::Range;
 
 mod edge;
-mod small;
+mod scan;
 
-pub(super) use small::SmallScan;
+pub(super) use scan::{BandScan, Scan};
 
 use edge::{ceil_div, inside_columns, wide_columns, EdgeInt, Edges, NARROW_LIMIT};
 
@@ -70,6 +71,19 @@ struct Plane {
 }
 
 impl Plane {
+    /// The plane through values `v` at a triangle's corners, whose edges (corner to corner,
+    /// opposite each corner) are `edges` in subpixels and whose doubled area is
+    /// `1 / inv_area`.
+    #[inline(always)]
+    fn through(v: [f32; 3], edges: &[[f32; 2]; 3], inv_area: f32) -> Plane {
+        let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
+        Plane {
+            at: v[0],
+            dx: -(d1 * edges[1][1] + d2 * edges[2][1]) * inv_area,
+            dy: (d1 * edges[1][0] + d2 * edges[2][0]) * inv_area,
+        }
+    }
+
     /// Its value `rx`, `ry` subpixels right of and below the first corner, and its change per
     /// pixel along the row.
     #[inline]
@@ -112,6 +126,41 @@ pub(crate) fn snap_checked(v: f32) -> Option<i32> {
     (v.abs() <= COORDINATE_LIMIT).then(|| snap(v))
 }
 
+/// A triangle's corners snapped to 1/16 pixel, with what is interpolated across it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Snapped {
+    /// Corners in subpixels, within [`COORDINATE_LIMIT`] pixels.
+    pub x: [i32; 3],
+    pub y: [i32; 3],
+    /// Depth keys at the corners.
+    pub depth: [f32; 3],
+    /// Shades at the corners.
+    pub shade: [f32; 3],
+    /// `wire[i]`: the edge opposite corner `i` is drawn for the wireframe.
+    pub wire: [bool; 3],
+}
+
+impl Snapped {
+    /// Corners `v` snapped; `None` when one is not a finite pixel position within
+    /// [`COORDINATE_LIMIT`].
+    pub fn new(v: [ScreenVertex; 3], wire: [bool; 3]) -> Option<Snapped> {
+        let [x0, x1, x2] = v.map(|p| snap_checked(p.xy[0]));
+        let [y0, y1, y2] = v.map(|p| snap_checked(p.xy[1]));
+        Some(Snapped {
+            x: [x0?, x1?, x2?],
+            y: [y0?, y1?, y2?],
+            depth: v.map(|p| p.depth),
+            shade: v.map(|p| p.shade),
+            wire,
+        })
+    }
+
+    /// The triangle set up for spans ([`Triangle::from_snapped`]).
+    pub fn triangle(&self) -> Option<Triangle> {
+        Triangle::from_snapped(self.x, self.y, self.depth, self.shade, self.wire)
+    }
+}
+
 /// Largest pixel coordinate, in magnitude, a triangle may have: clipping keeps every corner
 /// within twice the viewport (at most [`MAX_VIEWPORT`](super::MAX_VIEWPORT) pixels), and up
 /// to here the edge functions' products stay far inside `i64`. Only non-finite or
@@ -121,12 +170,10 @@ const COORDINATE_LIMIT: f32 = (1u32 << 24) as f32;
 impl Triangle {
     /// Sets up a triangle; `None` when it has no area after snapping, or when a corner is not
     /// a finite pixel position within [`COORDINATE_LIMIT`]. `wire[i]` marks the edge opposite
-    /// corner `i` for the wireframe.
+    /// corner `i` for the wireframe. (The renderer snaps corners with [`Snapped::new`].)
+    #[cfg(test)]
     pub fn new(v: [ScreenVertex; 3], wire: [bool; 3]) -> Option<Triangle> {
-        let [x0, x1, x2] = v.map(|p| snap_checked(p.xy[0]));
-        let [y0, y1, y2] = v.map(|p| snap_checked(p.xy[1]));
-        let (x, y) = ([x0?, x1?, x2?], [y0?, y1?, y2?]);
-        Triangle::from_snapped(x, y, v.map(|p| p.depth), v.map(|p| p.shade), wire)
+        Snapped::new(v, wire)?.triangle()
     }
 
     /// Sets up a triangle from corners already snapped to 1/16 pixel (`x`, `y` in subpixels,
@@ -216,14 +263,7 @@ impl Triangle {
         // down; through the differences, an attribute equal at the corners stays exactly
         // constant.
         let inv_area = 1.0 / area.to_f32();
-        let plane = |v: [f32; 3]| {
-            let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
-            Plane {
-                at: v[0],
-                dx: -(d1 * edges[1][1] + d2 * edges[2][1]) * inv_area,
-                dy: (d1 * edges[1][0] + d2 * edges[2][0]) * inv_area,
-            }
-        };
+        let plane = |v: [f32; 3]| Plane::through(v, &edges, inv_area);
         let top = *y.iter().min()?;
         let bottom = *y.iter().max()?;
         let first = ceil_div(top - half, sub).wide();
@@ -239,17 +279,6 @@ impl Triangle {
             inv_length,
             rows: [clamp(first), clamp(last)],
         })
-    }
-
-    /// The top-left rule's bias of edge `i` (see [`set_up`](Self::set_up)): 0 for an edge
-    /// going up or a horizontal one going right, else 1.
-    fn bias(&self, i: usize) -> i32 {
-        let (k, dx) = match &self.edges {
-            Edges::Narrow { k, .. } => (k[i] as i64, self.dx[i]),
-            Edges::Wide { k, .. } => (k[i], self.dx[i]),
-        };
-        // `k = -16 dy`.
-        i32::from(!(k > 0 || (k == 0 && dx > 0)))
     }
 
     /// First and last pixel row whose centres the triangle may cover.

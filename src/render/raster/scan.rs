@@ -1,0 +1,585 @@
+//! Triangles scanned row by row over their bounding box, in integers and fixed point.
+//!
+//! Most triangles of a tessellation at a pixel tolerance cover a few pixels over two or three
+//! rows, so what a triangle costs before its first pixel counts: a band sets a triangle up in
+//! one pass from its snapped corners ([`Snapped::band_scan`]), to integer edge values and
+//! fixed-point planes, and leaves it there when it meets no row of the band. A scan keeps each
+//! edge's value `E_i - bias_i` at the row's first column of the box, stepped by a constant per
+//! row, and solves the exact integer inequality of the module above (a pixel centre is inside
+//! edge `i` when `E_i - bias_i >= 0`) for the row's columns, one division per edge. (Testing
+//! every pixel of the box instead, three additions and a sign test each, was measured slower
+//! on `fw_teapot`: most of a box is outside its triangle.) Triangles with a corner beyond
+//! [`NARROW_LIMIT`] take the 64-bit spans of [`Triangle`] instead (feature
+//! `large-viewports`): the same inequality, so both still tile.
+//!
+//! # The planes in fixed point
+//!
+//! Depth and shade are the `f32` planes of the module above ([`Plane::through`], per subpixel
+//! from the first corner), put in fixed point once per triangle and band: a depth key plus 1/2
+//! with `b = 14` fractional bits, a shade level plus 1/2 with `b = 16`. The value is computed
+//! in `f32` at `A`, the pixel centre nearest the first corner (within 8 subpixels of it each
+//! way), and its changes per pixel right `R` and per row down `D` are rounded from 16 times
+//! the plane's slopes; a pixel `(Δx, Δy)` pixels from `A` takes `A + R Δx + D Δy` in wrapping
+//! `i32` arithmetic. That is exact modulo `2^32`, so a pixel's value does not depend on where
+//! a scan starts (which band, which column, which way the triangle came: listed or streamed),
+//! and values inside the triangle, which lie between the corners' (at most `2^16 · 2^b`), come
+//! out right even where the plane wraps off it.
+//!
+//! Precision: `A`, `R` and `D` are rounded toward zero from `f32` values below
+//! `limit = |v| + 16 (|s_x| + |s_y|)` in size (`v` the value at the corner, `s` the slopes), so
+//! each is within `2^-b` of its `f32` value plus that value's own rounding (a few `2^-24` of
+//! `limit`: 0.03 of a key at most for depth, whose keys are below `2^16`). A pixel inside the
+//! triangle lies within its box, so its value is off the `f32` plane by at most
+//! `2^-b (1 + Δx + Δy)` plus that: 0.06 of a key for a triangle across a 480-pixel box. A
+//! plane steep enough that `limit` reaches `2^(31 - b)` (depth changing by 65,536 keys or
+//! more per pixel, its whole range: a sliver under a pixel across) keeps as many fractional
+//! bits `f` as fit below `2^31` and is shifted back to `b` modulo `2^32`, so its values inside
+//! are still right to `2^-f`; one whose `limit` reaches `2^31` itself (`2^27` keys per
+//! subpixel: a sliver of a few square subpixels) is taken flat, at its first corner's value.
+//! The tests below check the scan against the spans and a steep sliver against its plane in
+//! `f64`.
+//!
+//! A wireframe edge's test is on the integer edge function too: the pixel is on the line when
+//! `E_i < half_width * 16 |edge_i|`, the distance in pixels times the edge's scale.
+
+use core::ops::Range;
+
+use super::edge::{ceil_div, NARROW_LIMIT};
+#[cfg(doc)]
+use super::Triangle;
+use super::{inv_sqrt, Plane, Snapped, HALF, SUBPIXELS};
+use crate::render::walk::{FixedRamp, SpanWalk, DEPTH_BITS, LEVEL_BITS};
+
+/// A plane in fixed point: its value at the scan's first pixel and its change per pixel
+/// right and per row down.
+#[derive(Clone, Copy, Debug, Default)]
+struct FixedPlane {
+    at: i32,
+    right: i32,
+    down: i32,
+}
+
+impl FixedPlane {
+    /// `scale` times the plane `plane` (per subpixel, through corner `from`) plus 1/2, times
+    /// `2^bits`, at the centre of pixel `first` (see the module docs for its precision).
+    #[inline(always)]
+    fn new(plane: &Plane, scale: f32, bits: u32, from: [i32; 2], first: [i32; 2]) -> FixedPlane {
+        let (sx, sy) = (scale * plane.dx, scale * plane.dy);
+        let start = scale * plane.at + 0.5;
+        // The plane at the anchor below and its change over a pixel are within `limit`: with
+        // `fraction` fractional bits, below `2^31`.
+        let limit = start.abs() + SUBPIXELS as f32 * (sx.abs() + sy.abs());
+        let fits = limit < 2_147_483_648.0;
+        if !fits {
+            // (No finite plane gets here in a frame: see the module docs.)
+            return FixedPlane {
+                at: (start * (1u32 << bits) as f32) as i32,
+                right: 0,
+                down: 0,
+            };
+        }
+        let fraction = if limit < (1u32 << (31 - bits)) as f32 {
+            bits
+        } else {
+            bits.min((limit as u32).leading_zeros() - 1)
+        };
+        let fixed = f32::from_bits((127 + fraction) << 23);
+        // The pixel whose centre is nearest the corner, and the plane there.
+        let (sub, half) = (SUBPIXELS as i32, HALF as i32);
+        // (`>> 4` is `div_euclid(16)`.)
+        let anchor = from.map(|c| c >> SUBPIXELS.trailing_zeros());
+        let [ox, oy] = [0, 1].map(|i| (anchor[i] * sub + half - from[i]) as f32);
+        let at = ((start + sx * ox + sy * oy) * fixed) as i32;
+        let step = SUBPIXELS as f32 * fixed;
+        let (right, down) = ((sx * step) as i32, (sy * step) as i32);
+        let at = at
+            .wrapping_add(right.wrapping_mul(first[0].wrapping_sub(anchor[0])))
+            .wrapping_add(down.wrapping_mul(first[1].wrapping_sub(anchor[1])));
+        // Back to `bits` fractional bits, modulo `2^32`.
+        let up = bits - fraction;
+        FixedPlane {
+            at: at.wrapping_shl(up),
+            right: right.wrapping_shl(up),
+            down: down.wrapping_shl(up),
+        }
+    }
+
+    /// Its ramp along the row from `n` pixels right of the anchor.
+    #[inline(always)]
+    fn ramp(&self, n: i32) -> FixedRamp {
+        FixedRamp {
+            at: self.at.wrapping_add(self.right.wrapping_mul(n)),
+            step: self.right,
+        }
+    }
+
+    #[inline(always)]
+    fn next_row(&mut self) {
+        self.at = self.at.wrapping_add(self.down);
+    }
+}
+
+/// A small triangle's scan, row by row over its bounding box's columns (within a band's).
+#[derive(Clone, Copy, Debug)]
+pub(in crate::render) struct Scan {
+    /// The box's first column and its width in pixels.
+    x0: i32,
+    width: i32,
+    /// `E_i - bias_i` at the current row's first column: the pixel is inside when all three
+    /// are at least 0.
+    edge: [i32; 3],
+    /// Their change per pixel right and per row down.
+    right: [i32; 3],
+    down: [i32; 3],
+    /// `E_i - bias_i` below which a pixel is on wireframe edge `i` (`i32::MIN`: not drawn).
+    wire: [i32; 3],
+    depth: FixedPlane,
+    level: FixedPlane,
+}
+
+/// How a triangle meets one band ([`Snapped::band_scan`]).
+#[derive(Clone, Copy, Debug)]
+pub(in crate::render) enum BandScan {
+    /// It covers no pixel centre of the band.
+    Off,
+    /// Its scan from row `top` on, over `rows` rows.
+    Rows { scan: Scan, top: i32, rows: usize },
+    /// A corner lies beyond [`NARROW_LIMIT`]: the 64-bit spans of [`Triangle`] draw it
+    /// (with feature `large-viewports`; never for the viewports a build without it draws).
+    Wide,
+}
+
+impl Snapped {
+    /// How this triangle meets the band of rows `rows` and columns `columns`, with wireframe
+    /// lines `half_width` wide (`None`: no wireframe): set up in one pass from its corners,
+    /// to the edge values [`Triangle::from_snapped`] gives (the same integer operations) and
+    /// the same planes ([`Plane::through`], shared).
+    #[inline(always)]
+    pub fn band_scan(
+        &self,
+        rows: Range<i32>,
+        columns: Range<i32>,
+        half_width: Option<f32>,
+    ) -> BandScan {
+        let narrow = NARROW_LIMIT as i32;
+        if !self
+            .x
+            .iter()
+            .chain(&self.y)
+            .all(|&v| -narrow <= v && v <= narrow)
+        {
+            return BandScan::Wide;
+        }
+        let (sub, half) = (SUBPIXELS as i32, HALF as i32);
+        let (mut x, mut y) = (self.x, self.y);
+        let top = ceil_div(y[0].min(y[1]).min(y[2]) - half, sub).max(rows.start);
+        let bottom = (y[0].max(y[1]).max(y[2]) - half)
+            .div_euclid(sub)
+            .min(rows.end - 1);
+        let mut area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
+        if top > bottom || area == 0 {
+            return BandScan::Off;
+        }
+        let first = ceil_div(x[0].min(x[1]).min(x[2]) - half, sub);
+        let last = (x[0].max(x[1]).max(x[2]) - half).div_euclid(sub);
+        let (mut depth, mut shade, mut wire) = (self.depth, self.shade, self.wire);
+        if area < 0 {
+            x.swap(1, 2);
+            y.swap(1, 2);
+            depth.swap(1, 2);
+            shade.swap(1, 2);
+            wire.swap(1, 2);
+            area = -area;
+        }
+        let x0 = first.max(columns.start);
+        let yc = top * sub + half;
+        let mut edges = [[0f32; 2]; 3];
+        let mut scan = Scan {
+            x0,
+            width: last.min(columns.end - 1) - x0 + 1,
+            edge: [0; 3],
+            right: [0; 3],
+            down: [0; 3],
+            wire: [i32::MIN; 3],
+            depth: FixedPlane::default(),
+            level: FixedPlane::default(),
+        };
+        for i in 0..3 {
+            // As `Triangle::set_up` sets up edge `i`, at the box's first column and row `top`.
+            let (p, q) = ((i + 1) % 3, (i + 2) % 3);
+            let (dx, dy) = (x[q] - x[p], y[q] - y[p]);
+            edges[i] = [dx as f32, dy as f32];
+            let bias = i32::from(!(dy < 0 || (dy == 0 && dx > 0)));
+            let (a, c) = (-dy, dy * x[p] - dx * y[p]);
+            let (k, m0) = (sub * a, bias - c - half * a);
+            scan.edge[i] = k * x0 + dx * yc - m0;
+            scan.right[i] = k;
+            scan.down[i] = dx * sub;
+            if let (Some(w), true) = (half_width, wire[i]) {
+                let inv_length = inv_sqrt((dx * dx + dy * dy) as f32) * (1.0 / SUBPIXELS as f32);
+                scan.wire[i] = wire_limit(w, inv_length, bias);
+            }
+        }
+        let inv_area = 1.0 / area as f32;
+        let (corner, first) = ([x[0], y[0]], [x0, top]);
+        let depth = Plane::through(depth, &edges, inv_area);
+        scan.depth = FixedPlane::new(&depth, 1.0, DEPTH_BITS, corner, first);
+        let shade = Plane::through(shade, &edges, inv_area);
+        scan.level = FixedPlane::new(&shade, 255.0, LEVEL_BITS, corner, first);
+        BandScan::Rows {
+            scan,
+            top,
+            rows: (bottom - top + 1) as usize,
+        }
+    }
+}
+
+/// The limit below which a pixel's `E_i - bias_i` puts it on a wireframe line `half_width`
+/// pixels wide along an edge with `inv_length = 1 / (16 |edge|)` and top-left bias `bias`:
+/// `E_i` is the distance times `16 |edge|`, so the pixel is on the line when `E_i <
+/// half_width · 16 |edge|`, that is `E_i - bias_i < ceil(half_width / inv_length - bias_i)`.
+#[inline(always)]
+fn wire_limit(half_width: f32, inv_length: f32, bias: i32) -> i32 {
+    let limit = half_width / inv_length - bias as f32;
+    let t = limit as i32;
+    // `ceil` of a value within `i32` (saturated otherwise).
+    t + ((t as f32) < limit) as i32
+}
+
+impl Scan {
+    /// Its first column.
+    pub fn first_column(&self) -> i32 {
+        self.x0
+    }
+
+    /// Scans `rows` rows: each pixel inside that passes the depth test against `depth` (the
+    /// band's values, `stride` a row, the scan's first pixel at `at`) is handed to `paint`
+    /// with its index in the band and its shade level, or `None` on a wireframe edge (`WIRE`:
+    /// whether the triangle has drawn edges); the pixels drawn. The same pixels and values as
+    /// [`next_row`](Self::next_row) gives, in one loop.
+    #[inline(always)]
+    pub fn draw<const WIRE: bool>(
+        mut self,
+        rows: usize,
+        depth: &mut [u16],
+        at: usize,
+        stride: usize,
+        mut paint: impl FnMut(usize, Option<usize>),
+    ) -> u32 {
+        let mut drawn = 0;
+        for r in 0..rows {
+            let (lo, hi) = self.inside();
+            let first = at + r * stride + lo as usize;
+            if let Some(run) = depth.get_mut(first..first + (hi - lo).max(0) as usize) {
+                let mut d = self.depth.ramp(lo).at;
+                let mut l = self.level.ramp(lo).at;
+                let mut e = self.edge;
+                if WIRE {
+                    for (v, r) in e.iter_mut().zip(&self.right) {
+                        *v = v.wrapping_add(r.wrapping_mul(lo));
+                    }
+                }
+                for (i, slot) in (first..).zip(run) {
+                    let key = (d >> DEPTH_BITS).clamp(1, u16::MAX as i32) as u16;
+                    if key > *slot {
+                        *slot = key;
+                        let wire = WIRE
+                            && (e[0] < self.wire[0] || e[1] < self.wire[1] || e[2] < self.wire[2]);
+                        let level = (l >> LEVEL_BITS).clamp(0, 255) as usize;
+                        paint(i, (!wire).then_some(level));
+                        drawn += 1;
+                    }
+                    if WIRE {
+                        for (v, r) in e.iter_mut().zip(&self.right) {
+                            *v = v.wrapping_add(*r);
+                        }
+                    }
+                    d = d.wrapping_add(self.depth.right);
+                    l = l.wrapping_add(self.level.right);
+                }
+            }
+            self.next();
+        }
+        drawn
+    }
+
+    /// The current row's pixels inside the triangle, as offsets `lo..hi` from the box's first
+    /// column (empty when `lo >= hi`): the exact solution of `E_i + n right_i >= 0` for `n`,
+    /// edge by edge, by one division each (the edge values are below `2^30` in size, see
+    /// [`NARROW_LIMIT`](super::edge::NARROW_LIMIT), so nothing here overflows).
+    #[inline(always)]
+    fn inside(&self) -> (i32, i32) {
+        let (mut lo, mut hi) = (0, self.width);
+        for (&e, &k) in self.edge.iter().zip(&self.right) {
+            if k > 0 {
+                // `n >= -e / k`: `n >= ceil(-e / k) = -floor(e / k)`.
+                lo = lo.max(-e.div_euclid(k));
+            } else if k < 0 {
+                // `n <= e / -k`: `n < floor(e / -k) + 1`.
+                hi = hi.min(e.div_euclid(-k) + 1);
+            } else if e < 0 {
+                hi = 0;
+            }
+        }
+        (lo, hi)
+    }
+
+    /// On to the next row.
+    #[inline(always)]
+    fn next(&mut self) {
+        for (v, d) in self.edge.iter_mut().zip(&self.down) {
+            *v = v.wrapping_add(*d);
+        }
+        self.depth.next_row();
+        self.level.next_row();
+    }
+
+    /// The current row's pixels inside the triangle: the first column and the walk along them,
+    /// and how many there are (`None` when none); then on to the next row.
+    #[inline(always)]
+    pub fn next_row(&mut self) -> Option<(i32, u32, SpanWalk)> {
+        let (lo, hi) = self.inside();
+        let found = (lo < hi).then(|| {
+            let wire = core::array::from_fn(|i| match self.wire[i] {
+                i32::MIN => FixedRamp {
+                    at: i32::MAX,
+                    step: 0,
+                },
+                limit => FixedRamp {
+                    at: self.edge[i]
+                        .wrapping_add(self.right[i].wrapping_mul(lo))
+                        .wrapping_sub(limit),
+                    step: self.right[i],
+                },
+            });
+            let walk = SpanWalk::from_ramps(self.depth.ramp(lo), self.level.ramp(lo), wire);
+            (self.x0 + lo, (hi - lo) as u32, walk)
+        });
+        self.next();
+        found
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::raster::{ScreenVertex, Triangle};
+
+    /// The scan `band_scan` sets up over rows `rows` and columns `columns`, with lines 0.35
+    /// pixels wide, and its first row; `None` when it leaves the triangle to spans.
+    fn small(s: &Snapped, rows: Range<i32>, columns: Range<i32>) -> Option<(Scan, i32)> {
+        match s.band_scan(rows, columns, Some(0.35)) {
+            BandScan::Rows { scan, top, .. } => Some((scan, top)),
+            _ => None,
+        }
+    }
+    use crate::test_rng::TestRng;
+
+    /// Random triangles, most a few pixels across, some slivers, some 200 pixels across, with
+    /// depth and shade varying across them.
+    fn triangles(n: usize, spread: i64) -> impl Iterator<Item = (Triangle, Snapped)> {
+        let mut rng = TestRng::new(0x5ca1_ab1e_2026);
+        (0..n).filter_map(move |k| {
+            let size = [3, 40, 200, 3000][(k / 4) % 4];
+            let (cx, cy) = (rng.signed(spread) + 200 * 16, rng.signed(spread) + 100 * 16);
+            // Every fourth triangle has its corners on pixel centres, so that its edges pass
+            // through centres (where the top-left rule decides).
+            let centred = |v: i64| match k % 4 {
+                0 => v - v.rem_euclid(16) + 8,
+                _ => v,
+            };
+            let corner = |rng: &mut TestRng| ScreenVertex {
+                xy: [
+                    centred(cx + rng.signed(size)) as f32 / 16.0,
+                    centred(cy + rng.signed(size)) as f32 / 16.0,
+                ],
+                depth: (30_000 + rng.signed(20_000)) as f32,
+                shade: (128 + rng.signed(127)) as f32 / 255.0,
+            };
+            let v = [corner(&mut rng), corner(&mut rng), corner(&mut rng)];
+            let wire = [k % 2 == 0, k % 3 == 0, true];
+            let snapped = Snapped::new(v, wire)?;
+            snapped.triangle().map(|t| (t, snapped))
+        })
+    }
+
+    /// The scan covers exactly the pixels `span` covers, row by row (so triangles drawn either
+    /// way still tile), with depth keys and shade levels within one of the spans' and the same
+    /// wireframe pixels but at the lines' rounding.
+    #[test]
+    fn a_scan_covers_what_spans_cover() {
+        let (mut scanned, mut rows, mut pixels, mut far_keys, mut wire_apart) = (0, 0, 0, 0, 0);
+        for (tri, snapped) in triangles(3000, 2000) {
+            let [first, last] = tri.rows();
+            for columns in [0..400, 195..205] {
+                let Some((mut scan, top)) = small(&snapped, first..last + 1, columns.clone())
+                else {
+                    continue;
+                };
+                assert_eq!(top, first);
+                scanned += 1;
+                for row in first..=last {
+                    let got = scan.next_row();
+                    let want = tri.span(row, columns.clone());
+                    assert_eq!(
+                        got.map(|(x0, n, _)| (x0, x0 + n as i32)),
+                        want.map(|s| (s.x0, s.x1)),
+                        "row {row}"
+                    );
+                    let (Some((_, n, mut walk)), Some(span)) = (got, want) else {
+                        continue;
+                    };
+                    rows += 1;
+                    let mut float = SpanWalk::new(&span, Some(0.35));
+                    for _ in 0..n {
+                        pixels += 1;
+                        let apart = (walk.key() as i32 - float.key() as i32).abs();
+                        assert!(apart <= 1, "row {row}: keys {apart} apart");
+                        far_keys += usize::from(apart > 0);
+                        assert!((walk.level() as i32 - float.level() as i32).abs() <= 1);
+                        wire_apart += usize::from(walk.on_wire() != float.on_wire());
+                        walk.step::<true>();
+                        float.step::<true>();
+                    }
+                }
+            }
+        }
+        assert!(
+            scanned > 1500 && rows > 3000,
+            "{scanned} scans, {rows} rows"
+        );
+        assert!(far_keys < pixels / 100, "{far_keys} of {pixels}");
+        assert!(wire_apart < pixels / 1000, "{wire_apart} of {pixels}");
+    }
+
+    /// `draw` depth-tests and paints the pixels `next_row` walks, with the same values.
+    #[test]
+    fn drawing_a_scan_in_one_loop_walks_its_rows() {
+        const WIDTH: usize = 64;
+        const HEIGHT: usize = 48;
+        let (width, height) = (WIDTH, HEIGHT);
+        let mut drawn_total = 0;
+        for (tri, snapped) in triangles(600, 300) {
+            let [first, last] = tri.rows();
+            let (top, bottom) = (first.max(80), last.min(80 + height as i32 - 1));
+            let columns = 170..170 + width as i32;
+            let band = 80..80 + height as i32;
+            let Some((scan, first_row)) = small(&snapped, band, columns.clone()) else {
+                continue;
+            };
+            assert_eq!(first_row, top);
+            // A band with some depth already there.
+            let mut rng = TestRng::new(top as u64);
+            let band: [u16; WIDTH * HEIGHT] =
+                core::array::from_fn(|_| (30_000 + rng.signed(25_000)) as u16);
+            let rows = (bottom - top + 1) as usize;
+            let at = (top - 80) as usize * width + (scan.first_column() - 170) as usize;
+            let mut one = band;
+            let mut painted = [None; WIDTH * HEIGHT];
+            let n = scan.draw::<true>(rows, &mut one, at, width, |i, level| {
+                painted[i] = Some(level)
+            });
+            let (mut each, mut expect) = (band, [None; WIDTH * HEIGHT]);
+            let mut walked = scan;
+            let mut m = 0;
+            for row in top..=bottom {
+                if let Some((x0, count, mut walk)) = walked.next_row() {
+                    for x in x0..x0 + count as i32 {
+                        let i = (row - 80) as usize * width + (x - 170) as usize;
+                        if walk.key() > each[i] {
+                            each[i] = walk.key();
+                            expect[i] = Some((!walk.on_wire()).then(|| walk.level()));
+                            m += 1;
+                        }
+                        walk.step::<true>();
+                    }
+                }
+            }
+            assert_eq!(one, each);
+            assert_eq!(painted, expect);
+            assert_eq!(n, m);
+            drawn_total += n;
+        }
+        assert!(drawn_total > 1000, "{drawn_total}");
+    }
+
+    /// Only triangles with a corner beyond the 32-bit edge arithmetic's reach are left to the
+    /// spans; wide ones and steep slivers are scanned, and what meets no row of the band is
+    /// off it.
+    #[test]
+    fn only_far_corners_are_left_to_spans() {
+        let v = |x: f32, y: f32, depth: f32| ScreenVertex {
+            xy: [x, y],
+            depth,
+            shade: 0.5,
+        };
+        let scan = |corners: [ScreenVertex; 3]| {
+            Snapped::new(corners, [false; 3])
+                .unwrap()
+                .band_scan(0..100, 0..100, None)
+        };
+        let wide = scan([v(0.5, 0.5, 1.0), v(40.5, 2.5, 1.0), v(3.5, 9.5, 1.0)]);
+        assert!(matches!(
+            wide,
+            BandScan::Rows {
+                top: 0,
+                rows: 10,
+                ..
+            }
+        ));
+        let small = scan([v(0.5, 0.5, 1.0), v(4.5, 2.5, 1.0), v(3.5, 9.5, 1.0)]);
+        assert!(matches!(
+            small,
+            BandScan::Rows {
+                top: 0,
+                rows: 10,
+                ..
+            }
+        ));
+        // A sliver 1/8 pixel high along row 0 (its corners on the 1/16 grid) whose depth
+        // changes by 60,000 keys along its base and is 1 at its apex, two subpixels up: about
+        // 15,000 keys a subpixel down, beyond what 14 fractional bits hold.
+        let corners = [
+            (0.1875, 0.4375, 1.0),
+            (9.8125, 0.4375, 60_000.0),
+            (5.0, 0.5625, 1.0),
+        ];
+        let sliver = scan(corners.map(|(x, y, d)| v(x as f32, y as f32, d as f32)));
+        let BandScan::Rows {
+            scan: mut sliver_scan,
+            top: 0,
+            rows: 1,
+        } = sliver
+        else {
+            panic!("{sliver:?}");
+        };
+        // Its pixels take the plane's keys at their centres all the same (in `f64`, from
+        // the corners' barycentric weights).
+        let (x0, n, mut walk) = sliver_scan.next_row().unwrap();
+        let plane = |x: f64, y: f64| {
+            let [(ax, ay, a), (bx, by, b), (cx, cy, c)] = corners;
+            let area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+            let wb = ((x - ax) * (cy - ay) - (y - ay) * (cx - ax)) / area;
+            let wc = ((bx - ax) * (y - ay) - (by - ay) * (x - ax)) / area;
+            a + wb * (b - a) + wc * (c - a)
+        };
+        assert!(n >= 4, "{n} pixels");
+        for x in x0..x0 + n as i32 {
+            let exact = plane(x as f64 + 0.5, 0.5).clamp(1.0, 65_535.0);
+            assert!(
+                (walk.key() as f64 - exact).abs() <= 1.0,
+                "{x}: {}",
+                walk.key()
+            );
+            walk.step::<false>();
+        }
+        // No area, or no row of the band: nothing to draw.
+        let flat = scan([v(0.5, 0.5, 1.0), v(4.5, 2.5, 1.0), v(8.5, 4.5, 1.0)]);
+        assert!(matches!(flat, BandScan::Off));
+        let below = scan([v(0.5, 100.5, 1.0), v(4.5, 102.5, 1.0), v(3.5, 109.5, 1.0)]);
+        assert!(matches!(below, BandScan::Off));
+        // Corners beyond the 32-bit edge arithmetic's reach: spans (in 64 bits).
+        let far = scan([v(0.5, 0.5, 1.0), v(4.5, 2.5, 1.0), v(3.5, 600.0, 1.0)]);
+        assert!(matches!(far, BandScan::Wide));
+    }
+}
