@@ -41,7 +41,9 @@
 
 mod address;
 mod bake;
+mod bits;
 mod budget;
+mod count;
 mod judge;
 mod kept;
 mod lattice;
@@ -55,10 +57,11 @@ pub use address::SideLink;
 pub use bake::{
     bake_bintree, BakeScratch, BintreeBakeError, BintreeBuffers, BintreeSettings, BintreeSize,
 };
+pub use bits::bit_words_for;
 pub use budget::{BintreeFit, BintreeFitError};
 pub use kept::KEPT;
 pub use refine::RefinedVertex;
-pub use select::{bit_words_for, Selection, SelectionError, SelectionStats};
+pub use select::{Selection, SelectionError, SelectionStats};
 pub use source::write_rust_source;
 pub use tree::{Bintree, BintreeError, Pending};
 

@@ -30,6 +30,7 @@
 use core::fmt;
 
 use super::address::Tri;
+use super::bits::{bit, set, Layout};
 use super::judge::judge;
 use super::refine::{key, Pool, RefinedVertex};
 use super::tree::{walk, Bintree, Pending, RUN_TIME};
@@ -94,28 +95,6 @@ impl fmt::Display for SelectionError {
 
 impl core::error::Error for SelectionError {}
 
-impl Bintree<'_> {
-    /// `u32` words of [`Selection`]'s bit storage for this hierarchy: two bits per vertex
-    /// and three per node.
-    pub fn bit_words(&self) -> usize {
-        bit_words_for(self.nodes.len(), self.vertices.len())
-    }
-}
-
-/// `u32` words of [`Selection`]'s bit storage for a hierarchy of `nodes` nodes and `vertices`
-/// vertices (as [`Bintree::bit_words`]), for sizing storage at compile time from the lengths
-/// of a hierarchy's statics.
-///
-/// ```
-/// use spline_tess::bisect::bit_words_for;
-/// const BITS: usize = bit_words_for(7520, 3900);
-/// let bits = [0u32; BITS];
-/// assert_eq!(bits.len(), 2 * 122 + 3 * 235);
-/// ```
-pub const fn bit_words_for(nodes: usize, vertices: usize) -> usize {
-    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32)
-}
-
 /// The run time of a baked hierarchy: each [`update`](Self::update) finds the frame's mesh
 /// for a view; [`stream`](Self::stream) and [`write_mesh`](Self::write_mesh) write it out.
 ///
@@ -139,7 +118,7 @@ pub struct Selection<'t, 's> {
     /// The vertices the frame's written triangles use, once a walk counted them (see
     /// [`count`](Self::count)).
     pub(super) vertices: Option<usize>,
-    layout: Layout,
+    pub(super) layout: Layout,
     /// The last frame's view.
     view: Option<View>,
     pub(super) stats: SelectionStats,
@@ -147,43 +126,6 @@ pub struct Selection<'t, 's> {
     /// asks for it every frame.
     #[cfg(feature = "embedded-graphics")]
     model_box: Option<crate::bound::Aabb>,
-}
-
-/// Offsets of the bit sets in [`Selection::bits`].
-#[derive(Clone, Copy, Debug)]
-struct Layout {
-    seen: usize,
-    judged: usize,
-    hidden: usize,
-    refined: usize,
-}
-
-impl Layout {
-    fn of(tree: &Bintree<'_>) -> Layout {
-        let (v, n) = (
-            tree.vertices.len().div_ceil(32),
-            tree.nodes.len().div_ceil(32),
-        );
-        Layout {
-            seen: v,
-            judged: 2 * v,
-            hidden: 2 * v + n,
-            refined: 2 * v + 2 * n,
-        }
-    }
-}
-
-/// Whether bit `i` of `bits` is set.
-pub(super) fn bit(bits: &[u32], i: u32) -> bool {
-    bits.get((i / 32) as usize)
-        .is_some_and(|w| w & (1 << (i % 32)) != 0)
-}
-
-/// Sets bit `i` of `bits`.
-fn set(bits: &mut [u32], i: u32) {
-    if let Some(w) = bits.get_mut((i / 32) as usize) {
-        *w |= 1 << (i % 32);
-    }
 }
 
 /// Most walks of a frame for the leaves its stack had no room for. Each walk judges the
@@ -255,7 +197,7 @@ impl<'t, 's> Selection<'t, 's> {
         self.tree
     }
 
-    fn layout(&self) -> Layout {
+    pub(super) fn layout(&self) -> Layout {
         self.layout
     }
 
@@ -316,7 +258,7 @@ impl<'t, 's> Selection<'t, 's> {
     }
 
     /// Whether `h`, a triangle of the bake, was judged this frame.
-    fn is_judged(&self, h: &Pending) -> bool {
+    pub(super) fn is_judged(&self, h: &Pending) -> bool {
         h.node != RUN_TIME && bit(&self.bits[self.layout().judged..], h.node)
     }
 
@@ -472,32 +414,6 @@ impl<'t, 's> Selection<'t, 's> {
         }
     }
 
-    /// Counts leaf `h`, judged and kept whole, as a triangle written out (if it is).
-    ///
-    /// The frame's triangles and hidden leaves are counted as the search judges them, so that
-    /// a frame needs no walk to count them (a walk was an eighth of a `fw_teapot` update): a
-    /// leaf halved later is taken off again ([`uncount_leaf`](Self::uncount_leaf)). A frame
-    /// with leaves below the bake, which have no bit to say they were judged, is counted by a
-    /// walk instead (see [`update`](Self::update)); a test checks both ways agree. The
-    /// vertices, which a frame that is only drawn does not need, are counted by a walk on
-    /// demand ([`mesh_size`](Self::mesh_size), [`write_mesh`](Self::write_mesh)).
-    fn count_leaf(&mut self, h: &Pending) {
-        self.stats.triangles += usize::from(self.written(h).is_some());
-    }
-
-    /// Takes leaf `x`, about to be halved, off the frame's figures where
-    /// [`count_leaf`](Self::count_leaf) or a judgement of hidden counted it.
-    fn uncount_leaf(&mut self, x: &Pending) {
-        if !self.is_judged(x) {
-            return;
-        }
-        if bit(&self.bits[self.layout.hidden..], x.node) {
-            self.stats.hidden = self.stats.hidden.saturating_sub(1);
-        } else if self.written(x).is_some() {
-            self.stats.triangles = self.stats.triangles.saturating_sub(1);
-        }
-    }
-
     /// The leaf of the current mesh that holds `t` (its own, or a coarser one).
     fn locate(&self, t: &Tri) -> Pending {
         let mut h = self.tree.root(t.patch, t.root_index());
@@ -580,52 +496,10 @@ impl<'t, 's> Selection<'t, 's> {
         }
         true
     }
-
-    /// Counts the frame's written triangles, the vertices they use and the hidden leaves, by
-    /// a walk of the mesh (the frame's `seen` bits mark the vertices).
-    pub(super) fn count(&mut self) {
-        let layout = self.layout();
-        let tree = self.tree;
-        let (mut triangles, mut vertices, mut hidden) = (0, 0, 0);
-        self.bits[layout.seen..layout.judged].fill(0);
-        for e in self.pool.entries.iter_mut() {
-            e.seen = false;
-        }
-        let baked = tree.vertices.len() as u32;
-        let mut bounds = None;
-        walk(tree, |h| {
-            if let Some(v) = self.split_vertex(h) {
-                return Some(v);
-            }
-            if self.is_hidden(h, &mut bounds) {
-                hidden += 1;
-                return None;
-            }
-            if let Some(corners) = self.written(h) {
-                triangles += 1;
-                for v in corners {
-                    let new = if v < baked {
-                        let words = &mut self.bits[layout.seen..layout.judged];
-                        let fresh = !bit(words, v);
-                        set(words, v);
-                        fresh
-                    } else {
-                        let e = &mut self.pool.entries[(v - baked) as usize];
-                        !core::mem::replace(&mut e.seen, true)
-                    };
-                    vertices += usize::from(new);
-                }
-            }
-            None
-        });
-        self.stats.triangles = triangles;
-        self.stats.hidden = hidden;
-        self.vertices = Some(vertices);
-    }
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::bake::Tolerance;
     use crate::bisect::{
@@ -633,11 +507,13 @@ mod tests {
         BintreeVertex,
     };
     use crate::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
-    use glam::Vec3;
 
     /// The one-patch bump (a bicubic square with its middle raised), baked at `relative` of
     /// its diagonal into buffers of `N` nodes, handed to `f` with its model and its diagonal.
-    fn with_bump<const N: usize>(relative: f32, f: impl FnOnce(&Model<'_>, Bintree<'_>, f32)) {
+    pub(in crate::bisect) fn with_bump<const N: usize>(
+        relative: f32,
+        f: impl FnOnce(&Model<'_>, Bintree<'_>, f32),
+    ) {
         let mut points = [[0.0f32; 3]; 16];
         for (k, p) in points.iter_mut().enumerate() {
             let (i, j) = (k / 4, k % 4);
@@ -701,68 +577,6 @@ mod tests {
             }
             assert!((stats.worst_bound > tolerance) == (stats.left_over > 0));
             assert!(stats.worst_bound.is_finite());
-        });
-    }
-
-    /// The triangles and hidden leaves the search counts as it goes are those a walk of the
-    /// resulting mesh counts: over views from near and far, some with the bump across the
-    /// near plane or the screen's sides (hidden leaves, and leaves judged whole before a
-    /// neighbour halved them), with a stack long enough and one so short that walks find
-    /// what it had no room for.
-    #[test]
-    fn the_counts_kept_during_the_search_are_the_mesh_walked() {
-        with_bump::<8192>(2e-3, |_, tree, _| {
-            let mut rng = crate::test_rng::TestRng::new(0xc0_4e7);
-            let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
-            let (mut hidden_frames, mut halved_after, mut sweeps) = (0, 0, 0);
-            for length in [Selection::MIN_STACK, 64] {
-                let mut bits = [0u32; 1024];
-                let mut stack = [Pending::default(); 64];
-                let mut selection =
-                    Selection::new(tree, &mut bits, &mut stack[..length], &mut []).unwrap();
-                for k in 0..60 {
-                    let distance = [0.4, 1.5, 6.0][k % 3];
-                    let target = Vec3::new(1.5 + unit(1.5), 1.5 + unit(1.5), 0.5);
-                    let eye = target
-                        + Vec3::new(unit(1.0), unit(1.0), 0.3 + unit(0.25).abs())
-                            .normalize_or_zero()
-                            * distance;
-                    let Ok(camera) = crate::Camera::new(
-                        eye,
-                        target,
-                        Vec3::Z,
-                        crate::Projection::Perspective {
-                            fov_y_degrees: 40.0,
-                        },
-                        0.05,
-                        [240, 240],
-                    ) else {
-                        continue;
-                    };
-                    let view = View::Screen {
-                        camera,
-                        tolerance_px: [0.5, 1.0, 3.0][k % 3],
-                    };
-                    let stats = selection.update(&view);
-                    selection.count();
-                    let walked = selection.stats();
-                    assert_eq!(
-                        (stats.triangles, stats.hidden),
-                        (walked.triangles, walked.hidden),
-                        "view {k}, stack {length}"
-                    );
-                    hidden_frames += usize::from(stats.hidden > 0);
-                    // Leaves judged and then halved by a neighbour: more judged than a
-                    // top-down split of the final mesh needs.
-                    halved_after += usize::from(stats.judged > 2 * stats.triangles);
-                    sweeps += stats.sweeps;
-                }
-            }
-            assert!(
-                hidden_frames > 10,
-                "{hidden_frames} frames with hidden leaves"
-            );
-            assert!(halved_after > 0 && sweeps > 0, "{halved_after} {sweeps}");
         });
     }
 }

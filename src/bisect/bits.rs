@@ -1,0 +1,67 @@
+//! The run time's bits, in the caller's `u32`s: per vertex, whether it is in the mesh and
+//! whether the frame's count has seen it; per node, whether it was judged, whether it is
+//! hidden, and whether a leaf of the bake is halved below it. How many words a hierarchy
+//! takes, and where each set starts.
+
+#[cfg(doc)]
+use super::select::Selection;
+use super::tree::Bintree;
+
+impl Bintree<'_> {
+    /// `u32` words of [`Selection`]'s bit storage for this hierarchy: two bits per vertex
+    /// and three per node.
+    pub fn bit_words(&self) -> usize {
+        bit_words_for(self.nodes.len(), self.vertices.len())
+    }
+}
+
+/// `u32` words of [`Selection`]'s bit storage for a hierarchy of `nodes` nodes and `vertices`
+/// vertices (as [`Bintree::bit_words`]), for sizing storage at compile time from the lengths
+/// of a hierarchy's statics.
+///
+/// ```
+/// use spline_tess::bisect::bit_words_for;
+/// const BITS: usize = bit_words_for(7520, 3900);
+/// let bits = [0u32; BITS];
+/// assert_eq!(bits.len(), 2 * 122 + 3 * 235);
+/// ```
+pub const fn bit_words_for(nodes: usize, vertices: usize) -> usize {
+    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32)
+}
+
+/// Offsets of the bit sets in [`Selection::bits`].
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Layout {
+    pub seen: usize,
+    pub judged: usize,
+    pub hidden: usize,
+    pub refined: usize,
+}
+
+impl Layout {
+    pub fn of(tree: &Bintree<'_>) -> Layout {
+        let (v, n) = (
+            tree.vertices.len().div_ceil(32),
+            tree.nodes.len().div_ceil(32),
+        );
+        Layout {
+            seen: v,
+            judged: 2 * v,
+            hidden: 2 * v + n,
+            refined: 2 * v + 2 * n,
+        }
+    }
+}
+
+/// Whether bit `i` of `bits` is set.
+pub(super) fn bit(bits: &[u32], i: u32) -> bool {
+    bits.get((i / 32) as usize)
+        .is_some_and(|w| w & (1 << (i % 32)) != 0)
+}
+
+/// Sets bit `i` of `bits`.
+pub(super) fn set(bits: &mut [u32], i: u32) {
+    if let Some(w) = bits.get_mut((i / 32) as usize) {
+        *w |= 1 << (i % 32);
+    }
+}
