@@ -29,9 +29,11 @@ QEMU = [
 
 # Parts of a frame, by substrings of the (mangled) symbol names; the first match wins.
 PARTS = [
-    ("rasterising (spans, depth test, colours)", ["rasterise"]),
-    ("triangle set-up, per band it meets", ["from_snapped"]),
-    ("band loop: fill, push, display model", ["fw_teapot5frame", "6teapot6render"]),
+    ("rasterising: set-up per band a triangle meets, rows, depth test, colours",
+     ["rasterise", "band_scan", "FixedPlane"]),
+    ("span set-up (corners beyond the 32-bit reach)", ["from_snapped"]),
+    ("band loop: fill, push, display model", ["fw_teapot5frame", "6teapot6render",
+                                              "hash_words"]),
     ("surface evaluation", ["frame_at", "8evaluate", "pole_at", "is_collapsed",
                             "fmaxf", "fminf"]),
     ("hierarchy walk and corner keys", ["each_written", "walk", "stream_keyed",
