@@ -145,7 +145,12 @@ impl ListSink<'_, '_, '_> {
         };
         let known = table.get(entry).map_or(usize::MAX, |&s| s as usize);
         let window = base.saturating_sub(WINDOW)..base;
-        if known >= self.top && window.contains(&known) && self.list.get(known) == Some(&value) {
+        // A vertex's entry at or above the corners in use holds its corner: slots are freed
+        // only when a triangle does not fit, and then the entries into them are written again
+        // (the triangle is pushed again in a new group) or never read again (the list is cut).
+        // A value table's entry may be another corner's.
+        let same = vertex.is_some() || self.list.get(known) == Some(&value);
+        if known >= self.top && window.contains(&known) && same {
             return Ok((base - 1 - known) as u8);
         }
         if self.top <= self.len {
