@@ -94,6 +94,7 @@ struct Measured {
     left_over: u32,
     worst_bound: f32,
     stack_peak: u32,
+    sweeps: u32,
     update: u64,
     render: u64,
 }
@@ -169,6 +170,7 @@ fn frame(
         left_over: stats.left_over as u32,
         worst_bound: stats.worst_bound,
         stack_peak: stats.stack_peak as u32,
+        sweeps: stats.sweeps as u32,
         update: t1.saturating_sub(t0),
         render: t2.saturating_sub(t1),
     })
@@ -306,7 +308,7 @@ fn main() -> std::process::ExitCode {
             println!(
                 "fw_teapot (host): frame {k} triangles {} pixels {} checksum {:08x} pushed {} \
                  listed {} list_slots {} passes {} vertices {} judged {} stack_peak {} \
-                 refined {} left_over {} bound_px {:.3} {}",
+                 refined {} left_over {} bound_px {:.3} sweeps {} {}",
                 m.triangles,
                 m.pixels,
                 m.checksum,
@@ -320,6 +322,7 @@ fn main() -> std::process::ExitCode {
                 m.refined,
                 m.left_over,
                 m.worst_bound,
+                m.sweeps,
                 if ok { "bit-identical" } else { "DIFFERENT" }
             )
         },

@@ -12,8 +12,9 @@
 //!
 //! Leaves waiting to be judged are kept on a stack of the caller's, as many as fit. A leaf
 //! that finds it full is not lost: every node has a bit saying it was judged, and when the
-//! stack has run dry the mesh is walked and its leaves not yet judged are judged then, until a
-//! walk finds none. A short stack costs walks, never the result.
+//! stack has run dry the patches of the leaves it had no room for are walked (a bit per patch
+//! number modulo 32 says which) and their leaves not yet judged are judged then, until a walk
+//! finds none. A short stack costs walks, never the result.
 //!
 //! Below the bake (a view finer than the bake) the same search goes on with vertices the run
 //! time makes and bounds it computes (see `refine`); those triangles have no bits, so a walk
@@ -33,7 +34,7 @@ use super::address::Tri;
 use super::bits::{bit, set, Layout};
 use super::judge::judge;
 use super::refine::{key, Pool, RefinedVertex};
-use super::tree::{walk, Bintree, Pending, RUN_TIME};
+use super::tree::{walk, walk_patches, Bintree, Pending, RUN_TIME};
 use super::BintreeVertex;
 use crate::deviation::PatchBounds;
 use crate::math::max;
@@ -109,6 +110,9 @@ pub struct Selection<'t, 's> {
     stack: &'s mut [Pending],
     len: usize,
     full: bool,
+    /// The patches of the triangles the stack had no room for, as bit `patch % 32` (a walk
+    /// looks for them in these patches only).
+    dropped_patches: u32,
     /// A triangle below the bake found no room on the stack this frame.
     dropped_below: bool,
     /// A walk judged leaves below the bake again: the figures need a recount.
@@ -169,6 +173,7 @@ impl<'t, 's> Selection<'t, 's> {
             stack,
             len: 0,
             full: false,
+            dropped_patches: 0,
             dropped_below: false,
             recount: false,
             inline: 0,
@@ -299,6 +304,7 @@ impl<'t, 's> Selection<'t, 's> {
             }
             None => {
                 self.full = true;
+                self.dropped_patches |= 1 << (h.tri.patch % 32);
                 self.dropped_below |= h.node == RUN_TIME;
             }
         }
@@ -314,6 +320,7 @@ impl<'t, 's> Selection<'t, 's> {
         self.vertices = None;
         self.view = Some(*view);
         (self.full, self.dropped_below, self.recount) = (false, false, false);
+        self.dropped_patches = 0;
         let (tree, tolerance) = (self.tree, view.tolerance());
         for p in 0..tree.patches.len() as u32 {
             for k in 0..2 {
@@ -327,7 +334,10 @@ impl<'t, 's> Selection<'t, 's> {
             // Leaves below the bake were judged (they are never dropped but past the inline
             // depth): a walk looks for them only then.
             let below = core::mem::take(&mut self.dropped_below);
-            walk(tree, |h| {
+            // Only the patches of the triangles left out: a leaf is unjudged only there.
+            let patches = core::mem::take(&mut self.dropped_patches);
+            let wanted = |_: &mut (), p: u32| patches & (1 << (p % 32)) != 0;
+            walk_patches(tree, &mut (), wanted, |_, h| {
                 let unjudged = if h.node == RUN_TIME {
                     below
                 } else {
