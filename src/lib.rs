@@ -53,8 +53,8 @@
 //! statics ([`bisect::write_rust_source`]) that the firmware reads in place from flash. The run
 //! time's storage is three arrays sized at compile time, whatever the view: bits for the
 //! hierarchy ([`bisect::bit_words_for`]), a stack of waiting triangles (any length from
-//! [`Selection::MIN_STACK`](bisect::Selection::MIN_STACK); a short one walks the mesh again
-//! for what it had no room for), and a pool of vertices below the bake (empty here: a view
+//! [`Selection::MIN_STACK`](bisect::Selection::MIN_STACK); a short one walks the patches of
+//! what it had no room for again), and a pool of vertices below the bake (empty here: a view
 //! finer than the bake leaves its triangles whole, and the frame reports the bound it keeps).
 //! The firmware demo `fw_teapot` does this in 5.4 KB, and draws the frame band by band with
 //! `render` (README, *Footprint*).
