@@ -71,7 +71,8 @@ impl FixedPlane {
         let limit = start.abs() + SUBPIXELS as f32 * (sx.abs() + sy.abs());
         let fits = limit < 2_147_483_648.0;
         if !fits {
-            // (No finite plane gets here in a frame: see the module docs.)
+            // A sliver of a few square subpixels: taken flat, at the corner's value (see the
+            // module docs).
             return FixedPlane {
                 at: (start * (1u32 << bits) as f32) as i32,
                 right: 0,
