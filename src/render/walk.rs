@@ -1,9 +1,10 @@
 //! A span's pixels, one after another: its depth keys, shade levels and wireframe test in
 //! fixed point, so that each pixel costs a few integer additions.
 //!
-//! The rasteriser gives a row's attributes as `f32` ramps (`start + step * i` at the `i`-th
-//! pixel of the span, [`Span`]); here each ramp becomes an `i32` with a fixed number of
-//! fractional bits, its start and step rounded once per row, and the `i`-th value is
+//! The scan hands a row's attributes in fixed point already (`raster/scan.rs`); the spans of
+//! far corners give them as `f32` ramps (`start + step * i` at the `i`-th pixel of the span,
+//! [`Span`]), and here each such ramp becomes an `i32` with a fixed number of fractional bits,
+//! its start and step rounded once per row. Either way the `i`-th value is
 //! `start + i * step` in exact integer arithmetic. So a pixel's value does not depend on where
 //! a walk starts: a walk jumped to pixel `i` ([`SpanWalk::skip`]) and one stepped there agree,
 //! and every output (run by run, or a band buffer) colours a pixel alike.

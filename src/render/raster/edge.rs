@@ -1,6 +1,8 @@
 //! The edge functions as limits on a row's columns, in exact integer arithmetic: 32 bits for
 //! the corners of small viewports, 64 bits beyond.
 
+use super::{HALF, SUBPIXELS};
+
 /// The edges as limits on the columns of each row: at the row through subpixel height `yc`,
 /// column `px` is inside the edge opposite corner `i` when `k[i] * px >= m0[i] - dx[i] * yc`
 /// (see [`Triangle::span`](super::Triangle::span)).
@@ -79,6 +81,65 @@ impl EdgeInt for i64 {
     #[inline]
     fn edges(k: [i64; 3], m0: [i64; 3]) -> Edges {
         Edges::Wide { k, m0 }
+    }
+}
+
+/// Puts a triangle's corners counter-clockwise on screen (x right, y down: the doubled area
+/// below positive), swapping corners 1 and 2, and their attributes with them, when they are
+/// not; the doubled area, 0 for a triangle with none.
+#[inline(always)]
+pub(super) fn counter_clockwise<I: EdgeInt>(
+    x: &mut [I; 3],
+    y: &mut [I; 3],
+    depth: &mut [f32; 3],
+    shade: &mut [f32; 3],
+    wire: &mut [bool; 3],
+) -> I {
+    let area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
+    if area >= I::from(0) {
+        return area;
+    }
+    x.swap(1, 2);
+    y.swap(1, 2);
+    depth.swap(1, 2);
+    shade.swap(1, 2);
+    wire.swap(1, 2);
+    -area
+}
+
+/// Edge `i` of a counter-clockwise triangle, from corner `i + 1` to corner `i + 2`, set up for
+/// the inside test at pixel centres: what both the spans and the scan take, so that they cover
+/// the same pixels.
+#[derive(Clone, Copy)]
+pub(super) struct EdgeSetUp<I> {
+    /// The edge's extent.
+    pub dx: I,
+    pub dy: I,
+    /// The top-left rule: 0 for an edge going up (y down) or a horizontal edge going right,
+    /// else 1.
+    pub bias: i32,
+    /// `E(X, Y) = dx (Y - y_p) - dy (X - x_p) = a X + dx Y + c`, with `a = -dy` and
+    /// `c = dy x_p - dx y_p`. At the centre `X = S px + H` of pixel column `px`:
+    /// `E >= bias  <=>  k px >= m0 - dx Y`, with `k = S a` and `m0 = bias - c - H a`.
+    pub k: I,
+    pub m0: I,
+}
+
+/// [`EdgeSetUp`] of edge `i` of the counter-clockwise corners `x`, `y`.
+#[inline(always)]
+pub(super) fn edge_set_up<I: EdgeInt>(x: &[I; 3], y: &[I; 3], i: usize) -> EdgeSetUp<I> {
+    let zero = I::from(0);
+    let (sub, half) = (I::from(SUBPIXELS as i32), I::from(HALF as i32));
+    let (p, q) = ((i + 1) % 3, (i + 2) % 3);
+    let (dx, dy) = (x[q] - x[p], y[q] - y[p]);
+    let bias = i32::from(!(dy < zero || (dy == zero && dx > zero)));
+    let (a, c) = (-dy, dy * x[p] - dx * y[p]);
+    EdgeSetUp {
+        dx,
+        dy,
+        bias,
+        k: sub * a,
+        m0: I::from(bias) - c - half * a,
     }
 }
 

@@ -17,7 +17,10 @@ mod scan;
 
 pub(super) use scan::{BandScan, Scan};
 
-use edge::{ceil_div, inside_columns, wide_columns, EdgeInt, Edges, NARROW_LIMIT};
+use edge::{
+    ceil_div, counter_clockwise, edge_set_up, inside_columns, wide_columns, EdgeInt, Edges,
+    NARROW_LIMIT,
+};
 
 /// Subpixel steps per pixel.
 pub(crate) const SUBPIXELS: i64 = 16;
@@ -219,43 +222,23 @@ impl Triangle {
         mut wire: [bool; 3],
     ) -> Option<Triangle> {
         let zero = I::from(0);
-        let mut area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
+        let area = counter_clockwise(&mut x, &mut y, &mut depth, &mut shade, &mut wire);
         if area == zero {
             return None;
-        }
-        if area < zero {
-            x.swap(1, 2);
-            y.swap(1, 2);
-            depth.swap(1, 2);
-            shade.swap(1, 2);
-            wire.swap(1, 2);
-            area = -area;
         }
         let (sub, half) = (I::from(SUBPIXELS as i32), I::from(HALF as i32));
         let (mut k, mut m0, mut dxs) = ([zero; 3], [zero; 3], [0i32; 3]);
         let mut inv_length = [0f32; 3];
         let mut edges = [[0f32; 2]; 3];
         for i in 0..3 {
-            let (p, q) = ((i + 1) % 3, (i + 2) % 3);
-            let (dx, dy) = (x[q] - x[p], y[q] - y[p]);
+            let e = edge_set_up(&x, &y, i);
             // Corners are within `COORDINATE_LIMIT` pixels: `|dx| < 2^30`.
-            let (dx32, dy32) = (dx.wide() as i32, dy.wide() as i32);
+            let (dx32, dy32) = (e.dx.wide() as i32, e.dy.wide() as i32);
             edges[i] = [dx32 as f32, dy32 as f32];
-            // Top-left: an edge going up (y down) or a horizontal edge going right.
-            let bias = if dy < zero || (dy == zero && dx > zero) {
-                0
-            } else {
-                1
-            };
-            // E(X, Y) = dx (Y - y_p) - dy (X - x_p) = a X + dx Y + c, with a = -dy and
-            // c = dy x_p - dx y_p. At X = S px + H: E >= bias  <=>  S a px >= bias - c - H a
-            // - dx Y.
-            let (a, c) = (-dy, dy * x[p] - dx * y[p]);
-            k[i] = sub * a;
-            m0[i] = I::from(bias) - c - half * a;
-            dxs[i] = dx32;
+            (k[i], m0[i], dxs[i]) = (e.k, e.m0, dx32);
             if wire[i] {
-                inv_length[i] = inv_sqrt((dx * dx + dy * dy).to_f32()) * (1.0 / SUBPIXELS as f32);
+                let length2 = e.dx * e.dx + e.dy * e.dy;
+                inv_length[i] = inv_sqrt(length2.to_f32()) * (1.0 / SUBPIXELS as f32);
             }
         }
         // An attribute is `v_0 + Σ_{i=1,2} (v_i - v_0) E_i(p) / area` (the barycentric

@@ -44,7 +44,7 @@
 
 use core::ops::Range;
 
-use super::edge::{ceil_div, NARROW_LIMIT};
+use super::edge::{ceil_div, counter_clockwise, edge_set_up, EdgeSetUp, NARROW_LIMIT};
 #[cfg(doc)]
 use super::Triangle;
 use super::{inv_sqrt, Plane, Snapped, HALF, SUBPIXELS};
@@ -177,20 +177,12 @@ impl Snapped {
         let bottom = (y[0].max(y[1]).max(y[2]) - half)
             .div_euclid(sub)
             .min(rows.end - 1);
-        let mut area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);
-        if top > bottom || area == 0 {
-            return BandScan::Off;
-        }
         let first = ceil_div(x[0].min(x[1]).min(x[2]) - half, sub);
         let last = (x[0].max(x[1]).max(x[2]) - half).div_euclid(sub);
         let (mut depth, mut shade, mut wire) = (self.depth, self.shade, self.wire);
-        if area < 0 {
-            x.swap(1, 2);
-            y.swap(1, 2);
-            depth.swap(1, 2);
-            shade.swap(1, 2);
-            wire.swap(1, 2);
-            area = -area;
+        let area = counter_clockwise(&mut x, &mut y, &mut depth, &mut shade, &mut wire);
+        if top > bottom || area == 0 {
+            return BandScan::Off;
         }
         let x0 = first.max(columns.start);
         let yc = top * sub + half;
@@ -206,13 +198,16 @@ impl Snapped {
             level: FixedPlane::default(),
         };
         for i in 0..3 {
-            // As `Triangle::set_up` sets up edge `i`, at the box's first column and row `top`.
-            let (p, q) = ((i + 1) % 3, (i + 2) % 3);
-            let (dx, dy) = (x[q] - x[p], y[q] - y[p]);
+            // Edge `i` as `Triangle::set_up` sets it up, at the box's first column and row
+            // `top`.
+            let EdgeSetUp {
+                dx,
+                dy,
+                bias,
+                k,
+                m0,
+            } = edge_set_up(&x, &y, i);
             edges[i] = [dx as f32, dy as f32];
-            let bias = i32::from(!(dy < 0 || (dy == 0 && dx > 0)));
-            let (a, c) = (-dy, dy * x[p] - dx * y[p]);
-            let (k, m0) = (sub * a, bias - c - half * a);
             scan.edge[i] = k * x0 + dx * yc - m0;
             scan.right[i] = k;
             scan.down[i] = dx * sub;
