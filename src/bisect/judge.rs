@@ -29,13 +29,26 @@ use crate::view::{Camera, Projection, View};
 /// A triangle's bound in a view's units (pixels or model units), and whether it is hidden.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Judged {
+    /// The bound; unless judged `exact`, only a value over the tolerance where the bound is.
     pub bound: f32,
     pub hidden: bool,
 }
 
 /// Judges `h` in `view`: by its node's kept vectors, or below the bake by its own lattice
-/// (see `refine`).
-pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> Judged {
+/// (see `refine`). Not `exact`, a bound over the tolerance may be given as any value over it
+/// that the bound is at least (the directional bound stops as soon as it is over: most
+/// triangles judged over are halved, and need no more).
+pub(super) fn judge(
+    selection: &Selection<'_, '_>,
+    view: &View,
+    h: &Pending,
+    exact: bool,
+) -> Judged {
+    let stop = if exact {
+        f32::INFINITY
+    } else {
+        view.tolerance()
+    };
     let corners = h
         .corners
         .map(|v| Vec3::from_array(selection.vertex_record(v).position));
@@ -47,7 +60,7 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
             View::Object { .. } => node.longest(),
             View::Screen { .. } => node.longest_quantised(),
         };
-        return judge_vectors(view, corners, || node.kept(), big, node.remainder);
+        return judge_vectors(view, corners, || node.kept(), big, node.remainder, stop);
     }
     let patch = tree
         .patch_of(h.tri.patch)
@@ -73,17 +86,19 @@ pub(super) fn judge(selection: &Selection<'_, '_>, view: &View, h: &Pending) -> 
             hidden: false,
         };
     }
-    judge_vectors(view, corners, || vectors, big, remainder)
+    judge_vectors(view, corners, || vectors, big, remainder, stop)
 }
 
 /// Judges the flat triangle `corners` whose deviation lies in the hull of zero and the
-/// vectors `vectors` gives (none longer than `big`) widened by `remainder`.
+/// vectors `vectors` gives (none longer than `big`) widened by `remainder`; a directional
+/// bound over `stop` may stop there (see [`judge`]).
 fn judge_vectors<const K: usize>(
     view: &View,
     corners: [Vec3; 3],
     vectors: impl FnOnce() -> [Vec3; K],
     big: f32,
     remainder: f32,
+    stop: f32,
 ) -> Judged {
     match view {
         View::Object { .. } => Judged {
@@ -111,7 +126,9 @@ fn judge_vectors<const K: usize>(
             }
             let e = vectors().map(|v| camera.rotate_to_view(v));
             Judged {
-                bound: bound_on_screen(camera, viewed, &e, big, remainder, remainder, sqrt_above),
+                bound: bound_on_screen(
+                    camera, viewed, &e, big, remainder, remainder, sqrt_above, stop,
+                ),
                 hidden: false,
             }
         }

@@ -373,7 +373,7 @@ impl<'t, 's> Selection<'t, 's> {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
-            let j = judge(self, view, h);
+            let j = judge(self, view, h, true);
             if !j.hidden {
                 worst = max(worst, j.bound);
                 over += usize::from(j.bound > tolerance || j.bound.is_nan());
@@ -404,7 +404,11 @@ impl<'t, 's> Selection<'t, 's> {
             set(&mut self.bits[layout.judged..], h.node);
         }
         self.stats.judged += 1;
-        let j = judge(self, view, &h);
+        // A triangle that cannot be halved is judged in full: its bound is the frame's when
+        // over. (One that can stops once over.)
+        let baked = self.tree.node(&h).is_some_and(|n| n.children != 0);
+        let halvable = baked || (cfg!(feature = "refine") && !self.pool.is_full());
+        let j = judge(self, view, &h, !halvable);
         if j.hidden {
             if h.node != RUN_TIME {
                 set(&mut self.bits[layout.hidden..], h.node);
@@ -418,8 +422,13 @@ impl<'t, 's> Selection<'t, 's> {
             return;
         }
         if !self.split(&h, 0) {
+            // (Its bound in full, where the judgement stopped once it was over.)
+            let bound = match halvable {
+                true => judge(self, view, &h, true).bound,
+                false => j.bound,
+            };
             self.stats.left_over += 1;
-            self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            self.stats.worst_bound = max(self.stats.worst_bound, bound);
             self.count_leaf(&h);
         }
     }

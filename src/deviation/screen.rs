@@ -174,7 +174,7 @@ impl Lattice {
             }
         }
         let corners = [q0, q1, q2].map(|q| camera.to_view(Vec3::from_array(q.to_array())));
-        bound_on_screen(camera, corners, &e, big, r, slack, sqrt)
+        bound_on_screen(camera, corners, &e, big, r, slack, sqrt, f32::INFINITY)
     }
 }
 
@@ -186,7 +186,14 @@ impl Lattice {
 /// kept ones. `root` is the square root, or any upper bound of it ([`sqrt_above`]: the bound
 /// stays a bound).
 ///
+/// Once the vertices of the clipped polygon taken so far put it above `stop`, it stops there
+/// and returns that: a value above `stop` and at most the bound (the bound is the largest
+/// term of all vertices at the least depth of all, and fewer vertices give a smaller or equal
+/// term at a greater or equal depth, computed the same way: rounding keeps the order). With
+/// `stop` infinite, the bound.
+///
 /// [`sqrt_above`]: crate::math::sqrt_above
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn bound_on_screen(
     camera: &Camera,
     corners: [Vec3; 3],
@@ -195,6 +202,7 @@ pub(crate) fn bound_on_screen(
     r: f32,
     slack: f32,
     root: impl Fn(f32) -> f32,
+    stop: f32,
 ) -> f32 {
     let m = big + r;
     let focal = camera.focal();
@@ -277,6 +285,12 @@ pub(crate) fn bound_on_screen(
         let widen = 2.0 * eta * spread / z;
         let g = root(phi) + r * root(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
+        if stop < f32::INFINITY {
+            let so_far = on_screen(camera, z_low, m, eta, worst);
+            if so_far > stop {
+                return so_far;
+            }
+        }
     }
     on_screen(camera, z_low, m, eta, worst)
 }
@@ -377,8 +391,16 @@ mod tests {
             });
             let longest = vectors.iter().map(|v| v.length()).fold(0.0, max) * 1.0001;
             let r = big * 0.05;
-            let directional =
-                bound_on_screen(&camera, corners, &vectors, longest, r, r, sqrt_above);
+            let directional = bound_on_screen(
+                &camera,
+                corners,
+                &vectors,
+                longest,
+                r,
+                r,
+                sqrt_above,
+                f32::INFINITY,
+            );
             let isotropic = isotropic_bound_on_screen(&camera, corners, longest + r, r);
             assert!(
                 isotropic >= directional,
@@ -391,5 +413,60 @@ mod tests {
         }
         assert!(compared > 3000, "{compared}");
         assert!(worst_ratio > 1.5, "never looser: {worst_ratio}");
+    }
+
+    /// A bound that stops over `stop` is over it exactly where the full bound is, and at most
+    /// the full bound; under `stop` it is the full bound. Triangles near and far, across the
+    /// near plane and the sides.
+    #[test]
+    fn a_bound_stopped_over_a_value_is_over_it_exactly_where_the_bound_is() {
+        let mut rng = TestRng::new(0x5709_b0dd);
+        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
+        let (mut stopped, mut under) = (0, 0);
+        for k in 0..4000 {
+            let eye = Vec3::new(unit(10.0), unit(10.0), 8.0 + unit(4.0));
+            let camera = Camera::new(
+                eye,
+                Vec3::ZERO,
+                Vec3::Z,
+                Projection::Perspective {
+                    fov_y_degrees: 40.0,
+                },
+                0.05,
+                [240, 240],
+            )
+            .unwrap();
+            let reach = [0.5, 3.0, 12.0][k % 3];
+            let corners: [Vec3; 3] = core::array::from_fn(|_| {
+                camera.to_view(Vec3::new(unit(reach), unit(reach), unit(reach)))
+            });
+            let big = [1e-3, 2e-2, 0.3][k % 3] * (1.0 + unit(0.5));
+            let vectors: [Vec3; 4] = core::array::from_fn(|_| {
+                let v = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
+                camera.rotate_to_view(v.normalize_or_zero() * big * (0.5 + unit(0.5)).abs())
+            });
+            let longest = vectors.iter().map(|v| v.length()).fold(0.0, max) * 1.0001;
+            let r = big * 0.05;
+            let bound =
+                |stop| bound_on_screen(&camera, corners, &vectors, longest, r, r, sqrt_above, stop);
+            let full = bound(f32::INFINITY);
+            if !full.is_finite() || full == 0.0 {
+                continue;
+            }
+            for stop in [0.3, 0.9, 0.99, 1.01, 2.0].map(|x| x * full) {
+                let b = bound(stop);
+                assert_eq!(b > stop, full > stop, "{k}: {b} against {full} at {stop}");
+                assert!(b <= full, "{k}: {b} over the bound {full}");
+                if b != full {
+                    stopped += 1;
+                } else if full <= stop {
+                    under += 1;
+                }
+            }
+        }
+        assert!(
+            stopped > 1000 && under > 1000,
+            "{stopped} stopped, {under} under"
+        );
     }
 }
