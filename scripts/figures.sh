@@ -34,7 +34,7 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 today=$(date -u +%Y-%m-%d)
 
 step "builds"
-cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures --example oracle_selection --example oracle_saturated --example bintree_figures
+cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures --example oracle_selection --example oracle_saturated --example bintree_figures --example orbit_changes
 mkdir -p target/glu
 cc -O2 -o target/glu/glu_peer host-tests/glu/glu_peer.c -lGLU -lGL
 cargo build -q --release --example teapot
@@ -58,6 +58,7 @@ cargo run -q --release --example teapot -- --size 480x360 --out "$out/teapot" >"
 step "error control, against the uniform grid and GLU"
 ENGINE=bintree GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_bintree_1e-3.md"
 cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 >"$out/bintree_bake.md"
+cargo run -q --release -p host-tests --example orbit_changes >"$out/orbit_changes.md"
 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_1e-3.md"
 BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_2.5e-4.md"
 SPLIT=1 BAKE_REL=2.5e-4 cargo run -q --release -p host-tests --example error_figures >"$out/error_split_2.5e-4.md"
@@ -240,6 +241,15 @@ bake):
 ```text
 {read("fw_bisect.txt")}
 ```
+
+What an orbit step changes: `cargo run --release -p host-tests --example orbit_changes` (the
+teapot's hierarchy at `fw_teapot`'s bake, 2e-3 of the diagonal; 240x240 at 1 px; the eye of
+`fw_teapot`'s first frame orbiting the target, 48 steps of each size). *Added* and *removed*
+count the triangles of a frame that the frame before did not have, and the other way round:
+what a frame-to-frame update would have to change, where the top-down search judges every
+triangle of the mesh and the triangles it is cut from each frame (*judged*).
+
+{read("orbit_changes.md")}
 
 ## Error control by prefixes (`spline_tess::tessellator`)
 
