@@ -357,40 +357,47 @@ mod tests {
     use crate::math::sqrt_above;
     use crate::test_rng::TestRng;
 
+    /// A random case `k` of the tests below: a camera, a triangle in its view coordinates
+    /// around its target (some reaching behind the eye or past the sides), deviation vectors
+    /// of any direction (rotated into the view), at least their longest length, and a
+    /// remainder.
+    fn random_case(rng: &mut TestRng, k: usize) -> (Camera, [Vec3; 3], [Vec3; 4], f32, f32) {
+        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
+        let eye = Vec3::new(unit(10.0), unit(10.0), 8.0 + unit(4.0));
+        let camera = Camera::new(
+            eye,
+            Vec3::new(unit(1.0), unit(1.0), unit(1.0)),
+            Vec3::Z,
+            Projection::Perspective {
+                fov_y_degrees: 40.0,
+            },
+            0.05,
+            [240, 240],
+        )
+        .unwrap();
+        let reach = [0.5, 3.0, 12.0][k % 3];
+        let centre = Vec3::new(unit(2.0), unit(2.0), unit(2.0));
+        let corners: [Vec3; 3] = core::array::from_fn(|_| {
+            camera.to_view(centre + Vec3::new(unit(reach), unit(reach), unit(reach)))
+        });
+        let big = [1e-3, 2e-2, 0.3][k % 3] * (1.0 + unit(0.5));
+        let vectors: [Vec3; 4] = core::array::from_fn(|_| {
+            let v = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
+            camera.rotate_to_view(v.normalize_or_zero() * big * (0.5 + unit(0.5)).abs())
+        });
+        let longest = vectors.iter().map(|v| v.length()).fold(0.0, max) * 1.0001;
+        (camera, corners, vectors, longest, big * 0.05)
+    }
+
     /// The isotropic bound is at least the directional one, for triangles in front of the
     /// eye, across its near plane and off to the sides, with deviation vectors of any
     /// direction within `big`; and it is not loose beyond the isotropic form's own slack.
     #[test]
     fn the_isotropic_bound_covers_the_directional_one() {
         let mut rng = TestRng::new(0x1507_0b1e);
-        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
         let (mut compared, mut worst_ratio) = (0, 0.0f32);
         for k in 0..4000 {
-            let eye = Vec3::new(unit(10.0), unit(10.0), 8.0 + unit(4.0));
-            let camera = Camera::new(
-                eye,
-                Vec3::new(unit(1.0), unit(1.0), unit(1.0)),
-                Vec3::Z,
-                Projection::Perspective {
-                    fov_y_degrees: 40.0,
-                },
-                0.05,
-                [240, 240],
-            )
-            .unwrap();
-            // Triangles around the target, some reaching behind the eye or past the sides.
-            let reach = [0.5, 3.0, 12.0][k % 3];
-            let centre = Vec3::new(unit(2.0), unit(2.0), unit(2.0));
-            let corners: [Vec3; 3] = core::array::from_fn(|_| {
-                camera.to_view(centre + Vec3::new(unit(reach), unit(reach), unit(reach)))
-            });
-            let big = [1e-3, 2e-2, 0.3][k % 3] * (1.0 + unit(0.5));
-            let vectors: [Vec3; 4] = core::array::from_fn(|_| {
-                let v = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
-                camera.rotate_to_view(v.normalize_or_zero() * big * (0.5 + unit(0.5)).abs())
-            });
-            let longest = vectors.iter().map(|v| v.length()).fold(0.0, max) * 1.0001;
-            let r = big * 0.05;
+            let (camera, corners, vectors, longest, r) = random_case(&mut rng, k);
             let directional = bound_on_screen(
                 &camera,
                 corners,
@@ -416,37 +423,13 @@ mod tests {
     }
 
     /// A bound that stops over `stop` is over it exactly where the full bound is, and at most
-    /// the full bound; under `stop` it is the full bound. Triangles near and far, across the
-    /// near plane and the sides.
+    /// the full bound; under `stop` it is the full bound.
     #[test]
     fn a_bound_stopped_over_a_value_is_over_it_exactly_where_the_bound_is() {
         let mut rng = TestRng::new(0x5709_b0dd);
-        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
         let (mut stopped, mut under) = (0, 0);
         for k in 0..4000 {
-            let eye = Vec3::new(unit(10.0), unit(10.0), 8.0 + unit(4.0));
-            let camera = Camera::new(
-                eye,
-                Vec3::ZERO,
-                Vec3::Z,
-                Projection::Perspective {
-                    fov_y_degrees: 40.0,
-                },
-                0.05,
-                [240, 240],
-            )
-            .unwrap();
-            let reach = [0.5, 3.0, 12.0][k % 3];
-            let corners: [Vec3; 3] = core::array::from_fn(|_| {
-                camera.to_view(Vec3::new(unit(reach), unit(reach), unit(reach)))
-            });
-            let big = [1e-3, 2e-2, 0.3][k % 3] * (1.0 + unit(0.5));
-            let vectors: [Vec3; 4] = core::array::from_fn(|_| {
-                let v = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
-                camera.rotate_to_view(v.normalize_or_zero() * big * (0.5 + unit(0.5)).abs())
-            });
-            let longest = vectors.iter().map(|v| v.length()).fold(0.0, max) * 1.0001;
-            let r = big * 0.05;
+            let (camera, corners, vectors, longest, r) = random_case(&mut rng, k);
             let bound =
                 |stop| bound_on_screen(&camera, corners, &vectors, longest, r, r, sqrt_above, stop);
             let full = bound(f32::INFINITY);
