@@ -1,6 +1,8 @@
 //! The renderer under arbitrary input: bytes give triangles (any `f32` bits, indices out of
 //! range), a camera, a style, a band height and a target that may be smaller or larger than
-//! the viewport, and that may fail after some pixels.
+//! the viewport, may start anywhere in it, and may fail after some pixels. Viewports reach
+//! tens of thousands of pixels (feature `large-viewports`, a default one), so that corners
+//! take the 64-bit spans, while the target, and so the work, stays small.
 //!
 //! What must hold: no panic; every pixel sent lies in the target and the viewport; the same
 //! draw twice sends the same pixels; the final image does not depend on the band height; a
@@ -9,8 +11,10 @@
 use std::collections::HashMap;
 
 use embedded_graphics::draw_target::DrawTarget;
+use embedded_graphics::geometry::Dimensions;
 use embedded_graphics::pixelcolor::Rgb888;
-use embedded_graphics::prelude::{OriginDimensions, Pixel, Size};
+use embedded_graphics::prelude::{Pixel, Point, Size};
+use embedded_graphics::primitives::Rectangle;
 use spline_tess::render::{
     IndexedMesh, Light, RenderError, RenderStats, Renderer, Shading, Style, Wireframe,
 };
@@ -21,7 +25,7 @@ use super::bytes::Bytes;
 /// A target that records the last colour of every pixel, checks bounds, and fails after
 /// `fail_after` pixels if asked to.
 struct Recorder {
-    size: Size,
+    area: Rectangle,
     viewport: [u32; 2],
     image: HashMap<(i32, i32), Rgb888>,
     sent: u64,
@@ -31,9 +35,9 @@ struct Recorder {
 #[derive(Debug, PartialEq)]
 struct Refused;
 
-impl OriginDimensions for Recorder {
-    fn size(&self) -> Size {
-        self.size
+impl Dimensions for Recorder {
+    fn bounding_box(&self) -> Rectangle {
+        self.area
     }
 }
 
@@ -50,12 +54,13 @@ impl DrawTarget for Recorder {
                 return Err(Refused);
             }
             assert!(
-                p.x >= 0
+                self.area.contains(p)
+                    && p.x >= 0
                     && p.y >= 0
-                    && (p.x as u32) < self.size.width.min(self.viewport[0])
-                    && (p.y as u32) < self.size.height.min(self.viewport[1]),
+                    && (p.x as u32) < self.viewport[0]
+                    && (p.y as u32) < self.viewport[1],
                 "pixel {p:?} outside the target {:?} or the viewport {:?}",
-                self.size,
+                self.area,
                 self.viewport
             );
             self.image.insert((p.x, p.y), c);
@@ -69,12 +74,12 @@ fn draw(
     mesh: &IndexedMesh<'_, u16>,
     camera: &Camera,
     style: &Style,
-    size: Size,
+    area: Rectangle,
     band_values: usize,
     fail_after: Option<u64>,
 ) -> (Result<RenderStats, RenderError<Refused>>, Recorder) {
     let mut target = Recorder {
-        size,
+        area,
         viewport: camera.viewport(),
         image: HashMap::new(),
         sent: 0,
@@ -123,10 +128,11 @@ pub fn render(data: &[u8]) {
         }
     };
     let near = r.log_scale(0.05);
-    let viewport = [(r.u8() % 97) as u32, (r.u8() % 97) as u32];
-    let Ok(camera) = Camera::new(eye, target, up, projection, near, viewport) else {
+    let mut viewport = [(r.u8() % 97) as u32, (r.u8() % 97) as u32];
+    let camera_at = |viewport| Camera::new(eye, target, up, projection, near, viewport);
+    if camera_at(viewport).is_err() {
         return;
-    };
+    }
     let style = Style {
         shading: if r.u8().is_multiple_of(2) {
             Shading::Flat
@@ -146,8 +152,22 @@ pub fn render(data: &[u8]) {
     };
     let size = Size::new((r.u8() % 112) as u32, (r.u8() % 112) as u32);
     let band_values = r.u16() as usize % 4096;
-    let (first, image) = draw(&mesh, &camera, &style, size, band_values, None);
-    let (second, again) = draw(&mesh, &camera, &style, size, band_values, None);
+    let stop = r.u8();
+    // Past the bytes the target read before its viewports grew (0 past the end: what it did
+    // then): a viewport up to 300 times larger, and a target that starts anywhere in it.
+    let scale = [1, 7, 60, 300][r.u8() as usize % 4];
+    viewport = viewport.map(|v| v * scale);
+    let start = [r.u16(), r.u16()];
+    let top_left = Point::new(
+        (u32::from(start[0]) % viewport[0].max(1)) as i32,
+        (u32::from(start[1]) % viewport[1].max(1)) as i32,
+    );
+    let Ok(camera) = camera_at(viewport) else {
+        return;
+    };
+    let area = Rectangle::new(top_left, size);
+    let (first, image) = draw(&mesh, &camera, &style, area, band_values, None);
+    let (second, again) = draw(&mesh, &camera, &style, area, band_values, None);
     assert_eq!(first, second, "the same draw twice differs");
     assert!(
         image.image == again.image && image.sent == again.sent,
@@ -160,9 +180,9 @@ pub fn render(data: &[u8]) {
         u64::from(stats.pixels) + u64::from(stats.background),
         image.sent
     );
-    // The whole drawn area as one band gives the same image.
-    let whole = (viewport[0] as usize + 1) * (viewport[1] as usize + 1);
-    let (one_band, whole_image) = draw(&mesh, &camera, &style, size, whole, None);
+    // The whole drawn area (within the target) as one band gives the same image.
+    let whole = (size.width as usize + 1) * (size.height as usize + 1);
+    let (one_band, whole_image) = draw(&mesh, &camera, &style, area, whole, None);
     let one_band = one_band.expect("a larger depth buffer draws too");
     assert!(one_band.bands <= 1, "{one_band:?}");
     assert!(
@@ -171,8 +191,8 @@ pub fn render(data: &[u8]) {
     );
     // A target that fails stops the draw with its error.
     if image.sent > 0 {
-        let stop = u64::from(r.u8()) % image.sent;
-        let (failed, partial) = draw(&mesh, &camera, &style, size, band_values, Some(stop));
+        let stop = u64::from(stop) % image.sent;
+        let (failed, partial) = draw(&mesh, &camera, &style, area, band_values, Some(stop));
         assert_eq!(failed, Err(RenderError::Target(Refused)));
         assert_eq!(partial.sent, stop);
     }

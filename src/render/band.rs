@@ -534,12 +534,12 @@ impl<O: BandOutput> Band<'_, '_, O> {
         let width = columns.len();
         let (top, bottom) = (first.max(rows.start), last.min(rows.end - 1));
         for row in top..=bottom {
-            let Some(span) = tri.span(row, columns.clone()) else {
+            let Some(span) = tri.span(row, columns.clone(), half_width) else {
                 continue;
             };
             let at = (row - rows.start) as usize * width + (span.x0 - columns.start) as usize;
             let n = (span.x1 - span.x0) as usize;
-            let walk = SpanWalk::new(&span, half_width);
+            let walk = SpanWalk::new(&span);
             if !self.draw_span(row, span.x0, at, n, walk) {
                 return;
             }

@@ -2,10 +2,11 @@
 //! fixed point, so that each pixel costs a few integer additions.
 //!
 //! The scan hands a row's attributes in fixed point already (`raster/scan.rs`); the spans of
-//! far corners give them as `f32` ramps (`start + step * i` at the `i`-th pixel of the span,
-//! [`Span`]), and here each such ramp becomes an `i32` with a fixed number of fractional bits,
-//! its start and step rounded once per row. Either way the `i`-th value is
-//! `start + i * step` in exact integer arithmetic. So a pixel's value does not depend on where
+//! far corners give depth and shade as `f32` ramps (`start + step * i` at the `i`-th pixel of
+//! the span, [`Span`]), and here each such ramp becomes an `i32` with a fixed number of
+//! fractional bits, its start and step rounded once per row. Either way the `i`-th value is
+//! `start + i * step` in exact integer arithmetic. The wireframe test comes from the exact
+//! integer edge functions either way, as a ramp whose sign is the test. So a pixel's value does not depend on where
 //! a walk starts: a walk jumped to pixel `i` ([`SpanWalk::skip`]) and one stepped there agree,
 //! and every output (run by run, or a band buffer) colours a pixel alike.
 //!
@@ -61,31 +62,22 @@ pub(super) struct SpanWalk {
     depth: FixedRamp,
     /// Shade level (`255 * shade`) plus 1/2.
     level: FixedRamp,
-    /// Distance to each drawn edge minus the line's half width (`i32::MAX` and no step for
-    /// the edges not drawn, and with no wireframe).
+    /// For each edge, a value below 0 on its wireframe line (`i32::MAX` and no step for the
+    /// edges not drawn, and with no wireframe).
     wire: [FixedRamp; 3],
 }
 
 impl SpanWalk {
-    /// The walk of `span`, with wireframe lines `half_width` wide on either side of its drawn
-    /// edges (`None`: no wireframe).
-    pub fn new(span: &Span, half_width: Option<f32>) -> SpanWalk {
+    /// The walk of `span` (its wireframe tests as the span has them).
+    pub fn new(span: &Span) -> SpanWalk {
         let level = Ramp {
             start: 255.0 * span.shade.start.clamp(0.0, 1.0),
             step: 255.0 * span.shade.step,
         };
-        let none = FixedRamp {
-            at: i32::MAX,
-            step: 0,
-        };
         SpanWalk {
             depth: FixedRamp::new(&span.depth, 0.5, DEPTH_BITS),
             level: FixedRamp::new(&level, 0.5, LEVEL_BITS),
-            // (An edge not drawn has an infinite distance: `i32::MAX`, saturated.)
-            wire: match half_width {
-                Some(w) => span.edge.map(|e| FixedRamp::new(&e, -w, LEVEL_BITS)),
-                None => [none; 3],
-            },
+            wire: span.wire,
         }
     }
 
@@ -165,23 +157,24 @@ pub(super) fn draw_span<const WIRE: bool, T>(
 mod tests {
     use super::*;
 
-    fn span(depth: Ramp, shade: Ramp, edge: [Ramp; 3]) -> Span {
+    fn span(depth: Ramp, shade: Ramp, wire: [FixedRamp; 3]) -> Span {
         Span {
             x0: 0,
             x1: 200,
             depth,
             shade,
-            edge,
+            wire,
         }
     }
+
+    const NO_WIRE: FixedRamp = FixedRamp {
+        at: i32::MAX,
+        step: 0,
+    };
 
     /// Stepping and skipping agree, and both stay within a small fraction of the `f32` ramps.
     #[test]
     fn a_walk_follows_the_ramps() {
-        let far = Ramp {
-            start: f32::MAX,
-            step: 0.0,
-        };
         let s = span(
             Ramp {
                 start: 1234.4,
@@ -191,16 +184,10 @@ mod tests {
                 start: 0.9,
                 step: -0.0041,
             },
-            [
-                Ramp {
-                    start: 3.0,
-                    step: -0.05,
-                },
-                far,
-                far,
-            ],
+            // On the line from pixel 50 on.
+            [FixedRamp { at: 49, step: -1 }, NO_WIRE, NO_WIRE],
         );
-        let start = SpanWalk::new(&s, Some(0.5));
+        let start = SpanWalk::new(&s);
         let mut walk = start;
         for i in 0..200u32 {
             let mut jumped = start;
@@ -213,7 +200,7 @@ mod tests {
             assert!((walk.depth.at as f32 / 16384.0 - key).abs() < 0.02, "{i}");
             let level = 255.0 * s.shade.at(i).clamp(0.0, 1.0) + 0.5;
             assert!((walk.level() as f32 - level.floor()).abs() <= 1.0, "{i}");
-            assert_eq!(walk.on_wire(), s.edge[0].at(i) < 0.5, "{i}");
+            assert_eq!(walk.on_wire(), i >= 50, "{i}");
             walk.step::<true>();
         }
     }
@@ -230,12 +217,12 @@ mod tests {
             (f32::NAN, 1),
             (f32::INFINITY, 65535),
         ] {
-            let w = SpanWalk::new(&span(flat(d), flat(0.5), [flat(0.0); 3]), None);
+            let w = SpanWalk::new(&span(flat(d), flat(0.5), [NO_WIRE; 3]));
             assert_eq!(w.key(), want, "{d}");
             assert!(!w.on_wire());
         }
         for (s, want) in [(-1.0, 0), (0.0, 0), (0.5, 128), (1.0, 255), (7.0, 255)] {
-            let w = SpanWalk::new(&span(flat(9.0), flat(s), [flat(0.0); 3]), None);
+            let w = SpanWalk::new(&span(flat(9.0), flat(s), [NO_WIRE; 3]));
             assert_eq!(w.level(), want, "{s}");
         }
     }

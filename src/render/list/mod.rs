@@ -331,7 +331,7 @@ mod tests {
         let direct = listed.snapped().triangle().unwrap();
         assert_eq!(direct.rows(), tri.rows());
         for r in first..=last {
-            assert_eq!(direct.span(r, -50..50), tri.span(r, -50..50));
+            assert_eq!(direct.span(r, -50..50, None), tri.span(r, -50..50, None));
         }
         // A flat triangle takes its shade from the half after its own.
         list[0].group_add(1, y);
@@ -344,7 +344,7 @@ mod tests {
         }
         let expected = Triangle::new(shaded, wire).unwrap();
         for r in first..=last {
-            assert_eq!(flat.span(r, -50..50), expected.span(r, -50..50));
+            assert_eq!(flat.span(r, -50..50, None), expected.span(r, -50..50, None));
         }
         // A corner offset below the list's start: the triangle is left out, not a panic.
         list[1].set_half(0, triangle_half([2, 1, 9], wire, true));

@@ -2,6 +2,7 @@
 //! the corners of small viewports, 64 bits beyond.
 
 use super::{HALF, SUBPIXELS};
+use crate::render::walk::FixedRamp;
 
 /// The edges as limits on the columns of each row: at the row through subpixel height `yc`,
 /// column `px` is inside the edge opposite corner `i` when `k[i] * px >= m0[i] - dx[i] * yc`
@@ -143,6 +144,57 @@ pub(super) fn edge_set_up<I: EdgeInt>(x: &[I; 3], y: &[I; 3], i: usize) -> EdgeS
     }
 }
 
+/// The limit below which a pixel's `E_i - bias_i` puts it on a wireframe line `half_width`
+/// pixels wide along an edge with `inv_length = 1 / (16 |edge|)` and top-left bias `bias`:
+/// `E_i` is the distance times `16 |edge|`, so the pixel is on the line when `E_i <
+/// half_width · 16 |edge|`, that is `E_i - bias_i < ceil(half_width / inv_length - bias_i)`.
+///
+/// A pixel inside the triangle has `0 <= E_i - bias_i < 2^30` (see [`NARROW_LIMIT`]; a wide triangle's spans step from `E_i - bias_i - limit` without
+/// overflow either, see [`wire_ramp`]), so the
+/// limit is taken within `[0, 2^30]` first: the same pixels are on the line, and the limit,
+/// its `ceil` and a scan's `E_i - bias_i - limit` stay far inside `i32` for any half width
+/// (infinite: every pixel; NaN or negative: none).
+#[inline(always)]
+pub(super) fn wire_limit(half_width: f32, inv_length: f32, bias: i32) -> i32 {
+    const ALL: f32 = (1u32 << 30) as f32;
+    let limit = half_width / inv_length - bias as f32;
+    // (A NaN fails the comparison: 0.)
+    let limit = if limit > 0.0 { limit.min(ALL) } else { 0.0 };
+    let t = limit as i32;
+    t + ((t as f32) < limit) as i32
+}
+
+/// The wireframe test along a span of `n` pixels, the scan's own ([`wire_limit`]): pixel `j`
+/// of the span lies on the line along an edge when `E - bias < limit` there, where
+/// `E - bias = e + k j` (`e` at the span's first pixel, `k` the change per pixel). Those are
+/// the pixels before or from one column, which this finds by one exact division; the ramp
+/// returned is below 0 exactly there and steps by 1, so its values stay within `±n` whatever
+/// the magnitudes of `e` and `k` (64-bit ones far out).
+#[inline]
+pub(super) fn wire_ramp<I: EdgeInt>(e: I, k: I, limit: i32, n: i32) -> FixedRamp {
+    let (zero, one) = (I::from(0), I::from(1));
+    // On the line where `d + k j < 0`.
+    let d = e - I::from(limit);
+    let within = |j: I| j.max(zero).min(I::from(n)).wide() as i32;
+    if k > zero {
+        // `j < -d / k`, that is `j < ceil(-d / k)`.
+        let end = within(ceil_div(-d, k));
+        FixedRamp { at: -end, step: 1 }
+    } else if k < zero {
+        // `j > d / -k`, that is `j >= floor(d / -k) + 1`.
+        let start = within(d.floor_div(-k) + one);
+        FixedRamp {
+            at: start - 1,
+            step: -1,
+        }
+    } else {
+        FixedRamp {
+            at: if d < zero { -1 } else { 0 },
+            step: 0,
+        }
+    }
+}
+
 /// `ceil(a / b)` for `b > 0`.
 #[inline]
 pub(super) fn ceil_div<I: EdgeInt>(a: I, b: I) -> I {
@@ -240,5 +292,71 @@ mod tests {
                 assert_eq!(ceil_div(a, b), -((-a).div_euclid(b)), "{a} / {b}");
             }
         }
+    }
+
+    /// The wireframe ramp is below 0 exactly where `e + k j < limit`, checked pixel by pixel
+    /// in 128 bits, for edge values of any size (64-bit ones far out) and spans up to 2^20
+    /// pixels.
+    #[test]
+    fn a_wire_ramp_is_the_exact_test() {
+        let mut rng = crate::test_rng::TestRng::new(0x31c3_0de5_2026);
+        let mut on = 0;
+        for case in 0..4000 {
+            let scale = [1 << 8, 1 << 20, 1 << 30, 1 << 50][case % 4];
+            let e = rng.signed(scale);
+            let k = match case % 5 {
+                0 => 0,
+                _ => rng.signed([16, 1 << 10, 1 << 18, 1 << 34][(case / 5) % 4]),
+            };
+            let limit = rng.signed(1 << 30).abs() as i32;
+            let n = [1, 7, 300, 1 << 20][(case / 3) % 4];
+            let ramp = wire_ramp(e, k, limit, n);
+            let narrow = (i32::try_from(e), i32::try_from(k));
+            if let (Ok(e32), Ok(k32)) = narrow {
+                // (The scan's edge values are below 2^30 in size.)
+                if e32.abs() < 1 << 30 {
+                    assert_eq!(wire_ramp(e32, k32, limit, n), ramp, "{e} {k}");
+                }
+            }
+            let probes = [0, 1, n / 2, n - 2, n - 1]
+                .into_iter()
+                .filter(|&j| (0..n).contains(&j));
+            for j in probes {
+                let exact = (e as i128 + k as i128 * j as i128) < limit as i128;
+                let value = ramp.at as i64 + ramp.step as i64 * j as i64;
+                assert!(value.abs() <= n as i64 + 1, "{value}");
+                assert_eq!(value < 0, exact, "{e} {k} {limit} {n} at {j}");
+                on += usize::from(exact);
+            }
+        }
+        assert!(on > 1000, "{on}");
+    }
+
+    /// The limit is within `[0, 2^30]` for any half width and edge, and its `ceil` is exact.
+    #[test]
+    fn a_wire_limit_is_in_range() {
+        for w in [
+            f32::INFINITY,
+            f32::MAX,
+            3e9,
+            0.5,
+            0.0,
+            -0.0,
+            -2.0,
+            -f32::MAX,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ] {
+            for inv_length in [1.0 / 16.0, 1e-9, 1e-30, 0.0, 1.0] {
+                for bias in [0, 1] {
+                    let limit = wire_limit(w, inv_length, bias);
+                    assert!((0..=1 << 30).contains(&limit), "{w} {inv_length}: {limit}");
+                }
+            }
+        }
+        assert_eq!(wire_limit(0.5, 1.0 / 160.0, 1), 79);
+        assert_eq!(wire_limit(0.5001, 1.0 / 160.0, 0), 81);
+        assert_eq!(wire_limit(f32::INFINITY, 1.0, 0), 1 << 30);
+        assert_eq!(wire_limit(f32::NAN, 1.0, 0), 0);
     }
 }

@@ -17,9 +17,10 @@ mod scan;
 
 pub(super) use scan::{BandScan, Scan};
 
+use super::walk::FixedRamp;
 use edge::{
-    ceil_div, counter_clockwise, edge_set_up, inside_columns, wide_columns, EdgeInt, Edges,
-    NARROW_LIMIT,
+    ceil_div, counter_clockwise, edge_set_up, inside_columns, wide_columns, wire_limit, wire_ramp,
+    EdgeInt, Edges, NARROW_LIMIT,
 };
 
 /// Subpixel steps per pixel.
@@ -60,8 +61,9 @@ pub(crate) struct Span {
     pub x1: i32,
     pub depth: Ramp,
     pub shade: Ramp,
-    /// Distance in pixels to each edge marked for the wireframe (others: `f32::MAX`).
-    pub edge: [Ramp; 3],
+    /// For each edge, a value below 0 exactly at the pixels on its wireframe line (the scan's
+    /// test, [`edge::wire_ramp`]); `i32::MAX` and no step for the edges not drawn.
+    pub wire: [FixedRamp; 3],
 }
 
 /// A linear function of the position: its value at a triangle's first corner and its change
@@ -112,6 +114,8 @@ pub(crate) struct Triangle {
     shade: Plane,
     /// `1 / (SUBPIXELS * |edge|)` for wireframe edges, 0 for the others.
     inv_length: [f32; 3],
+    /// Each edge's top-left bias.
+    bias: [i32; 3],
     rows: [i32; 2],
 }
 
@@ -228,14 +232,14 @@ impl Triangle {
         }
         let (sub, half) = (I::from(SUBPIXELS as i32), I::from(HALF as i32));
         let (mut k, mut m0, mut dxs) = ([zero; 3], [zero; 3], [0i32; 3]);
-        let mut inv_length = [0f32; 3];
+        let (mut inv_length, mut bias) = ([0f32; 3], [0i32; 3]);
         let mut edges = [[0f32; 2]; 3];
         for i in 0..3 {
             let e = edge_set_up(&x, &y, i);
             // Corners are within `COORDINATE_LIMIT` pixels: `|dx| < 2^30`.
             let (dx32, dy32) = (e.dx.wide() as i32, e.dy.wide() as i32);
             edges[i] = [dx32 as f32, dy32 as f32];
-            (k[i], m0[i], dxs[i]) = (e.k, e.m0, dx32);
+            (k[i], m0[i], dxs[i], bias[i]) = (e.k, e.m0, dx32, e.bias);
             if wire[i] {
                 let length2 = e.dx * e.dx + e.dy * e.dy;
                 inv_length[i] = inv_sqrt(length2.to_f32()) * (1.0 / SUBPIXELS as f32);
@@ -260,6 +264,7 @@ impl Triangle {
             depth: plane(depth),
             shade: plane(shade),
             inv_length,
+            bias,
             rows: [clamp(first), clamp(last)],
         })
     }
@@ -269,8 +274,9 @@ impl Triangle {
         self.rows
     }
 
-    /// The pixels of row `row` inside the triangle, clipped to columns `columns`.
-    pub fn span(&self, row: i32, columns: Range<i32>) -> Option<Span> {
+    /// The pixels of row `row` inside the triangle, clipped to columns `columns`, with
+    /// wireframe lines `half_width` wide (`None`: none).
+    pub fn span(&self, row: i32, columns: Range<i32>, half_width: Option<f32>) -> Option<Span> {
         // Rows off the triangle's have no pixel; on its rows `|yc|` stays within the bounds
         // [`NARROW_LIMIT`] assumes.
         if row < self.rows[0] || row > self.rows[1] || columns.is_empty() {
@@ -278,39 +284,55 @@ impl Triangle {
         }
         let yc = row * SUBPIXELS as i32 + HALF as i32;
         let (lo, hi) = (columns.start, columns.end - 1);
-        let (lo, hi) = match &self.edges {
-            Edges::Narrow { k, m0 } => inside_columns(k, m0, &self.dx, yc, lo, hi)?,
+        let (lo, hi, wire) = match &self.edges {
+            Edges::Narrow { k, m0 } => {
+                let (lo, hi) = inside_columns(k, m0, &self.dx, yc, lo, hi)?;
+                (lo, hi, self.wire(k, m0, yc, lo, hi, half_width))
+            }
             Edges::Wide { k, m0 } if cfg!(feature = "large-viewports") => {
-                wide_columns(k, m0, &self.dx, yc, lo, hi)?
+                let (lo, hi) = wide_columns(k, m0, &self.dx, yc, lo, hi)?;
+                let wire = self.wire(k, m0, i64::from(yc), lo, hi, half_width);
+                (lo, hi, wire)
             }
             Edges::Wide { .. } => return None,
         };
         let xc = lo * SUBPIXELS as i32 + HALF as i32;
         let (rx, ry) = ((xc - self.x[0]) as f32, (yc - self.y[0]) as f32);
-        // E_i = dx (Y - y_p) - dy (X - x_p), in `f32` (only a distance to draw).
-        let edge = core::array::from_fn(|i| {
-            if self.inv_length[i] == 0.0 {
-                return Ramp {
-                    start: f32::MAX,
-                    step: 0.0,
-                };
-            }
-            let (p, q) = ((i + 1) % 3, (i + 2) % 3);
-            let (dx, dy) = (self.x[q] - self.x[p], self.y[q] - self.y[p]);
-            let ex = (xc - self.x[p]) as f32;
-            let ey = (yc - self.y[p]) as f32;
-            let e = dx as f32 * ey - dy as f32 * ex;
-            Ramp {
-                start: e * self.inv_length[i],
-                step: -(SUBPIXELS as f32) * dy as f32 * self.inv_length[i],
-            }
-        });
         Some(Span {
             x0: lo,
             x1: hi + 1,
             depth: self.depth.ramp(rx, ry),
             shade: self.shade.ramp(rx, ry),
-            edge,
+            wire,
+        })
+    }
+
+    /// The wireframe tests of the span of columns `lo..=hi` of the row through subpixel
+    /// height `yc` (inside the triangle): [`edge::wire_ramp`] from `E_i - bias_i` at `lo`.
+    fn wire<I: EdgeInt>(
+        &self,
+        k: &[I; 3],
+        m0: &[I; 3],
+        yc: I,
+        lo: i32,
+        hi: i32,
+        half_width: Option<f32>,
+    ) -> [FixedRamp; 3] {
+        let none = FixedRamp {
+            at: i32::MAX,
+            step: 0,
+        };
+        let Some(w) = half_width else {
+            return [none; 3];
+        };
+        core::array::from_fn(|i| {
+            if self.inv_length[i] == 0.0 {
+                return none;
+            }
+            // `E_i - bias_i = k px - m0 + dx yc` at column `px` (see `EdgeSetUp`).
+            let e = k[i] * I::from(lo) - m0[i] + I::from(self.dx[i]) * yc;
+            let limit = wire_limit(w, self.inv_length[i], self.bias[i]);
+            wire_ramp(e, k[i], limit, hi - lo + 1)
         })
     }
 }
@@ -344,7 +366,7 @@ mod tests {
 
     fn covered(t: &Triangle, width: i32, hits: &mut [u8], rows: i32) {
         for row in t.rows()[0].max(0)..=t.rows()[1].min(rows - 1) {
-            if let Some(s) = t.span(row, 0..width) {
+            if let Some(s) = t.span(row, 0..width, None) {
                 for x in s.x0..s.x1 {
                     hits[(row * width + x) as usize] += 1;
                 }
@@ -429,8 +451,8 @@ mod tests {
             let [first, last] = wide.rows();
             for row in first - 2..=last + 2 {
                 for columns in [-600..600, -3..4, 0..240, 5..5] {
-                    let s = wide.span(row, columns.clone());
-                    assert_eq!(narrow.span(row, columns), s);
+                    let s = wide.span(row, columns.clone(), Some(0.6));
+                    assert_eq!(narrow.span(row, columns, Some(0.6)), s);
                     spans += s.is_some() as u32;
                 }
             }
@@ -492,12 +514,16 @@ mod tests {
         let mut t = [corner(0.5, 0.5), corner(10.5, 0.5), corner(0.5, 10.5)];
         t[1].depth = 11.0;
         let tri = Triangle::new(t, [true; 3]).unwrap();
-        let s = tri.span(0, 0..20).unwrap();
+        let s = tri.span(0, 0..20, Some(0.25)).unwrap();
         assert_eq!((s.x0, s.x1), (0, 10));
         assert!((s.depth.at(0) - 1.0).abs() < 1e-5);
         assert!((s.depth.at(5) - 6.0).abs() < 1e-5);
-        // Row 0 lies on the top edge: distance 0 to it.
-        assert!(s.edge.iter().any(|e| e.at(3).abs() < 1e-5));
+        // Row 0 lies on the top edge: every pixel is on its line.
+        let mut walk = crate::render::walk::SpanWalk::new(&s);
+        for _ in 0..10 {
+            assert!(walk.on_wire());
+            walk.step::<true>();
+        }
     }
 
     /// The wireframe's `1 / sqrt` is within 2.5e-7 of the exact value (1.2e-7 measured) over
