@@ -8,6 +8,12 @@
 //! nothing left over is within its tolerance by its own bound; the same view again gives the
 //! same mesh, and so does a run time with another stack (history and storage do not matter); a
 //! budget frame keeps its budget.
+//!
+//! The work one input asks for is bounded ([`Limits`]), so that a fuzzer runs hundreds of
+//! inputs a second: a pool below the bake of at most 128 vertices and budgets of at most
+//! 4,096 triangles. The committed seeds are replayed with the limits lifted as well
+//! ([`bisect_unbounded`]: pools of 4,096 and budgets up to 65,535), which is where the slow
+//! cases found before the limits stay covered.
 
 use std::sync::OnceLock;
 
@@ -100,15 +106,44 @@ fn written(
     Some((vs, ts))
 }
 
+/// What one input may ask for.
+pub struct Limits {
+    /// The pool sizes a byte chooses from.
+    pub pools: [usize; 4],
+    /// Budgets are below this.
+    pub budgets: usize,
+}
+
+/// The limits of the `bisect` target.
+pub const FAST: Limits = Limits {
+    pools: [0, 16, 64, 128],
+    budgets: 4097,
+};
+
+/// The limits lifted: what the target asked for before it had them.
+pub const UNBOUNDED: Limits = Limits {
+    pools: [0, 16, 256, 4096],
+    budgets: 1 << 16,
+};
+
 /// The `bisect` target.
 pub fn bisect(data: &[u8]) {
+    run(data, &FAST);
+}
+
+/// The `bisect` target with its limits lifted (for the committed seeds).
+pub fn bisect_unbounded(data: &[u8]) {
+    run(data, &UNBOUNDED);
+}
+
+fn run(data: &[u8], limits: &Limits) {
     let mut r = Bytes::new(data);
     let model = r.u8() as usize % MODELS.len();
     let bake = r.u8() as usize % BAKES.len();
     let b = baked(model, bake);
     let tree = b.tree();
     let stack = 4 + r.u8() as usize % 64;
-    let pool = [0, 16, 256, 4096][r.u8() as usize % 4];
+    let pool = limits.pools[r.u8() as usize % 4];
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack_slots = vec![Pending::default(); stack];
     let mut pool_slots = vec![RefinedVertex::default(); pool];
@@ -133,7 +168,7 @@ pub fn bisect(data: &[u8]) {
             },
         };
         if r.u8().is_multiple_of(4) {
-            let budget = r.u16() as usize;
+            let budget = r.u16() as usize % limits.budgets;
             if let Ok(fit) = s.update_to_budget(&view, budget) {
                 assert!(fit.stats.triangles <= budget, "over budget");
             }

@@ -31,3 +31,10 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("render", render::render),
     ("bisect", bisect::bisect),
 ];
+
+/// Targets whose work per input is bounded, with their bodies with the bounds lifted: the
+/// committed seeds go through both.
+pub const UNBOUNDED: &[(&str, Body)] = &[
+    ("runtime", runtime::runtime_unbounded),
+    ("bisect", bisect::bisect_unbounded),
+];

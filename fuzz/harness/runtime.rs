@@ -6,6 +6,11 @@
 //! mesh needs; every written index points at a written vertex; the stream is the indexed mesh,
 //! vertex for vertex; writing or streaming twice, or updating twice to the same view, gives
 //! the same output; a budget frame keeps its budget.
+//!
+//! The work one input asks for is bounded ([`Limits`]), so that a fuzzer runs a hundred
+//! inputs a second or more: refinement factors of at most 4 and meshes written in full up to
+//! 4,096 triangles. The committed seeds are replayed with the limits lifted as well
+//! ([`runtime_unbounded`]: factors up to 255, full writes up to 32,768 triangles).
 
 use std::sync::OnceLock;
 
@@ -42,9 +47,30 @@ pub(crate) const MODELS: [(&str, &str); 5] = [
 /// Bake variants: relative tolerance, curve cap, interior cap.
 const BAKES: [(f32, u16, u16); 3] = [(1e-2, 4, 8), (1e-3, 32, 64), (1e-3, 256, 1024)];
 
-/// Largest mesh written in full (bigger frames are still counted and written into small
-/// buffers), so that a fuzz run stays fast.
-const FULL_WRITE: usize = 1 << 15;
+/// What one input may ask for.
+pub struct Limits {
+    /// Largest refinement factor but for the largest ones (from 240 on, with `wide_factors`).
+    pub factors: u8,
+    /// Whether factors of 240 and more are asked for.
+    pub wide_factors: bool,
+    /// Largest mesh written in full (bigger frames are still counted and written into small
+    /// buffers).
+    pub full_write: usize,
+}
+
+/// The limits of the `runtime` target.
+pub const FAST: Limits = Limits {
+    factors: 4,
+    wide_factors: false,
+    full_write: 1 << 12,
+};
+
+/// The limits lifted: what the target asked for before it had them.
+pub const UNBOUNDED: Limits = Limits {
+    factors: 8,
+    wide_factors: true,
+    full_write: 1 << 15,
+};
 
 struct Baked {
     file: ModelFile,
@@ -199,6 +225,7 @@ fn check_frame<Ix: DomainIndex>(
     tess: &mut Tessellator<'_, '_, Ix>,
     stats: &FrameStats,
     r: &mut Bytes<'_>,
+    full_write: usize,
 ) {
     let need = tess.mesh_size();
     assert_eq!(
@@ -211,7 +238,7 @@ fn check_frame<Ix: DomainIndex>(
     } else {
         write_small::<u32, Ix>(tess, sv.min(need.vertices + 1), st.min(need.triangles + 1));
     }
-    if need.triangles > FULL_WRITE {
+    if need.triangles > full_write {
         return;
     }
     let mut vs = vec![Vertex::default(); need.vertices];
@@ -250,6 +277,15 @@ fn check_frame<Ix: DomainIndex>(
 
 /// The `runtime` target.
 pub fn runtime(data: &[u8]) {
+    run(data, &FAST);
+}
+
+/// The `runtime` target with its limits lifted (for the committed seeds).
+pub fn runtime_unbounded(data: &[u8]) {
+    run(data, &UNBOUNDED);
+}
+
+fn run(data: &[u8], limits: &Limits) {
     let mut r = Bytes::new(data);
     let model = r.u8() as usize % MODELS.len();
     let bake = r.u8() as usize % BAKES.len();
@@ -257,8 +293,8 @@ pub fn runtime(data: &[u8]) {
     let baked = BakedModel::from_bytes(&b.bytes).expect("a fresh bake reads back");
     // Factors past 8 only make meshes slower to check; the largest ones stay possible.
     let max_factor = match r.u8() {
-        x @ 0..=239 => x % 9,
-        x => x,
+        x @ 240.. if limits.wide_factors => x,
+        x => x % (limits.factors + 1),
     };
     let max_interior_samples = match r.u8() {
         0..=199 => u16::MAX,
@@ -274,18 +310,23 @@ pub fn runtime(data: &[u8]) {
     let frames = r.clone();
     let mut storage = RuntimeStorage::new(&baked, &settings);
     let tess = storage.tessellator(b.file.patches(), baked, settings);
-    run_frames(tess, b, r);
+    run_frames(tess, b, r, limits);
     let size = StorageSize::of_indexed::<u8>(&baked, &settings);
     let mut storage = RuntimeStorage::<u8>::indexed(&size);
     match storage.try_tessellator(b.file.patches(), baked, settings) {
-        Ok(tess) => run_frames(tess, b, frames),
+        Ok(tess) => run_frames(tess, b, frames, limits),
         Err(TessellatorError::PatchTooLarge { .. }) => {}
         Err(e) => panic!("storage sized by StorageSize::of_indexed: {e}"),
     }
 }
 
 /// Up to six frames of `r`'s views, each checked.
-fn run_frames<Ix: DomainIndex>(mut tess: Tessellator<'_, '_, Ix>, b: &Baked, mut r: Bytes<'_>) {
+fn run_frames<Ix: DomainIndex>(
+    mut tess: Tessellator<'_, '_, Ix>,
+    b: &Baked,
+    mut r: Bytes<'_>,
+    limits: &Limits,
+) {
     for _ in 0..6 {
         if r.is_empty() {
             break;
@@ -343,7 +384,7 @@ fn run_frames<Ix: DomainIndex>(mut tess: Tessellator<'_, '_, Ix>, b: &Baked, mut
                 }
             },
         };
-        check_frame(&mut tess, &stats, &mut r);
+        check_frame(&mut tess, &stats, &mut r, limits.full_write);
         // The same view again changes nothing.
         if kind == 1 {
             let before = tess.mesh_size();
