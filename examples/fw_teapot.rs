@@ -61,12 +61,6 @@ mod spi_display;
 #[path = "common/fw_teapot_frames.rs"]
 mod teapot;
 
-// (Shared with the other host programs, which use the rest of it.)
-#[cfg(not(target_os = "none"))]
-#[allow(dead_code)]
-#[path = "common/runtime_storage.rs"]
-mod runtime_storage;
-
 use spi_display::SpiDisplay;
 use spline_tess::bisect::{Bintree, Pending, RefinedVertex, Selection};
 use spline_tess::render::ListSlot;

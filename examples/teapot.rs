@@ -9,9 +9,9 @@
 //!
 //! Writes `out/teapot_NNN.png` per frame, `out/teapot_contact.png` (every frame, half size),
 //! and `out/teapot.obj` (the last frame's mesh), and prints a table per frame: eye distance
-//! from the target, tolerance in pixels, triangles, samples inserted and deleted, and
-//! milliseconds to update the tessellation and to render it (streamed, in 16-row bands, with
-//! Gouraud shading and the triangles overlaid).
+//! from the target, tolerance in pixels, triangles, triangles judged, vertices made below the
+//! bake, the bound the frame honours (pixels), and milliseconds to update the tessellation and
+//! to render it (in 16-row bands, with Gouraud shading and the triangles overlaid).
 //!
 //! Options: `--model FILE` (`.bpt` or NURBS `.json`), `--tolerance PX` (default 1),
 //! `--budget N` (fit the tolerance to at most N triangles; unrefined frames), `--frames N`
@@ -27,13 +27,12 @@ use std::time::Instant;
 
 use common::framebuffer::Framebuffer;
 use common::image::Image;
-use common::model_file::{bake_to_vec, ModelFile};
+use common::model_file::{BakedBintree, ModelFile};
 use common::obj::{frame_faces, write_obj};
-use common::runtime_storage::RuntimeStorage;
 use embedded_graphics::pixelcolor::Rgb888;
-use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bake::Tolerance;
+use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
 use spline_tess::render::{ListSlot, Renderer, Shading, Style, Wireframe};
-use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: teapot [--model FILE] [--tolerance PX] [--budget N] [--frames N] \
@@ -140,40 +139,40 @@ fn run() -> Result<(), String> {
             .file_stem()
             .map_or("model".into(), |s| s.to_string_lossy().into_owned())
     });
-    let settings = BakeSettings {
+    let settings = BintreeSettings {
         tolerance: Tolerance::Relative(args.bake_tolerance),
-        max_curve_samples: 256,
-        max_interior_samples: 4096,
+        ..BintreeSettings::default()
     };
     let start = Instant::now();
-    let bytes = file
-        .with_model(|m| bake_to_vec(m, &settings))?
-        .map_err(|e| format!("bake: {e}"))?;
+    let baked = BakedBintree::bake(&file, &settings).map_err(|e| format!("bake: {e}"))?;
     let bake_ms = start.elapsed().as_secs_f64() * 1e3;
-    let baked = BakedModel::from_bytes(&bytes).map_err(|e| format!("baked model: {e}"))?;
-    let patches = file.patches();
-    let bound = patches.aabb().ok_or("the model is empty")?;
+    let tree = baked.tree();
+    let bound = file.patches().aabb().ok_or("the model is empty")?;
     let (center, radius) = (bound.center(), 0.5 * bound.diagonal());
-    let run_settings = Settings::default();
-    let mut storage = RuntimeStorage::new(&baked, &run_settings);
-    let mut tess = storage.tessellator(patches, baked, run_settings);
+    let mut bits = vec![0u32; tree.bit_words()];
+    let mut stack = vec![Pending::default(); 1 << 12];
+    let mut pool = vec![RefinedVertex::default(); 1 << 16];
+    let mut tess = Selection::new(tree, &mut bits, &mut stack, &mut pool)
+        .map_err(|e| format!("run time: {e}"))?;
     println!(
-        "# {}: {} patches baked in {bake_ms:.0} ms ({} bytes); {} frames at {}x{}",
+        "# {}: {} patches baked in {bake_ms:.0} ms ({} triangles, {} bytes); {} frames at {}x{}",
         args.model,
-        tess.patches().len(),
-        bytes.len(),
+        baked.patches.len(),
+        baked.nodes.len(),
+        baked.bytes(),
         args.frames,
         args.size[0],
         args.size[1]
     );
     println!(
-        "{:>5} {:>9} {:>9} {:>9} {:>8} {:>8} {:>9} {:>9} {:>7}",
+        "{:>5} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>9} {:>7}",
         "frame",
         "distance",
         "tol_px",
         "triangles",
-        "inserted",
-        "deleted",
+        "judged",
+        "refined",
+        "bound",
         "update_ms",
         "render_ms",
         "Mtri/s"
@@ -217,15 +216,12 @@ fn run() -> Result<(), String> {
         let start = Instant::now();
         let (stats, tolerance) = match args.budget {
             Some(n) => {
-                let (stats, fit) = tess
+                let fit = tess
                     .update_to_budget(&view, n)
                     .map_err(|e| format!("frame {k}: {e}"))?;
-                (stats, fit.tolerance)
+                (fit.stats, fit.tolerance)
             }
-            None => (
-                tess.update(&view).map_err(|e| format!("frame {k}: {e}"))?,
-                args.tolerance,
-            ),
+            None => (tess.update(&view), args.tolerance),
         };
         let update_ms = start.elapsed().as_secs_f64() * 1e3;
         let mut image = Image::new(w, h, Rgb888::new(0, 0, 0));
@@ -238,8 +234,8 @@ fn run() -> Result<(), String> {
         // Triangles per second of the whole frame, update and render.
         let mtri_s = stats.triangles as f64 / (update_ms + render_ms) / 1e3;
         println!(
-            "{k:>5} {distance:>9.3} {tolerance:>9.3} {:>9} {:>8} {:>8} {update_ms:>9.2} {render_ms:>9.2} {mtri_s:>7.2}",
-            stats.triangles, stats.inserted, stats.deleted
+            "{k:>5} {distance:>9.3} {tolerance:>9.3} {:>9} {:>8} {:>8} {:>8.3} {update_ms:>9.2} {render_ms:>9.2} {mtri_s:>7.2}",
+            stats.triangles, stats.judged, stats.refined, stats.worst_bound
         );
         image.write_png(&args.out.join(format!("{name}_{k:03}.png")))?;
         thumbnails.push(image.shrink(2));
@@ -250,7 +246,8 @@ fn run() -> Result<(), String> {
     let size = tess.mesh_size();
     let mut vertices = vec![Vertex::default(); size.vertices];
     let mut triangles = vec![[0u32; 3]; size.triangles];
-    tess.write_mesh(&mut vertices, &mut triangles)
+    let mut remap = vec![0u32; tess.remap_len()];
+    tess.write_mesh(&mut vertices, &mut triangles, &mut remap)
         .map_err(|e| format!("last frame: {e}"))?;
     let faces = frame_faces(&tess, &triangles);
     let obj = args.out.join(format!("{name}.obj"));

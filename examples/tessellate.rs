@@ -9,19 +9,15 @@
 //!     --object-tolerance 0.01 --obj out/teapot.obj
 //! ```
 //!
-//! MODEL is `.bpt` or NURBS `.json`. It is baked on the fly (`--bake-tolerance`, relative to the
-//! bounding-box diagonal, default 1e-3) unless `--baked FILE.bin` gives a bake made by the
-//! `bake` example from the same model. `--path FILE` holds one camera per line,
-//! `ex ey ez tx ty tz ux uy uz fov`, applied in order to the same tessellator (incrementally);
-//! the OBJ is the last frame. `--budget N` fits the tolerance to at most N triangles per frame
-//! (unrefined, see the budget mode). `--near D` sets the near plane (default 1% of the model's
-//! diagonal). `--split` tessellates the model with every patch split into four
-//! (`PatchSet::split`, baked on the fly): fewer triangles where a patch spans many depths; the
-//! OBJ's groups are then the quarters (`patch_K` is quarter K, a part of patch K / 4).
-//! `--bisect` uses the bisection run time (`spline_tess::bisect`) instead of the prefix
-//! tessellator: the model's hierarchy is baked on the fly at the bake tolerance, every frame
-//! is found from scratch, and the JSON line gives its own figures (triangles judged, vertices
-//! made below the bake, leaves left over, the bound the frame honours).
+//! MODEL is `.bpt` or NURBS `.json`. Its hierarchy is baked on the fly (`--bake-tolerance`,
+//! relative to the bounding-box diagonal, default 1e-3). `--path FILE` holds one camera per
+//! line, `ex ey ez tx ty tz ux uy uz fov`, applied in order; the OBJ is the last frame.
+//! `--budget N` fits the tolerance to at most N triangles per frame. `--near D` sets the near
+//! plane (default 1% of the model's diagonal). `--split` tessellates the model with every
+//! patch split into four (`PatchSet::split`); the OBJ's groups are then the quarters
+//! (`patch_K` is quarter K, a part of patch K / 4). The JSON line gives each frame's figures:
+//! triangles, vertices, triangles judged, vertices made below the bake, leaves left over, and
+//! the bound the frame honours.
 //!
 //! OBJ: `v` and `vn` per vertex (vertices on shared curves are shared by index, so the mesh is
 //! welded), `vt` per face corner's own parameters (the patch's; for NURBS, the surface's), one
@@ -34,18 +30,16 @@ mod common;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use common::model_file::{bake_to_vec, BakedBintree, ModelFile};
-use common::obj::{faces_of, frame_faces, write_obj};
-use common::runtime_storage::RuntimeStorage;
-use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use common::model_file::{BakedBintree, ModelFile};
+use common::obj::{frame_faces, write_obj};
+use spline_tess::bake::Tolerance;
 use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
-use spline_tess::tessellator::Settings;
-use spline_tess::{Camera, FrameStats, Projection, Vec3, Vertex, View};
+use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
                      --eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG --viewport WxH) \
-                     [--budget N] [--path FILE] [--baked FILE.bin] [--bake-tolerance REL] \
-                     [--near D] [--split] [--bisect] --obj OUT.obj";
+                     [--budget N] [--path FILE] [--bake-tolerance REL] [--near D] [--split] \
+                     --obj OUT.obj";
 
 #[derive(Default)]
 struct Args {
@@ -59,11 +53,9 @@ struct Args {
     viewport: Option<[u32; 2]>,
     budget: Option<usize>,
     path: Option<String>,
-    baked: Option<String>,
     bake_tolerance: Option<f32>,
     near: Option<f32>,
     split: bool,
-    bisect: bool,
     obj: String,
 }
 
@@ -111,10 +103,8 @@ fn parse_args() -> Result<Args, String> {
             }
             "--budget" => a.budget = Some(value(&x, args.next())?),
             "--path" => a.path = Some(value(&x, args.next())?),
-            "--baked" => a.baked = Some(value(&x, args.next())?),
             "--bake-tolerance" => a.bake_tolerance = Some(value(&x, args.next())?),
             "--split" => a.split = true,
-            "--bisect" => a.bisect = true,
             "--near" => a.near = Some(value(&x, args.next())?),
             "--obj" => obj = Some(value::<String>(&x, args.next())?),
             "-h" | "--help" => return Err(USAGE.to_string()),
@@ -190,26 +180,8 @@ fn views(a: &Args, diag: f32) -> Result<Vec<View>, String> {
     }
 }
 
-fn json(frame: usize, tolerance: f32, s: &FrameStats, ms: f64) -> String {
-    format!(
-        "{{\"frame\":{frame},\"tolerance\":{tolerance},\"triangles\":{},\"vertices\":{},\
-         \"inserted\":{},\"deleted\":{},\"estimated\":{},\"refined_patches\":{},\
-         \"culled_patches\":{},\"back_facing_patches\":{},\"max_predicted_error\":{},\
-         \"ms\":{ms:.3}}}",
-        s.triangles,
-        s.vertices,
-        s.inserted,
-        s.deleted,
-        s.estimated,
-        s.refined_patches,
-        s.culled_patches,
-        s.back_facing_patches,
-        s.max_predicted_error
-    )
-}
-
-/// The frames through the bisection run time (`--bisect`).
-fn run_bisect(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Result<(), String> {
+/// Bakes the model's hierarchy and writes the frames.
+fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Result<(), String> {
     let settings = BintreeSettings {
         tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
         ..BintreeSettings::default()
@@ -248,10 +220,7 @@ fn run_bisect(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
             s.triangles, size.vertices, s.judged, s.hidden, s.refined, s.left_over, s.worst_bound
         );
     }
-    let faces = faces_of(
-        |f| selection.stream_with_info(|info, _| f(info)),
-        &triangles,
-    );
+    let faces = frame_faces(&selection, &triangles);
     write_obj(&args.obj, file, nurbs, &vertices, &faces)
 }
 
@@ -262,60 +231,7 @@ fn run() -> Result<(), String> {
     let diag = read.patches().aabb().map_or(1.0, |b| b.diagonal());
     let file = if args.split { read.split()?.0 } else { read };
     let nurbs = args.model.ends_with(".json");
-    if args.bisect {
-        if args.baked.is_some() {
-            return Err("--bisect bakes its hierarchy on the fly: drop --baked".into());
-        }
-        return run_bisect(&args, &file, &views(&args, diag)?, nurbs);
-    }
-    let bytes = match &args.baked {
-        Some(_) if args.split => return Err("--split bakes on the fly: drop --baked".into()),
-        Some(path) => std::fs::read(path).map_err(|e| format!("{path}: {e}"))?,
-        None => {
-            let settings = BakeSettings {
-                tolerance: match args.bake_tolerance.unwrap_or(1e-3) {
-                    rel if args.split => Tolerance::Absolute(rel * diag),
-                    rel => Tolerance::Relative(rel),
-                },
-                max_curve_samples: 256,
-                max_interior_samples: 4096,
-            };
-            file.with_model(|m| bake_to_vec(m, &settings))?
-                .map_err(|e| format!("bake: {e}"))?
-        }
-    };
-    let baked = BakedModel::from_bytes(&bytes).map_err(|e| format!("baked model: {e}"))?;
-    let patches = file.patches();
-    let views = views(&args, diag)?;
-    let settings = Settings::default();
-    let mut storage = RuntimeStorage::new(&baked, &settings);
-    let mut tess = storage.tessellator(patches, baked, settings);
-    let (mut vertices, mut triangles) = (Vec::new(), Vec::<[u32; 3]>::new());
-    for (frame, view) in views.iter().enumerate() {
-        let start = Instant::now();
-        let (stats, tolerance) = match args.budget {
-            Some(n) => {
-                let (stats, fit) = tess
-                    .update_to_budget(view, n)
-                    .map_err(|e| format!("frame {frame}: {e}"))?;
-                (stats, fit.tolerance)
-            }
-            None => (
-                tess.update(view)
-                    .map_err(|e| format!("frame {frame}: {e}"))?,
-                view.tolerance(),
-            ),
-        };
-        let size = tess.mesh_size();
-        vertices.resize(size.vertices, Vertex::default());
-        triangles.resize(size.triangles, [0; 3]);
-        tess.write_mesh(&mut vertices, &mut triangles)
-            .map_err(|e| format!("frame {frame}: {e}"))?;
-        let ms = start.elapsed().as_secs_f64() * 1e3;
-        println!("{}", json(frame, tolerance, &stats, ms));
-    }
-    let faces = frame_faces(&tess, &triangles);
-    write_obj(&args.obj, &file, nurbs, &vertices, &faces)
+    run_frames(&args, &file, &views(&args, diag)?, nurbs)
 }
 
 fn main() -> ExitCode {

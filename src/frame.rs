@@ -33,15 +33,7 @@ pub struct SurfacePoint {
     pub normal: Vec3,
 }
 
-impl SurfacePoint {
-    /// A placeholder for buffers that evaluation fills (the origin, normal `+z`).
-    pub(crate) const PLACEHOLDER: SurfacePoint = SurfacePoint {
-        position: Vec3::ZERO,
-        partial_u: Vec3::ZERO,
-        partial_v: Vec3::ZERO,
-        normal: Vec3::Z,
-    };
-}
+impl SurfacePoint {}
 
 /// Euclidean position, partials and (when it is defined at this point) the normal.
 pub(crate) struct Frame {

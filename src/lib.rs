@@ -179,7 +179,6 @@ mod bound;
 #[cfg(feature = "defmt")]
 mod defmt_impls;
 mod deviation;
-mod domain;
 mod facing;
 mod frame;
 mod math;
@@ -190,16 +189,11 @@ mod patch;
 #[cfg(feature = "embedded-graphics")]
 pub mod render;
 mod sink;
-pub mod tessellator;
 #[cfg(test)]
 mod test_rng;
 mod view;
 
 pub use bound::{Aabb, BoundingSphere};
-pub use domain::{
-    DomainIndex, DomainMesh, GridPoint, InsertError, MeshStorageError, MeshTriangle, MeshVertex,
-    Metric, RemoveError, Star,
-};
 pub use facing::NormalCone;
 pub use frame::SurfacePoint;
 pub use model::{
@@ -211,7 +205,6 @@ pub use nurbs::{
 };
 pub use patch::{BezierPatch, PatchError, Side};
 pub use sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
-pub use tessellator::{FrameStats, Tessellator};
 pub use view::{Camera, CameraError, Projection, View};
 
 /// The README's examples, run as doc tests.

@@ -6,15 +6,6 @@
 
 use glam::{Vec3, Vec4};
 
-/// Whether [`Vec4`] has SIMD lanes on this target (glam's SSE2, NEON and wasm SIMD forms):
-/// where work done four lanes at a time, or memory spent to save work, pays. Elsewhere (a
-/// Cortex-M4F: four scalars) the plain forms are used; every form gives the same bits.
-pub(crate) const SIMD_LANES: bool = cfg!(any(
-    target_feature = "sse2",
-    target_feature = "simd128",
-    all(target_arch = "aarch64", target_feature = "neon")
-));
-
 /// Square root (correctly rounded on every target).
 #[inline]
 pub(crate) fn sqrt(x: f32) -> f32 {

@@ -6,4 +6,3 @@ pub mod framebuffer;
 pub mod image;
 pub mod model_file;
 pub mod obj;
-pub mod runtime_storage;

@@ -1,20 +1,13 @@
 //! Reading a model file (`.bpt` Bezier patches or a NURBS `.json` surface) into owned storage
-//! and baking it with heap scratch, for host programs: the examples, and host-tests (which
-//! include this file).
+//! and baking its hierarchy into `Vec`s, for host programs: the examples, and host-tests
+//! (which include this file).
 
-use spline_tess::bake::{
-    bake_model, BakeError, BakeScratch, BakeSettings, CurveSample, CurveSegment, InteriorSample,
-    Tolerance, TriangleDeviation,
-};
 use spline_tess::bisect::{
     bake_bintree, Bintree, BintreeBakeError, BintreeBuffers, BintreeNode, BintreePatch,
     BintreeSettings, BintreeVertex,
 };
 use spline_tess::parse::{self, NurbsJsonBuffers};
-use spline_tess::{
-    BoundaryCurve, EdgeLink, MeshTriangle, MeshVertex, Model, NurbsSurface, ParamRect, PatchHeader,
-    PatchSet,
-};
+use spline_tess::{BoundaryCurve, EdgeLink, Model, NurbsSurface, ParamRect, PatchHeader, PatchSet};
 
 /// A model's patches in owned storage. A NURBS surface is decomposed into its rational Bezier
 /// pieces; `domains[k]` is piece `k`'s rectangle of the surface's parameters.
@@ -107,18 +100,6 @@ impl ModelFile {
         let model = Model::build(patches, &mut edges, &mut curves).map_err(|e| e.to_string())?;
         Ok(f(&model))
     }
-
-    /// Bakes the model at `rel` of its diagonal with the caps the figures use (256 samples a
-    /// curve, 4096 steps a patch); returns the bytes.
-    pub fn bake_relative(&self, rel: f32) -> Result<Vec<u8>, String> {
-        let settings = BakeSettings {
-            tolerance: Tolerance::Relative(rel),
-            max_curve_samples: 256,
-            max_interior_samples: 4096,
-        };
-        self.with_model(|m| bake_to_vec(m, &settings))?
-            .map_err(|e| e.to_string())
-    }
 }
 
 /// The rectangle `inner` of `outer`'s unit square, as a rectangle of what `outer` is in.
@@ -129,37 +110,6 @@ pub fn within(outer: ParamRect, inner: ParamRect) -> ParamRect {
         u1: outer.u0 + inner.u1 * du,
         v0: outer.v0 + inner.v0 * dv,
         v1: outer.v0 + inner.v1 * dv,
-    }
-}
-
-/// Bakes `model` with heap scratch of the sizes the settings ask for; returns the bytes.
-pub fn bake_to_vec(model: &Model<'_>, settings: &BakeSettings) -> Result<Vec<u8>, BakeError> {
-    let n = settings.scratch_size();
-    let mut vertices = vec![MeshVertex::default(); n.vertices];
-    let mut triangles = vec![MeshTriangle::default(); n.triangles];
-    let mut deviations = vec![TriangleDeviation::default(); n.triangles];
-    let mut segments = vec![CurveSegment::default(); n.segments];
-    let mut curve_samples = vec![CurveSample::default(); n.curve_samples];
-    let mut interior_samples = vec![InteriorSample::default(); n.interior_samples];
-    let mut out = vec![0u8; 1 << 16];
-    loop {
-        let scratch = BakeScratch {
-            vertices: &mut vertices,
-            triangles: &mut triangles,
-            deviations: &mut deviations,
-            segments: &mut segments,
-            curve_samples: &mut curve_samples,
-            interior_samples: &mut interior_samples,
-        };
-        match bake_model(model, settings, scratch, &mut out) {
-            Ok(summary) => {
-                out.truncate(summary.bytes);
-                return Ok(out);
-            }
-            // The size is known now: bake again into a buffer that fits.
-            Err(BakeError::OutputTooSmall { needed }) => out = vec![0u8; needed],
-            Err(e) => return Err(e),
-        }
     }
 }
 

@@ -12,7 +12,8 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
-use spline_tess::{ParamRect, Tessellator, TriangleInfo, Vertex};
+use spline_tess::bisect::Selection;
+use spline_tess::{ParamRect, TriangleInfo, Vertex};
 
 use super::model_file::ModelFile;
 
@@ -27,10 +28,10 @@ pub struct ObjFace {
     pub uv: [[f32; 2]; 3],
 }
 
-/// The faces of the tessellator's current frame: `triangles` as `write_mesh` wrote them, with
+/// The faces of the run time's current frame: `triangles` as `write_mesh` wrote them, with
 /// each corner's parameters in the face's own patch.
-pub fn frame_faces(tess: &Tessellator<'_, '_>, triangles: &[[u32; 3]]) -> Vec<ObjFace> {
-    faces_of(|f| tess.stream_with_info(|info, _| f(info)), triangles)
+pub fn frame_faces(selection: &Selection<'_, '_>, triangles: &[[u32; 3]]) -> Vec<ObjFace> {
+    faces_of(|f| selection.stream_with_info(|info, _| f(info)), triangles)
 }
 
 /// The faces of a frame whose `stream_with_info` is `stream`, `triangles` as its

@@ -19,11 +19,91 @@ use std::sync::OnceLock;
 
 use spline_tess::bake::Tolerance;
 use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
-use spline_tess::{TriangleSink, Vertex, View, WriteError};
+use spline_tess::{Camera, Projection, TriangleSink, Vec3, Vertex, View, WriteError};
 
 use super::bytes::Bytes;
-use super::model_file::BakedBintree;
-use super::runtime::{camera, model_file, vertex_bits, MODELS, SPECIAL};
+use super::model_file::{BakedBintree, ModelFile};
+
+/// The models: poles (teaspoon, teapot, hemisphere), seams (torus), a degree-1 direction and
+/// open edges (quarter cylinder).
+const MODELS: [(&str, &str); 5] = [
+    ("bpt", include_str!("../../examples/models/teaspoon.bpt")),
+    ("bpt", include_str!("../../examples/models/teapot.bpt")),
+    (
+        "json",
+        include_str!("../../examples/models/nurbs/tinynurbs_hemisphere.json"),
+    ),
+    (
+        "json",
+        include_str!("../../examples/models/nurbs/rational_torus.json"),
+    ),
+    (
+        "json",
+        include_str!("../../examples/models/nurbs/verb_quarter_cylinder.json"),
+    ),
+];
+
+/// Model `model` of [`MODELS`], parsed.
+fn model_file(model: usize) -> ModelFile {
+    let (kind, text) = MODELS[model];
+    if kind == "bpt" {
+        ModelFile::from_bpt(text)
+    } else {
+        ModelFile::from_nurbs_json(text)
+    }
+    .expect("a repository model parses")
+}
+
+/// Tolerances that must be refused or survived.
+const SPECIAL: [f32; 10] = [
+    1.0,
+    0.5,
+    2.0,
+    0.0,
+    -1.0,
+    f32::NAN,
+    f32::INFINITY,
+    1e-7,
+    1e30,
+    f32::MIN_POSITIVE,
+];
+
+fn camera(r: &mut Bytes<'_>, center: Vec3, diag: f32) -> Option<Camera> {
+    let coord = |r: &mut Bytes<'_>, s: f32| r.i8() as f32 / 32.0 * s;
+    let eye = center + Vec3::new(coord(r, diag), coord(r, diag), coord(r, diag));
+    let target = center
+        + Vec3::new(
+            coord(r, 0.25 * diag),
+            coord(r, 0.25 * diag),
+            coord(r, 0.25 * diag),
+        );
+    let up = match r.u8() % 4 {
+        0 => Vec3::Z,
+        1 => Vec3::Y,
+        2 => Vec3::X,
+        _ => Vec3::new(r.i8() as f32, r.i8() as f32, r.i8() as f32),
+    };
+    let projection = if r.u8().is_multiple_of(4) {
+        Projection::Orthographic {
+            height: r.value(&[0.0, -1.0, f32::NAN], diag),
+        }
+    } else {
+        Projection::Perspective {
+            fov_y_degrees: r.value(&[40.0, 60.0, 0.0, 180.0, 179.9, f32::NAN], 30.0),
+        }
+    };
+    let near = r.value(&[0.0, -1.0, f32::INFINITY], 0.01 * diag);
+    let viewport = [(r.u16() % 1200) as u32, (r.u16() % 900) as u32];
+    Camera::new(eye, target, up, projection, near, viewport).ok()
+}
+
+/// Bit-exact digest of a vertex.
+fn vertex_bits(v: &Vertex) -> [u32; 9] {
+    let p = v.position.map(f32::to_bits);
+    let n = v.normal.map(f32::to_bits);
+    let t = v.uv.map(f32::to_bits);
+    [p[0], p[1], p[2], n[0], n[1], n[2], t[0], t[1], v.patch]
+}
 
 /// Bake tolerances, relative to the diagonal.
 const BAKES: [f32; 2] = [1e-2, 3e-3];

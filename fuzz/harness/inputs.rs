@@ -1,9 +1,7 @@
-//! The kernel's inputs: parsers, patch evaluation, the domain mesh and the baked format.
+//! The kernel's inputs: the parsers and patch evaluation.
 
-use spline_tess::bake::BakedModel;
 use spline_tess::parse::{self, NurbsJsonBuffers};
 use spline_tess::{BezierPatch, BoundaryCurve, EdgeLink, ParamRect, PatchHeader, Topology};
-use spline_tess::{DomainMesh, GridPoint, MeshTriangle, MeshVertex, Metric, RemoveError};
 
 /// Any text: the BPT parser returns a typed error or patches whose topology builds and whose
 /// evaluation is finite.
@@ -84,90 +82,5 @@ pub fn evaluate(data: &[u8]) {
         assert!(e.normal.is_finite(), "normal {:?}", e.normal);
         let _ = p.position(u, v);
         let _ = p.aabb();
-    }
-}
-
-/// Any sequence of insertions and removals: typed errors only, and the Euler count holds.
-pub fn domain_mesh(data: &[u8]) {
-    let mut vs = [MeshVertex::default(); 24];
-    let mut ts = [MeshTriangle::default(); 42];
-    let Ok(mut mesh) = DomainMesh::new(&mut vs, &mut ts) else {
-        return;
-    };
-    // The same operations in one-byte slots: the same answers and the same slots.
-    let mut vs8 = [MeshVertex::<u8>::default(); 24];
-    let mut ts8 = [MeshTriangle::<u8>::default(); 42];
-    let Ok(mut narrow) = DomainMesh::indexed(&mut vs8, &mut ts8, Metric::ISOTROPIC) else {
-        return;
-    };
-    for op in data.chunks_exact(5) {
-        if op[0] & 1 == 0 {
-            // Coarse coordinates now and then, so cocircular ties are common.
-            let coarse = op[0] & 2 != 0;
-            let q = |a: u8, b: u8| {
-                if coarse {
-                    ((a % 9) as u32 * 65535 / 8) as u16
-                } else {
-                    u16::from_le_bytes([a, b])
-                }
-            };
-            let p = GridPoint::new(q(op[1], op[2]), q(op[3], op[4]));
-            assert_eq!(mesh.insert(p), narrow.insert(p));
-        } else {
-            let id = u16::from(op[1]) % 24;
-            let removed = mesh.remove(id);
-            assert_eq!(removed, narrow.remove(id));
-            // A live vertex besides the corners always goes.
-            assert!(
-                !matches!(removed, Err(RemoveError::NoEar)),
-                "no ear removing {id}"
-            );
-        }
-        let boundary = mesh.vertices().filter(|(_, p)| p.on_boundary()).count();
-        let interior = mesh.vertex_count() - boundary;
-        assert_eq!(mesh.triangle_count(), 2 * interior + boundary - 2);
-        check_neighbours(&mesh);
-        assert!(mesh
-            .triangles_with_neighbors()
-            .eq(narrow.triangles_with_neighbors()));
-    }
-}
-
-/// Every neighbour shares its edge, reversed, and points back.
-fn check_neighbours(mesh: &DomainMesh<'_>) {
-    for (t, v, n) in mesh.triangles_with_neighbors() {
-        for i in 0..3 {
-            let Some(s) = n[i] else { continue };
-            let (a, b) = (v[(i + 1) % 3], v[(i + 2) % 3]);
-            let w = mesh.triangle(s).expect("a neighbour is live");
-            let j = (0..3)
-                .find(|&j| w[(j + 1) % 3] == b && w[(j + 2) % 3] == a)
-                .expect("a neighbour shares the edge, reversed");
-            let back = mesh
-                .triangles_with_neighbors()
-                .find(|e| e.0 == s)
-                .map(|e| e.2[j]);
-            assert_eq!(
-                back,
-                Some(Some(t)),
-                "triangle {s} does not point back to {t}"
-            );
-        }
-    }
-}
-
-/// Any bytes: loading a baked model returns a typed error, or a model whose every record and
-/// sample can be read.
-pub fn baked_model(data: &[u8]) {
-    let Ok(baked) = BakedModel::from_bytes(data) else {
-        return;
-    };
-    for k in 0..baked.curve_count() {
-        let c = baked.curve(k).expect("validated curve");
-        assert!(c.samples.iter().all(|s| s.deviation.is_finite()));
-    }
-    for k in 0..baked.patch_count() {
-        let p = baked.patch(k).expect("validated patch");
-        assert!(p.samples.iter().all(|s| s.deviation.is_finite()));
     }
 }

@@ -13,9 +13,6 @@ pub mod inputs;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
 pub mod render;
-pub mod runtime;
-#[path = "../../examples/common/runtime_storage.rs"]
-pub mod runtime_storage;
 
 /// A target's body.
 pub type Body = fn(&[u8]);
@@ -25,16 +22,10 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("parse_bpt", inputs::parse_bpt),
     ("parse_nurbs_json", inputs::parse_nurbs_json),
     ("evaluate", inputs::evaluate),
-    ("domain_mesh", inputs::domain_mesh),
-    ("baked_model", inputs::baked_model),
-    ("runtime", runtime::runtime),
     ("render", render::render),
     ("bisect", bisect::bisect),
 ];
 
 /// Targets whose work per input is bounded, with their bodies with the bounds lifted: the
 /// committed seeds go through both.
-pub const UNBOUNDED: &[(&str, Body)] = &[
-    ("runtime", runtime::runtime_unbounded),
-    ("bisect", bisect::bisect_unbounded),
-];
+pub const UNBOUNDED: &[(&str, Body)] = &[("bisect", bisect::bisect_unbounded)];

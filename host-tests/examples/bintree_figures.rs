@@ -1,6 +1,5 @@
-//! Bisection bakes (`spline_tess::bisect::bake_bintree`) of every model: their triangles,
-//! vertices and bytes beside the kernel's prefix bake (`spline_tess::bake`) at the same
-//! tolerance. Prints a Markdown table.
+//! Bakes of the hierarchy (`spline_tess::bisect::bake_bintree`) of every model: their
+//! triangles, vertices and bytes. Prints a Markdown table.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example bintree_figures -- 1e-3
@@ -8,14 +7,13 @@
 //!
 //! The arguments are tolerances relative to each model's control-point diagonal (default
 //! 1e-3). *Bytes* are the records as a firmware keeps them in flash (`write_rust_source`'s
-//! statics: nodes, vertices and patch records at their in-memory sizes); *prefix bake bytes*
-//! the kernel's format at the same tolerance with the figures' caps (256 samples a curve, 4096
-//! a patch). *Bake s* is one run on one core.
+//! statics: nodes, vertices and patch records at their in-memory sizes). *Bake s* is one run
+//! on one core.
 
 use std::time::Instant;
 
-use host_tests::bisection::BakedBintree;
 use host_tests::model_file::ModelFile;
+use host_tests::runtime::BakedBintree;
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::Tolerance;
 use spline_tess::bisect::{BintreeNode, BintreePatch, BintreeSettings, BintreeVertex};
@@ -27,9 +25,9 @@ fn main() {
         .collect();
     let rels = if rels.is_empty() { vec![1e-3] } else { rels };
     println!(
-        "| model | rel. tol. | patches | triangles (nodes) | leaves | vertices | bytes | bake s | prefix bake bytes | bytes / prefix bytes |"
+        "| model | rel. tol. | patches | triangles (nodes) | leaves | vertices | bytes | bake s | bytes / vertex |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for rel in rels {
         for path in bpt_models().into_iter().chain(nurbs_fixtures()) {
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
@@ -44,14 +42,13 @@ fn main() {
             let bytes = bake.nodes.len() * size_of::<BintreeNode>()
                 + bake.vertices.len() * size_of::<BintreeVertex>()
                 + bake.patches.len() * size_of::<BintreePatch>();
-            let prefix = file.bake_relative(rel).expect("a prefix bake").len();
             println!(
-                "| {} | {rel:e} | {} | {} | {leaves} | {} | {bytes} | {seconds:.2} | {prefix} | {:.1} |",
+                "| {} | {rel:e} | {} | {} | {leaves} | {} | {bytes} | {seconds:.2} | {:.1} |",
                 name(&path),
                 bake.patches.len(),
                 bake.nodes.len(),
                 bake.vertices.len(),
-                bytes as f64 / prefix as f64
+                bytes as f64 / bake.vertices.len() as f64
             );
         }
     }

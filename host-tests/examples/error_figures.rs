@@ -8,7 +8,7 @@
 //! cargo run --release -p host-tests --example error_figures -- teapot  # cases naming it
 //! ```
 //!
-//! Each model is baked at 1e-3 of its diagonal (caps 256 per curve, 4096 per patch). Every
+//! Each model's hierarchy is baked at 1e-3 of its diagonal (`BAKE_REL` sets another). Every
 //! triangle the kernel writes is sampled at 12 barycentric steps per side with the `f64`
 //! reference, as the surface against the triangle's linear interpolant at the same parameters,
 //! projected with an `f64` camera of the tests' own; only samples that land on screen count
@@ -17,9 +17,9 @@
 //! tolerance: a lower bound for any uniform tessellator (it has cracks; a crack-free one needs
 //! a few more). *Bound / true* compares each triangle's bound from the kernel with its measured
 //! deviation in model units (triangles whose deviation is below 1e-9 of the diagonal left
-//! out). *Off screen* counts the triangles with no sample on screen. *Full ms* is a new
-//! tessellator, its update and the indexed write, best of three; *Mtri/s* its triangles per
-//! second.
+//! out). *Off screen* counts the triangles with no sample on screen. *Full ms* is a frame
+//! from a new run time, its update and the indexed write, best of three; *Mtri/s* its
+//! triangles per second.
 //!
 //! With `SPLIT` set, the kernel tessellates the model with every patch split into four
 //! ([`spline_tess::PatchSet::split`]), baked at the same tolerance in the model's units; the
@@ -39,23 +39,16 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use host_tests::bisection::{streamed as bisect_streamed, BakedBintree, SelectionStorage};
-use host_tests::model_file::{bake_to_vec, within, ModelFile};
+use host_tests::model_file::{within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
-use host_tests::runtime::{streamed, RuntimeStorage};
+use host_tests::runtime::{streamed, BakedBintree, SelectionStorage};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
-use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
+use spline_tess::bake::Tolerance;
 use spline_tess::bisect::BintreeSettings;
-use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, ParamRect, Projection, Vec3, Vertex, View};
 
 /// The default bake tolerance, relative to the model's diagonal (`BAKE_REL` sets another).
 const BAKE_REL: f32 = 1e-3;
-const BAKE: BakeSettings = BakeSettings {
-    tolerance: Tolerance::Relative(BAKE_REL),
-    max_curve_samples: 256,
-    max_interior_samples: 4096,
-};
 const DENSE: usize = 12;
 const GRID_DENSE: usize = 8;
 
@@ -87,11 +80,8 @@ enum Look {
 struct Baked {
     model: &'static str,
     file: ModelFile,
-    kernel: ModelFile,
     pieces: Option<Vec<ParamRect>>,
-    bytes: Vec<u8>,
-    /// With `ENGINE=bintree`, the bisection bake.
-    bintree: Option<BakedBintree>,
+    hierarchy: BakedBintree,
 }
 
 struct Case {
@@ -195,8 +185,6 @@ fn main() {
         .ok()
         .map_or(0, |v| v.parse().unwrap_or(1));
     let split = split_levels > 0;
-    // `ENGINE=bintree`: the bisection run time (`spline_tess::bisect`) in place of the kernel's.
-    let bisection = std::env::var("ENGINE").is_ok_and(|e| e == "bintree");
     let mut baked_cache: Vec<Baked> = Vec::new();
     for case in cases() {
         if !only.is_empty() && !only.iter().any(|o| case.name.contains(o.as_str())) {
@@ -232,40 +220,27 @@ fn main() {
             } else {
                 Tolerance::Relative(rel)
             };
-            let bake = BakeSettings { tolerance, ..BAKE };
-            let bytes = kernel
-                .with_model(|m| bake_to_vec(m, &bake))
-                .expect("a topology")
-                .expect("a bake");
-            let bintree = bisection.then(|| {
-                let settings = BintreeSettings {
-                    tolerance,
-                    ..BintreeSettings::default()
-                };
-                BakedBintree::bake(&kernel, &settings).expect("a bisection bake")
-            });
+            let settings = BintreeSettings {
+                tolerance,
+                ..BintreeSettings::default()
+            };
+            let hierarchy = BakedBintree::bake(&kernel, &settings).expect("a bake");
             baked_cache.push(Baked {
                 model: case.model,
                 file,
-                kernel,
                 pieces,
-                bytes,
-                bintree,
+                hierarchy,
             });
         }
         let Baked {
             file,
-            kernel,
             pieces,
-            bytes,
-            bintree,
+            hierarchy,
             ..
         } = baked_cache
             .iter()
             .find(|b| b.model == case.model)
             .expect("baked above");
-        let baked = BakedModel::from_bytes(bytes).expect("a fresh bake reads back");
-        let patches = kernel.patches();
         let aabb = file.patches().aabb().expect("patches");
         let (center, diag) = (aabb.center(), aabb.diagonal());
         // The model's own patches: the reference for the grid and for every check.
@@ -345,46 +320,27 @@ fn main() {
             None => Measure::Object,
         };
         // Speed: a full frame, best of three.
-        let settings = Settings::default();
-        let mut storage = RuntimeStorage::new(&baked, &settings);
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let mut best = f64::INFINITY;
         let mut count = 0;
         let mut left_over = 0;
-        let tris = match bintree {
-            Some(b) => {
-                let tree = b.tree();
-                let mut store = SelectionStorage::new(&tree, 1 << 12, 1 << 16);
-                let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
-                for _ in 0..3 {
-                    let start = Instant::now();
-                    let mut s = store.selection(tree);
-                    let stats = s.update(&view);
-                    s.write_mesh(&mut vertices, &mut triangles, &mut remap)
-                        .expect("room");
-                    best = best.min(start.elapsed().as_secs_f64() * 1e3);
-                    count = stats.triangles;
-                    left_over = stats.left_over;
-                }
-                let mut s = store.selection(tree);
-                s.update(&view);
-                bisect_streamed(&s)
-            }
-            None => {
-                for _ in 0..3 {
-                    let start = Instant::now();
-                    let mut t = storage.tessellator(patches, baked, settings);
-                    let stats = t.update(&view).expect("an update");
-                    t.write_mesh(&mut vertices, &mut triangles).expect("room");
-                    best = best.min(start.elapsed().as_secs_f64() * 1e3);
-                    count = stats.triangles;
-                }
-                let mut tess = storage.tessellator(patches, baked, settings);
-                tess.update(&view).expect("an update");
-                streamed(&tess)
-            }
-        };
+        let tree = hierarchy.tree();
+        let mut store = SelectionStorage::new(&tree, 1 << 12, 1 << 16);
+        let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
+        for _ in 0..3 {
+            let start = Instant::now();
+            let mut s = store.selection(tree);
+            let stats = s.update(&view);
+            s.write_mesh(&mut vertices, &mut triangles, &mut remap)
+                .expect("room");
+            best = best.min(start.elapsed().as_secs_f64() * 1e3);
+            count = stats.triangles;
+            left_over = stats.left_over;
+        }
+        let mut s = store.selection(tree);
+        s.update(&view);
+        let tris = streamed(&s);
         if left_over > 0 {
             eprintln!("{}: {left_over} leaves of the bake left over", case.name);
         }

@@ -1,13 +1,10 @@
 //! One view's frames in a loop, for a profiler or for timing two builds against each other:
 //! the teapot at 1024x768, 1 px, eye (6,-6,4), baked at `BAKE_REL` (default 2.5e-4) of its
-//! diagonal. `FRAMES` frames (default 200), each a new tessellator's update and indexed write
-//! (a cold frame). With `ORBIT=1`, one tessellator follows the eye around the model a degree a
-//! frame instead (a warm frame: the update from the frame before, and the write; the first
-//! frame is not timed). Prints the last frame's triangles and the best and mean frame times.
-//! The bake happens before the loop and is not timed (a profile of the whole run includes it).
-//! With `ENGINE=bintree`, the bisection run time (`spline_tess::bisect`, its bake at the same
-//! tolerance) does the same: its frames are history-free, so cold and warm differ only in the
-//! view.
+//! diagonal. `FRAMES` frames (default 200), each an update and an indexed write. With
+//! `ORBIT=1` the eye goes around the model a degree a frame (frames are history-free, so this
+//! differs from the fixed view only in the views). Prints the last frame's triangles and the
+//! best and mean frame times. The bake happens before the loop and is not timed (a profile of
+//! the whole run includes it).
 //!
 //! ```text
 //! cargo run --release -p host-tests --example frame_loop
@@ -17,12 +14,10 @@
 
 use std::time::Instant;
 
-use host_tests::bisection::{BakedBintree, SelectionStorage};
 use host_tests::model_file::ModelFile;
-use host_tests::runtime::RuntimeStorage;
-use spline_tess::bake::{BakedModel, Tolerance};
+use host_tests::runtime::{BakedBintree, SelectionStorage};
+use spline_tess::bake::Tolerance;
 use spline_tess::bisect::BintreeSettings;
-use spline_tess::tessellator::Settings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -37,10 +32,7 @@ fn main() {
     let frames: usize = env("FRAMES", 200).max(1);
     let path = host_tests::models_dir().join("teapot.bpt");
     let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-    let bytes = file.bake_relative(rel).expect("a bake");
-    let baked = BakedModel::from_bytes(&bytes).expect("a bake reads back");
-    let patches = file.patches();
-    let diag = patches.aabb().expect("patches").diagonal();
+    let diag = file.patches().aabb().expect("patches").diagonal();
     let orbit = std::env::var("ORBIT").is_ok_and(|v| v == "1");
     let view_at = |frame: usize| {
         let angle = if orbit {
@@ -66,7 +58,7 @@ fn main() {
             tolerance_px: 1.0,
         }
     };
-    if std::env::var("ENGINE").is_ok_and(|e| e == "bintree") {
+    {
         let settings = BintreeSettings {
             tolerance: Tolerance::Relative(rel),
             ..BintreeSettings::default()
@@ -95,43 +87,5 @@ fn main() {
             "triangles {count} best {best:.3} ms mean {:.3} ms",
             total / frames as f64
         );
-        return;
     }
-    let settings = Settings::default();
-    let mut storage = RuntimeStorage::new(&baked, &settings);
-    let mut vertices = vec![Vertex::default(); 1 << 20];
-    let mut triangles = vec![[0u32; 3]; 1 << 21];
-    let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
-    let mut record = |ms: f64, triangles: usize| {
-        best = best.min(ms);
-        total += ms;
-        count = triangles;
-    };
-    let mut frame = |t: &mut spline_tess::tessellator::Tessellator<'_, '_>, view: &View| {
-        let stats = t.update(view).expect("an update");
-        t.write_mesh(&mut vertices, &mut triangles).expect("room");
-        stats.triangles
-    };
-    if orbit {
-        let mut t = storage.tessellator(patches, baked, settings);
-        frame(&mut t, &view_at(0));
-        for k in 1..=frames {
-            let view = view_at(k);
-            let start = Instant::now();
-            let n = frame(&mut t, &view);
-            record(start.elapsed().as_secs_f64() * 1e3, n);
-        }
-    } else {
-        let view = view_at(0);
-        for _ in 0..frames {
-            let start = Instant::now();
-            let mut t = storage.tessellator(patches, baked, settings);
-            let n = frame(&mut t, &view);
-            record(start.elapsed().as_secs_f64() * 1e3, n);
-        }
-    }
-    println!(
-        "triangles {count} best {best:.3} ms mean {:.3} ms",
-        total / frames as f64
-    );
 }

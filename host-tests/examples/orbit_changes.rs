@@ -14,9 +14,9 @@
 
 use std::collections::HashSet;
 
-use host_tests::bisection::{streamed, BakedBintree, SelectionStorage};
 use host_tests::model_file::ModelFile;
 use host_tests::runtime::triangle_set;
+use host_tests::runtime::{streamed, BakedBintree, SelectionStorage};
 use spline_tess::bake::Tolerance;
 use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, Projection, Vec3, View};

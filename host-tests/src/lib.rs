@@ -5,9 +5,7 @@
 //! fixtures with `serde_json`, evaluates Bezier patches by direct Bernstein sums and NURBS
 //! surfaces by Cox-de Boor basis functions, all in `f64`.
 
-pub mod baked;
 pub mod bintree;
-pub mod bisection;
 pub mod frame_checks;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
@@ -16,8 +14,6 @@ pub mod obj;
 pub mod peers;
 pub mod reference;
 pub mod runtime;
-#[path = "../../examples/common/runtime_storage.rs"]
-pub mod runtime_storage;
 pub mod screen;
 pub mod screen_bound;
 pub mod seeds;

@@ -1,12 +1,40 @@
-//! Host-side helpers for the run-time tessellator: storage in `Vec`s, meshes, and the checks
-//! the tests and figures share.
+//! Host-side helpers for the run time (`spline_tess::bisect`): a bake in `Vec`s
+//! (`model_file::BakedBintree`, which the examples share), run-time storage in `Vec`s, and a
+//! frame as an indexed mesh or as streamed triangles, with the checks the tests and figures
+//! share.
 
 use std::collections::HashMap;
 
-use spline_tess::tessellator::Tessellator;
-use spline_tess::{DomainIndex, TriangleInfo, Vertex};
+use spline_tess::bisect::{Bintree, Pending, RefinedVertex, Selection};
+use spline_tess::{TriangleInfo, Vertex};
 
-pub use crate::runtime_storage::RuntimeStorage;
+pub use crate::model_file::BakedBintree;
+
+/// Run-time storage for a [`Selection`] in `Vec`s.
+#[derive(Debug)]
+pub struct SelectionStorage {
+    bits: Vec<u32>,
+    stack: Vec<Pending>,
+    pool: Vec<RefinedVertex>,
+}
+
+impl SelectionStorage {
+    /// Storage for `tree` with a stack of `stack` entries and a pool of `pool` vertices
+    /// below the bake.
+    pub fn new(tree: &Bintree<'_>, stack: usize, pool: usize) -> Self {
+        SelectionStorage {
+            bits: vec![0; tree.bit_words()],
+            stack: vec![Pending::default(); stack],
+            pool: vec![RefinedVertex::default(); pool],
+        }
+    }
+
+    /// A run time over `tree` in this storage.
+    pub fn selection<'t>(&mut self, tree: Bintree<'t>) -> Selection<'t, '_> {
+        Selection::new(tree, &mut self.bits, &mut self.stack, &mut self.pool)
+            .expect("storage sized for the tree")
+    }
+}
 
 /// An indexed mesh.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -18,13 +46,15 @@ pub struct Mesh {
 }
 
 /// The current frame as an indexed mesh.
-pub fn indexed<Ix: DomainIndex>(tess: &mut Tessellator<'_, '_, Ix>) -> Mesh {
-    let size = tess.mesh_size();
+pub fn indexed(selection: &mut Selection<'_, '_>) -> Mesh {
+    let size = selection.mesh_size();
     let mut mesh = Mesh {
         vertices: vec![Vertex::default(); size.vertices],
         triangles: vec![[0; 3]; size.triangles],
     };
-    tess.write_mesh(&mut mesh.vertices, &mut mesh.triangles)
+    let mut remap = vec![0u32; selection.remap_len()];
+    selection
+        .write_mesh(&mut mesh.vertices, &mut mesh.triangles, &mut remap)
         .expect("buffers sized by mesh_size");
     mesh
 }
@@ -55,9 +85,9 @@ impl Streamed {
 }
 
 /// The current frame as streamed triangles.
-pub fn streamed<Ix: DomainIndex>(tess: &Tessellator<'_, '_, Ix>) -> Vec<Streamed> {
+pub fn streamed(selection: &Selection<'_, '_>) -> Vec<Streamed> {
     let mut out = Vec::new();
-    tess.stream_with_info(|info, c| out.push(Streamed::of(info, c)));
+    selection.stream_with_info(|info, c| out.push(Streamed::of(info, c)));
     out
 }
 

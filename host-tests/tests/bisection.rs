@@ -21,10 +21,10 @@
 use std::collections::{HashMap, HashSet};
 
 use host_tests::bintree::{bintree, children, model_spot, roots, Bin, BINTREE_BITS};
-use host_tests::bisection::{streamed, BakedBintree, SelectionStorage};
 use host_tests::frame_checks::{camera_path, check_watertight, measure_frame, Step};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
+use host_tests::runtime::{streamed, BakedBintree, SelectionStorage};
 use host_tests::runtime::{triangle_set, Mesh};
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::Tolerance;

@@ -16,7 +16,9 @@ fn every_seed_of_every_target_passes() {
     let unbounded = harness::UNBOUNDED
         .iter()
         .map(|(target, body)| (*target, body, " (unbounded)"));
-    let bodies = harness::TARGETS.iter().map(|(target, body)| (*target, body, ""));
+    let bodies = harness::TARGETS
+        .iter()
+        .map(|(target, body)| (*target, body, ""));
     for (target, body, kind) in bodies.chain(unbounded) {
         let dir = root.join(target);
         let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)

@@ -10,19 +10,18 @@
 
 use std::collections::{HashMap, HashSet};
 
-use host_tests::model_file::{bake_to_vec, ModelFile};
+use host_tests::model_file::ModelFile;
 use host_tests::obj::{frame_faces, obj_text};
 use host_tests::reference::{self, RefNurbs, RefPatch, V3};
-use host_tests::runtime::{indexed, RuntimeStorage};
+use host_tests::runtime::{indexed, BakedBintree, SelectionStorage};
 use host_tests::{bpt_models, name, nurbs_fixtures};
-use spline_tess::bake::{BakeSettings, BakedModel, Tolerance};
-use spline_tess::tessellator::Settings;
+use spline_tess::bake::Tolerance;
+use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, Projection, Vec3, View};
 
-const BAKE: BakeSettings = BakeSettings {
+const BAKE: BintreeSettings = BintreeSettings {
     tolerance: Tolerance::Relative(1e-3),
-    max_curve_samples: 256,
-    max_interior_samples: 1024,
+    max_depth: 24,
 };
 
 /// Largest distance between `v` and the surface at `vt`, over the diagonal.
@@ -139,19 +138,17 @@ fn every_face_corner_carries_its_own_parameters() {
         } else {
             Surface::Patches(reference::read_bpt(&text))
         };
-        let bytes = file.with_model(|m| bake_to_vec(m, &BAKE)).unwrap().unwrap();
-        let baked = BakedModel::from_bytes(&bytes).unwrap();
-        let patches = file.patches();
-        let bounds = patches.aabb().unwrap();
+        let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+        let tree = baked.tree();
+        let bounds = file.patches().aabb().unwrap();
         let diag = bounds.diagonal();
         let center = (bounds.min + bounds.max) * 0.5;
-        let settings = Settings::default();
-        let mut storage = RuntimeStorage::new(&baked, &settings);
-        let mut tess = storage.tessellator(patches, baked, settings);
+        let mut storage = SelectionStorage::new(&tree, 1024, 1 << 16);
+        let mut selection = storage.selection(tree);
         for (view_label, view) in views(center, diag) {
-            tess.update(&view).unwrap();
-            let mesh = indexed(&mut tess);
-            let faces = frame_faces(&tess, &mesh.triangles);
+            selection.update(&view);
+            let mesh = indexed(&mut selection);
+            let faces = frame_faces(&selection, &mesh.triangles);
             let obj = parse(&obj_text(&file, nurbs, &mesh.vertices, &faces));
             let at = format!("{label}, {view_label}");
             assert_eq!(obj.v.len(), mesh.vertices.len(), "{at}: one v per vertex");

@@ -64,20 +64,6 @@ type Net = [[Vec4; MAX_DEGREE + 1]; MAX_DEGREE + 1];
 
 impl PatchBounds {
     /// The bounds of `patch` over its whole domain.
-    ///
-    /// ```
-    /// use spline_tess::bake::PatchBounds;
-    /// use spline_tess::BezierPatch;
-    ///
-    /// // z = 4 u (1 - u): S_uu = (0, 0, -8) everywhere, S_uv = S_vv = 0.
-    /// let net = [
-    ///     [0.0, 0.0, 0.0], [0.0, 1.0, 0.0],
-    ///     [0.5, 0.0, 2.0], [0.5, 1.0, 2.0],
-    ///     [1.0, 0.0, 0.0], [1.0, 1.0, 0.0],
-    /// ];
-    /// let b = PatchBounds::of(&BezierPatch::new(2, 1, &net).unwrap());
-    /// assert!((b.second[0] - 8.0).abs() < 1e-4 && b.second[1] < 1e-6 && b.second[2] == 0.0);
-    /// ```
     pub fn of(patch: &BezierPatch<'_>) -> PatchBounds {
         Self::over(patch, [0.0, 1.0, 0.0, 1.0])
     }
@@ -268,7 +254,6 @@ impl PatchBounds {
         };
         PreparedBounds {
             second: self.second,
-            slack: self.slack,
             t0,
             fixed: [pair(t0), pair(1.0)],
         }
@@ -293,8 +278,6 @@ fn weights_for([a, b, c]: [f32; 3], t: f32) -> (f32, f32) {
 pub(crate) struct PreparedBounds {
     /// [`PatchBounds::second`].
     second: [f32; 3],
-    /// [`PatchBounds::slack`].
-    pub(crate) slack: f32,
     /// The first choice of `t`.
     t0: f32,
     /// `α`, `β` and `sqrt(α β)` for `t = t0` and `t = 1`.
@@ -387,6 +370,21 @@ mod tests {
     /// `PreparedBounds::curvature_term` gives the fresh computation's bits, for bounds with
     /// zero terms and equal ones, and for acute, right, obtuse and axis-aligned triangles
     /// (whose box aspect is 1 or equal to `sqrt(c / a)`).
+    /// `z = 4 u (1 - u)`: `S_uu = (0, 0, -8)` everywhere, `S_uv = S_vv = 0`.
+    #[test]
+    fn a_parabola_has_its_second_derivative() {
+        let net = [
+            [0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.0, 2.0],
+            [0.5, 1.0, 2.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        let b = PatchBounds::of(&BezierPatch::new(2, 1, &net).unwrap());
+        assert!((b.second[0] - 8.0).abs() < 1e-4 && b.second[1] < 1e-6 && b.second[2] == 0.0);
+    }
+
     #[test]
     fn prepared_curvature_term_is_the_fresh_one_bit_for_bit() {
         let mut rng = TestRng::new(0x5eed_0002);

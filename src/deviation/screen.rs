@@ -68,15 +68,12 @@
 
 use glam::Vec3;
 
-use super::{Lattice, EPS, LATTICE};
-use crate::math::{length, max, min, sqrt};
+use super::EPS;
+use crate::math::{max, min};
 use crate::view::{Camera, Projection};
 
 /// Most vertices of a triangle clipped by five planes.
 const CLIPPED: usize = 8;
-
-/// Lattice points besides the corners.
-const INNER: usize = (LATTICE as usize + 1) * (LATTICE as usize + 2) / 2 - 3;
 
 /// Relative enlargement of the computed bound, for its own few roundings.
 const SCREEN_SLACK: f32 = 1.0 + 1.0 / 1024.0;
@@ -146,35 +143,6 @@ impl Polygon {
             }
         }
         out
-    }
-}
-
-impl Lattice {
-    /// The bound of the triangle's deviation on `camera`'s screen, in pixels (see the module
-    /// docs), with the remainder from the curvature term `curvature` and rounding slack
-    /// `slack` of bounds over a region containing the triangle. Needs
-    /// [`complete`](Self::complete).
-    pub(crate) fn screen_bound(&self, camera: &Camera, curvature: f32, slack: f32) -> f32 {
-        let n = LATTICE as usize;
-        let s = &self.s;
-        let (q0, q1, q2) = (s[0][0], s[n][0], s[0][n]);
-        let r = curvature * (1.0 / (n * n) as f32) + slack;
-        // The deviation vectors in view coordinates, and the longest one.
-        let mut e = [Vec3::ZERO; INNER];
-        let (mut k, mut big) = (0, 0.0f32);
-        for i in 0..=n {
-            for j in 0..=n - i {
-                if i == n || j == n || i + j == 0 {
-                    continue;
-                }
-                let d = Vec3::from_array(self.deviation(i, j).to_array());
-                big = max(big, length(d));
-                e[k] = camera.rotate_to_view(d);
-                k += 1;
-            }
-        }
-        let corners = [q0, q1, q2].map(|q| camera.to_view(Vec3::from_array(q.to_array())));
-        bound_on_screen(camera, corners, &e, big, r, slack, sqrt, f32::INFINITY)
     }
 }
 

@@ -7,7 +7,7 @@ use glam::{Vec3, Vec4};
 use super::{BezierPatch, Side};
 use crate::basis::{bernstein, bernstein_fixed, tensor_point, tensor_with_derivatives, Bezier};
 use crate::frame::{frame, nudge, SurfacePoint};
-use crate::math::{clamp_param, normalize, SIMD_LANES};
+use crate::math::{clamp_param, normalize};
 
 impl BezierPatch<'_> {
     /// The point at `(u, v)`; parameters are clamped to `[0, 1]` (NaN counts as 0). The same
@@ -69,20 +69,12 @@ impl BezierPatch<'_> {
         }
     }
 
-    /// [`position_direct`](Self::position_direct) at `K` parameter pairs, the same bits per
-    /// point. A bicubic polynomial patch (the common case) is summed four points at a time,
-    /// one per lane of a [`Vec4`] for each coordinate: every lane takes the scalar sum's
-    /// operations in its order, and each control point is read once per four points (SIMD on
-    /// the host, and fewer loads everywhere). A point on a collapsed side is its pole, as
-    /// `position_direct` gives it; other patches are evaluated a point at a time.
-    pub(crate) fn positions_direct<const K: usize>(&self, uv: [(f32, f32); K]) -> [Vec3; K] {
-        let mut out = [Vec3::ZERO; K];
-        self.positions_direct_into(&uv, &mut out);
-        out
-    }
-
-    /// [`positions_direct`](Self::positions_direct) into `out` (one copy of the code for every
-    /// length: kernel flash is scarce).
+    /// [`position_direct`](Self::position_direct) at each parameter pair of `uv`, into
+    /// `out`: the same bits per point. A bicubic polynomial patch (the common case) is summed
+    /// four points at a time, one per lane of a [`Vec4`] for each coordinate: every lane takes
+    /// the scalar sum's operations in its order, and each control point is read once per four
+    /// points (SIMD on the host, and fewer loads everywhere). A point on a collapsed side is
+    /// its pole, as `position_direct` gives it; other patches are evaluated a point at a time.
     pub(crate) fn positions_direct_into(&self, uv: &[(f32, f32)], out: &mut [Vec3]) {
         let (p, q) = (self.degree_u(), self.degree_v());
         if !(self.weights.is_none() && p == 3 && q == 3) {
@@ -140,48 +132,6 @@ impl BezierPatch<'_> {
         let u = clamp_param(u, 0.0, 1.0);
         let v = clamp_param(v, 0.0, 1.0);
         self.surface_point(self.frame_at(u, v), u, v)
-    }
-
-    /// [`evaluate`](Self::evaluate) at each pair of `uv`, into `out`: the same bits per point.
-    /// Where [`Vec4`] has SIMD lanes, a bicubic polynomial patch (the common case) sums its
-    /// points and partials four at a time, one per lane for each coordinate, each lane taking
-    /// the scalar sums' operations in their order (as
-    /// [`positions_direct`](Self::positions_direct)); the normals, every other patch and
-    /// every point on other targets are done a point at a time. (Measured 2026-11-24 on the
-    /// Cortex-M4F, whose `Vec4` is four scalars: the batch cost `fw_tessellate` 18k more
-    /// instructions in a frame of 4.1M, and 5.9 KB of kernel flash at opt-level "s".)
-    pub(crate) fn evaluate_into(&self, uv: &[(f32, f32)], out: &mut [SurfacePoint]) {
-        let (p, q) = (self.degree_u(), self.degree_v());
-        if !(SIMD_LANES && self.weights.is_none() && p == 3 && q == 3) {
-            for (point, &(u, v)) in out.iter_mut().zip(uv) {
-                *point = self.evaluate(u, v);
-            }
-            return;
-        }
-        for (chunk, at) in out.chunks_mut(4).zip(uv.chunks(4)) {
-            // Lanes past the end repeat the chunk's first point.
-            let lane = |l: usize| {
-                let (u, v) = at.get(l).or(at.first()).copied().unwrap_or_default();
-                (clamp_param(u, 0.0, 1.0), clamp_param(v, 0.0, 1.0))
-            };
-            let lanes = [lane(0), lane(1), lane(2), lane(3)];
-            let sums = derivative_sums4(
-                self.points,
-                Vec4::new(lanes[0].0, lanes[1].0, lanes[2].0, lanes[3].0),
-                Vec4::new(lanes[0].1, lanes[1].1, lanes[2].1, lanes[3].1),
-            );
-            for ((point, (u, v)), sums) in chunk.iter_mut().zip(lanes).zip(sums) {
-                let ev = self.polynomial_eval(sums, u, v);
-                let f = frame(
-                    &ev,
-                    u,
-                    v,
-                    |side| self.is_collapsed(side),
-                    || self.polynomial_twist(u, v),
-                );
-                *point = self.surface_point(f, u, v);
-            }
-        }
     }
 
     /// The surface point of frame `f` at clamped `(u, v)`: its normal, or where that is
@@ -442,51 +392,6 @@ fn derivative_sums(
     (s, s_u, s_v)
 }
 
-/// [`derivative_sums`] of a bicubic net at four parameter pairs, one per lane: each lane's
-/// operations are the scalar sums', in their order (the Bernstein values as
-/// [`bernstein_fixed`] computes them, a difference of control points as `Vec3` subtracts).
-fn derivative_sums4(points: &[[f32; 3]], u: Vec4, v: Vec4) -> [(Vec3, Vec3, Vec3); 4] {
-    const N: usize = 4;
-    let (bu, bv) = (bernstein4::<4>(u), bernstein4::<4>(v));
-    let (du, dv) = (bernstein4::<3>(u), bernstein4::<3>(v));
-    let Some(points) = points.get(..N * N) else {
-        return [(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); 4];
-    };
-    let at = |i: usize, j: usize| points[i * N + j];
-    let diff = |a: [f32; 3], b: [f32; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    // Per coordinate, `acc + point * b` in every lane.
-    let add = |acc: &mut [Vec4; 3], point: [f32; 3], b: Vec4| {
-        for (a, c) in acc.iter_mut().zip(point) {
-            *a += Vec4::splat(c) * b;
-        }
-    };
-    let (mut s, mut s_u, mut s_v) = ([Vec4::ZERO; 3], [Vec4::ZERO; 3], [Vec4::ZERO; 3]);
-    for (i, &b_i) in bu.iter().enumerate() {
-        let (mut row, mut row_v) = ([Vec4::ZERO; 3], [Vec4::ZERO; 3]);
-        for (j, &b_j) in bv.iter().enumerate() {
-            add(&mut row, at(i, j), b_j);
-        }
-        for (j, &d_j) in dv.iter().enumerate() {
-            add(&mut row_v, diff(at(i, j + 1), at(i, j)), d_j);
-        }
-        for c in 0..3 {
-            s[c] += row[c] * b_i;
-            s_v[c] += row_v[c] * b_i;
-        }
-    }
-    for (i, &d_i) in du.iter().enumerate() {
-        let mut row = [Vec4::ZERO; 3];
-        for (j, &b_j) in bv.iter().enumerate() {
-            add(&mut row, diff(at(i + 1, j), at(i, j)), b_j);
-        }
-        for c in 0..3 {
-            s_u[c] += row[c] * d_i;
-        }
-    }
-    let lane = |x: &[Vec4; 3], l: usize| Vec3::new(x[0][l], x[1][l], x[2][l]);
-    [0, 1, 2, 3].map(|l| (lane(&s, l), lane(&s_u, l), lane(&s_v, l)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -536,12 +441,12 @@ mod tests {
         }
     }
 
-    /// `positions_direct` gives `position_direct`'s bits at every point, for the degrees it
+    /// `positions_direct_into` gives `position_direct`'s bits at every point, for the degrees it
     /// sums four at a time and for one it hands back (and a rational patch), at interior and
     /// boundary parameters, and the pole on a collapsed side; for lengths that fill and that
     /// leave lanes over.
     #[test]
-    fn positions_direct_are_position_direct_bit_for_bit() {
+    fn positions_direct_into_is_position_direct_bit_for_bit() {
         let mut rng = TestRng::new(0x5eed_0001);
         let mut compared = 0;
         let degrees = [(3, 3), (2, 2), (1, 1), (3, 2)];
@@ -562,36 +467,13 @@ mod tests {
                     }
                     uv.len()
                 };
-                compared += check(&uv3, &patch.positions_direct(uv3));
-                compared += check(&uv10, &patch.positions_direct(uv10));
-                compared += check(&uv18, &patch.positions_direct(uv18));
-            }
-        });
-        assert_eq!(compared, 4 * 2 * 2 * 20 * 31);
-    }
-
-    /// `evaluate_into` gives `evaluate`'s bits (point, partials and normal) at every point,
-    /// as above, and at parameters outside the square (clamped).
-    #[test]
-    fn evaluate_into_is_evaluate_bit_for_bit() {
-        let mut rng = TestRng::new(0x5eed_0002);
-        let bits = |s: &SurfacePoint| {
-            [s.position, s.partial_u, s.partial_v, s.normal].map(|x| x.to_array().map(f32::to_bits))
-        };
-        let mut compared = 0;
-        for_each_random_patch(&mut rng, &[(3, 3), (2, 2), (3, 2)], |rng, patch, (p, q)| {
-            for len in [1, 3, 4, 7, 9] {
-                let uv: [(f32, f32); 9] =
-                    core::array::from_fn(|_| (random_unit(rng, true), random_unit(rng, true)));
-                let mut got = [patch.evaluate(0.5, 0.5); 9];
-                patch.evaluate_into(&uv[..len], &mut got[..len]);
-                for (&(u, v), g) in uv.iter().zip(&got).take(len) {
-                    let want = patch.evaluate(u, v);
-                    assert_eq!(bits(g), bits(&want), "({p}, {q}) at ({u}, {v})");
-                    compared += 1;
+                for uv in [&uv3[..], &uv10[..], &uv18[..]] {
+                    let mut got = [Vec3::ZERO; 18];
+                    patch.positions_direct_into(uv, &mut got[..uv.len()]);
+                    compared += check(uv, &got[..uv.len()]);
                 }
             }
         });
-        assert_eq!(compared, 3 * 2 * 2 * 24);
+        assert_eq!(compared, 4 * 2 * 2 * 20 * 31);
     }
 }

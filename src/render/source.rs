@@ -1,4 +1,4 @@
-//! Where the renderer's triangles come from: the tessellator itself (streamed, no mesh buffer)
+//! Where the renderer's triangles come from: the run time itself (streamed, no mesh buffer)
 //! or an indexed mesh in caller buffers.
 
 use core::ops::Range;
@@ -7,11 +7,9 @@ use glam::Vec3;
 
 use crate::bisect::Selection;
 use crate::bound::{Aabb, BoundingSphere};
-use crate::domain::DomainIndex;
 use crate::math::{max, min};
 use crate::patch::BezierPatch;
 use crate::sink::{MeshIndex, TriangleSink, Vertex};
-use crate::tessellator::Tessellator;
 use crate::view::Camera;
 
 /// Triangles the [`Renderer`](super::Renderer) can draw, band by band.
@@ -32,39 +30,6 @@ pub trait TriangleSource {
     /// vertex once, by its number. The default, `None`: keys are only names.
     fn vertex_numbers(&self) -> Option<usize> {
         None
-    }
-}
-
-/// The current frame of a tessellator, streamed without a mesh buffer: each band streams only
-/// the patches that may reach its rows (by their projected control points, or their bounding
-/// sphere when a control point is behind the near plane), and evaluates their vertices again.
-///
-/// The triangles come as [`keyed_triangle`](TriangleSink::keyed_triangle)s, and a corner is
-/// evaluated each time the sink asks for it: unlike [`Tessellator::stream`], this stream keeps
-/// no evaluated points of its own, because the renderer's sinks keep the corners they ask for
-/// by key. A sink that keeps none is better served by `Tessellator::stream`.
-impl<Ix: DomainIndex> TriangleSource for Tessellator<'_, '_, Ix> {
-    fn bound(&self) -> Option<BoundingSphere> {
-        sphere_around(self.model_box()?)
-    }
-
-    fn stream_rows(&self, camera: &Camera, rows: Range<u32>, sink: &mut impl TriangleSink) {
-        // One copy of the tessellator's streaming code serves every kind of sink (the list,
-        // a band, what a partial list leaves): a call through a pointer per triangle is cheap
-        // against evaluating it, and each copy would cost kilobytes of flash.
-        let sink: &mut dyn TriangleSink = sink;
-        for p in 0..self.patches().len() {
-            if self.is_culled(p) || !sink.wants_patch(p as u32) {
-                continue;
-            }
-            // The patch lies in its control points' convex hull (weights are positive), and
-            // in front of the eye the hull projects to the hull of their projections.
-            let span = projected_rows(self.patches().patch(p), camera)
-                .or_else(|| camera.sphere_rows(&self.patch_bound(p)?));
-            if reaches(span, &rows) {
-                self.stream_patch_to_keeper(p, sink);
-            }
-        }
     }
 }
 

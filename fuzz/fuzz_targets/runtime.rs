@@ -1,9 +1,0 @@
-//! The run time: any model of a small set, bake caps, settings, cameras, tolerances, budgets
-//! and update sequences; every frame written into small and exact buffers and streamed (see
-//! `harness/runtime.rs`).
-#![no_main]
-
-#[path = "../harness/mod.rs"]
-mod harness;
-
-libfuzzer_sys::fuzz_target!(|data: &[u8]| harness::runtime::runtime(data));
