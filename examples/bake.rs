@@ -15,9 +15,9 @@ mod common;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use common::model_file::{BakedBintree, ModelFile};
+use common::model_file::{BakedHierarchy, ModelFile};
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{write_rust_source, BintreeSettings};
+use spline_tess::bake::{write_rust_source, BakeSettings};
 
 const USAGE: &str = "usage: bake MODEL(.bpt|.json) --tolerance EPS [--relative] [--rust FILE.rs]";
 
@@ -58,16 +58,16 @@ fn parse_args() -> Result<Args, String> {
 fn run() -> Result<(), String> {
     let args = parse_args()?;
     let file = ModelFile::read(&args.model)?;
-    let settings = BintreeSettings {
+    let settings = BakeSettings {
         tolerance: if args.relative {
             Tolerance::Relative(args.tolerance)
         } else {
             Tolerance::Absolute(args.tolerance)
         },
-        ..BintreeSettings::default()
+        ..BakeSettings::default()
     };
     let start = Instant::now();
-    let baked = BakedBintree::bake(&file, &settings)?;
+    let baked = BakedHierarchy::bake(&file, &settings)?;
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.rust {
         let mut src = String::new();

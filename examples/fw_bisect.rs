@@ -31,7 +31,7 @@ mod frames;
 #[path = "common/fw_views.rs"]
 mod fw_views;
 
-use spline_tess::bisect::{Bintree, Pending, RefinedVertex};
+use spline_tess::tessellator::{Hierarchy, Pending, RefinedVertex};
 use spline_tess::{PatchSet, Vertex};
 
 mod data {
@@ -39,8 +39,10 @@ mod data {
 }
 
 /// Words of bits the hierarchy takes.
-const BITS: usize =
-    spline_tess::bisect::bit_words_for(baked::TEAPOT_NODES.len(), baked::TEAPOT_VERTICES.len());
+const BITS: usize = spline_tess::tessellator::bit_words_for(
+    baked::TEAPOT_NODES.len(),
+    baked::TEAPOT_VERTICES.len(),
+);
 
 /// Bytes of the hierarchy in flash: its nodes, vertices and patch records.
 const FLASH_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_NODES)
@@ -54,13 +56,13 @@ const STORAGE_BYTES: usize = 4 * BITS
 
 /// Runs every frame, reporting each; true when all match the host.
 fn run(
-    mut report: impl FnMut(usize, &frames::Frame, &spline_tess::bisect::SelectionStats, u64, bool),
+    mut report: impl FnMut(usize, &frames::Frame, &spline_tess::tessellator::FrameStats, u64, bool),
     mut clock: impl FnMut() -> u64,
 ) -> bool {
     let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
         return false;
     };
-    let Ok(tree) = Bintree::new(
+    let Ok(tree) = Hierarchy::new(
         patches,
         &baked::TEAPOT_NODES,
         &baked::TEAPOT_VERTICES,
@@ -141,8 +143,8 @@ mod device {
             "fw_bisect: storage {} bytes (bits {}, stack {}, pool {})",
             super::STORAGE_BYTES,
             4 * super::BITS,
-            super::frames::STACK * core::mem::size_of::<spline_tess::bisect::Pending>(),
-            super::frames::POOL * core::mem::size_of::<spline_tess::bisect::RefinedVertex>(),
+            super::frames::STACK * core::mem::size_of::<spline_tess::tessellator::Pending>(),
+            super::frames::POOL * core::mem::size_of::<spline_tess::tessellator::RefinedVertex>(),
         );
         finish(ok)
     }

@@ -62,13 +62,15 @@ mod spi_display;
 mod teapot;
 
 use spi_display::SpiDisplay;
-use spline_tess::bisect::{Bintree, Pending, RefinedVertex, Selection};
 use spline_tess::render::ListSlot;
+use spline_tess::tessellator::{Hierarchy, Pending, RefinedVertex, Tessellator};
 use spline_tess::PatchSet;
 
 /// Words of bits the hierarchy takes.
-const BITS: usize =
-    spline_tess::bisect::bit_words_for(baked::TEAPOT_NODES.len(), baked::TEAPOT_VERTICES.len());
+const BITS: usize = spline_tess::tessellator::bit_words_for(
+    baked::TEAPOT_NODES.len(),
+    baked::TEAPOT_VERTICES.len(),
+);
 
 /// One frame's measurements (the instruction counts are printed by the firmware only).
 #[derive(Clone, Copy, Default)]
@@ -123,7 +125,7 @@ struct Buffers {
 /// measured apart from the buffers.
 #[inline(never)]
 fn frame(
-    tess: &mut Selection<'_, '_>,
+    tess: &mut Tessellator<'_, '_>,
     k: usize,
     buffers: &mut Buffers,
     display: &mut SpiDisplay,
@@ -180,7 +182,7 @@ fn run(
     let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
         return false;
     };
-    let Ok(tree) = Bintree::new(
+    let Ok(tree) = Hierarchy::new(
         patches,
         &baked::TEAPOT_NODES,
         &baked::TEAPOT_VERTICES,
@@ -191,7 +193,7 @@ fn run(
     let mut bits = [0u32; BITS];
     let mut stack = [Pending::default(); teapot::STACK];
     let mut pool = [RefinedVertex::default(); teapot::POOL];
-    let Ok(mut tess) = Selection::new(tree, &mut bits, &mut stack, &mut pool) else {
+    let Ok(mut tess) = Tessellator::new(tree, &mut bits, &mut stack, &mut pool) else {
         return false;
     };
     let mut buffers = Buffers {

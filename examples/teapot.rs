@@ -27,12 +27,13 @@ use std::time::Instant;
 
 use common::framebuffer::Framebuffer;
 use common::image::Image;
-use common::model_file::{BakedBintree, ModelFile};
+use common::model_file::{BakedHierarchy, ModelFile};
 use common::obj::{frame_faces, write_obj};
 use embedded_graphics::pixelcolor::Rgb888;
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
 use spline_tess::render::{ListSlot, Renderer, Shading, Style, Wireframe};
+use spline_tess::tessellator::{Pending, RefinedVertex, Tessellator};
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: teapot [--model FILE] [--tolerance PX] [--budget N] [--frames N] \
@@ -139,12 +140,12 @@ fn run() -> Result<(), String> {
             .file_stem()
             .map_or("model".into(), |s| s.to_string_lossy().into_owned())
     });
-    let settings = BintreeSettings {
+    let settings = BakeSettings {
         tolerance: Tolerance::Relative(args.bake_tolerance),
-        ..BintreeSettings::default()
+        ..BakeSettings::default()
     };
     let start = Instant::now();
-    let baked = BakedBintree::bake(&file, &settings).map_err(|e| format!("bake: {e}"))?;
+    let baked = BakedHierarchy::bake(&file, &settings).map_err(|e| format!("bake: {e}"))?;
     let bake_ms = start.elapsed().as_secs_f64() * 1e3;
     let tree = baked.tree();
     let bound = file.patches().aabb().ok_or("the model is empty")?;
@@ -152,7 +153,7 @@ fn run() -> Result<(), String> {
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack = vec![Pending::default(); 1 << 12];
     let mut pool = vec![RefinedVertex::default(); 1 << 16];
-    let mut tess = Selection::new(tree, &mut bits, &mut stack, &mut pool)
+    let mut tess = Tessellator::new(tree, &mut bits, &mut stack, &mut pool)
         .map_err(|e| format!("run time: {e}"))?;
     println!(
         "# {}: {} patches baked in {bake_ms:.0} ms ({} triangles, {} bytes); {} frames at {}x{}",

@@ -30,10 +30,11 @@ mod common;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use common::model_file::{BakedBintree, ModelFile};
+use common::model_file::{BakedHierarchy, ModelFile};
 use common::obj::{frame_faces, write_obj};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
+use spline_tess::tessellator::{Pending, RefinedVertex, Tessellator};
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
@@ -182,16 +183,16 @@ fn views(a: &Args, diag: f32) -> Result<Vec<View>, String> {
 
 /// Bakes the model's hierarchy and writes the frames.
 fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Result<(), String> {
-    let settings = BintreeSettings {
+    let settings = BakeSettings {
         tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
-        ..BintreeSettings::default()
+        ..BakeSettings::default()
     };
-    let bake = BakedBintree::bake(file, &settings).map_err(|e| format!("bake: {e}"))?;
+    let bake = BakedHierarchy::bake(file, &settings).map_err(|e| format!("bake: {e}"))?;
     let tree = bake.tree();
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack = vec![Pending::default(); 4096];
     let mut pool = vec![RefinedVertex::default(); 1 << 16];
-    let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool)
+    let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool)
         .map_err(|e| format!("run time: {e}"))?;
     let mut remap = vec![0u32; selection.remap_len()];
     let (mut vertices, mut triangles) = (Vec::new(), Vec::<[u32; 3]>::new());

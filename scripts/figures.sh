@@ -298,7 +298,7 @@ triangle's error in model units times one scale for the whole patch (at the near
 its control net that can show), still without a bound's margin. The kernel's own counts (the
 2.5e-4 table above) are close to this column but for the close-up (where one scale is
 useless for a patch that reaches the near plane), so a prefix loses its triangles mostly to
-the patch's one scale, not to the bound's margin. *Bintree* halves triangles at their
+the patch's one scale, not to the bound's margin. *Hierarchy* halves triangles at their
 hypotenuse instead of inserting points (longest-edge bisection, kept conforming: the meshes
 of ROAM and of right-triangulated irregular networks), judged by the same sampled error on
 screen. These four are not sound. *Isotropic* and *directional bound* select as *adaptive*
@@ -308,11 +308,11 @@ over the triangle (the kernel's form); *directional*, the lattice's deviation ve
 projected one by one at the view rays of the triangle's corners, plus the remainder, so a
 deviation along the line of sight counts for what it moves on screen. Both are sound; the
 column after them checks the directional one against the deviation sampled at 24 steps per
-side. *Bintree, kernel's bound* judges the bintree by the kernel's own sound bound on screen
+side. *Hierarchy, kernel's bound* judges the bintree by the kernel's own sound bound on screen
 (`bake::triangle_screen_bound`). Every triangle a bisection mesh can have is fixed in
 advance, so a bake could hold a bound for each and the run time would evaluate none; with
 the kernel's bound it stays within the issue's ratios on these views (teapot 0.72-0.76,
-Gumbo 0.58). *Bintree, bound, shared curves* meshes the whole model at once, a triangle
+Gumbo 0.58). *Hierarchy, bound, shared curves* meshes the whole model at once, a triangle
 across a curve that two patches share conforming too (no crack): shared boundaries cost it
 about 1% (teapot 0.72-0.76, Gumbo 0.59), and the median error of its triangles is about
 half the tolerance (the kernel's: 0.10 to 0.42 at the default bake). Two numbers per triangle are not enough for

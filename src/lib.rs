@@ -31,7 +31,7 @@
 //!   history-free), goes on below the bake into a caller pool where a view is finer, fits
 //!   budgets, and streams or writes its mesh. Fewer triangles for the same verified error than
 //!   the prefixes (BENCHMARKS.md), at several times the bake's flash; see
-//!   [`Selection::update_to_budget`](bisect::Selection::update_to_budget) for a whole use;
+//!   [`Tessellator::update_to_budget`](bisect::Tessellator::update_to_budget) for a whole use;
 //! - `render` (feature `embedded-graphics`): the band renderer for displays.
 //!
 //! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
@@ -49,21 +49,21 @@
 //!
 //! ## On a microcontroller
 //!
-//! A bisection hierarchy is baked on the host ([`bisect::bake_bintree`]) and written as
+//! A bisection hierarchy is baked on the host ([`bisect::bake_hierarchy`]) and written as
 //! statics ([`bisect::write_rust_source`]) that the firmware reads in place from flash. The run
 //! time's storage is three arrays sized at compile time, whatever the view: bits for the
 //! hierarchy ([`bisect::bit_words_for`]), a stack of waiting triangles (any length from
-//! [`Selection::MIN_STACK`](bisect::Selection::MIN_STACK); a short one walks the patches of
+//! [`Tessellator::MIN_STACK`](bisect::Tessellator::MIN_STACK); a short one walks the patches of
 //! what it had no room for again), and a pool of vertices below the bake (empty here: a view
 //! finer than the bake leaves its triangles whole, and the frame reports the bound it keeps).
 //! The firmware demo `fw_teapot` does this in 5.4 KB, and draws the frame band by band with
 //! `render` (README, *Footprint*).
 //!
 //! ```
-//! # use spline_tess::bisect::{bake_bintree, BakeScratch, Bintree, BintreeBuffers, BintreeNode,
-//! #     BintreePatch, BintreeSettings, BintreeVertex};
+//! # use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeScratch, BakeSettings};
+//! # use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
 //! # use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
-//! use spline_tess::bisect::{bit_words_for, Pending, RefinedVertex, Selection};
+//! use spline_tess::tessellator::{bit_words_for, Pending, RefinedVertex, Tessellator};
 //! use spline_tess::{Camera, Projection, Vec3, View};
 //!
 //! // The hierarchy's statics, as `write_rust_source` writes them (here baked in place).
@@ -79,25 +79,25 @@
 //! # let patches = PatchSet::new(&headers, &points, None)?;
 //! # let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
 //! # let model = Model::build(patches, &mut edges, &mut curves)?;
-//! # let mut nodes = [BintreeNode::default(); NODES];
-//! # let mut vertices = [BintreeVertex::default(); VERTICES];
-//! # let mut records = [BintreePatch::default()];
+//! # let mut nodes = [HierarchyNode::default(); NODES];
+//! # let mut vertices = [HierarchyVertex::default(); VERTICES];
+//! # let mut records = [HierarchyPatch::default()];
 //! # let mut scratch = vec![BakeScratch::default(); 4096];
-//! # let buffers = BintreeBuffers {
+//! # let buffers = BakeBuffers {
 //! #     nodes: &mut nodes,
 //! #     vertices: &mut vertices,
 //! #     patches: &mut records,
 //! #     scratch: &mut scratch,
 //! # };
-//! # let size = bake_bintree(&model, &BintreeSettings::default(), buffers)?;
+//! # let size = bake_hierarchy(&model, &BakeSettings::default(), buffers)?;
 //! # let (nodes, vertices) = (&nodes[..size.nodes], &vertices[..size.vertices]);
-//! let tree = Bintree::new(patches, nodes, vertices, &records)?;
+//! let tree = Hierarchy::new(patches, nodes, vertices, &records)?;
 //!
 //! // The run time's storage: bits, a stack, no pool.
 //! let mut bits = [0u32; bit_words_for(NODES, VERTICES)];
 //! let mut stack = [Pending::default(); 64];
 //! let mut pool: [RefinedVertex; 0] = [];
-//! let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool)?;
+//! let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool)?;
 //!
 //! // A frame: 1 px on a 240x240 display.
 //! let camera = Camera::new(
@@ -174,7 +174,6 @@
 
 pub mod bake;
 mod basis;
-pub mod bisect;
 mod bound;
 #[cfg(feature = "defmt")]
 mod defmt_impls;
@@ -189,6 +188,7 @@ mod patch;
 #[cfg(feature = "embedded-graphics")]
 pub mod render;
 mod sink;
+pub mod tessellator;
 #[cfg(test)]
 mod test_rng;
 mod view;
@@ -205,6 +205,7 @@ pub use nurbs::{
 };
 pub use patch::{BezierPatch, PatchError, Side};
 pub use sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
+pub use tessellator::{FrameStats, Hierarchy, Tessellator};
 pub use view::{Camera, CameraError, Projection, View};
 
 /// The README's examples, run as doc tests.

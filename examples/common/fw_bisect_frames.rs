@@ -3,10 +3,9 @@
 // settings, the storage, and one frame's selection and checksum. `no_std`, no allocation.
 // Hand-written.
 
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{
-    Bintree, BintreeSettings, Pending, RefinedVertex, Selection, SelectionStats,
-};
+use spline_tess::tessellator::{FrameStats, Hierarchy, Pending, RefinedVertex, Tessellator};
 use spline_tess::Vertex;
 
 // The views and checksum (`fw_views.rs`), which the includer declares as `fw_views`.
@@ -14,13 +13,13 @@ use spline_tess::Vertex;
 pub use super::fw_views::{checksum, view, FRAMES};
 
 /// Bake settings of the firmware's teapot: 2e-3 of the diagonal, as `fw_tessellate`'s.
-pub const BAKE: BintreeSettings = BintreeSettings {
+pub const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(2e-3),
     max_depth: 24,
 };
 
 /// Triangles waiting to be judged: a short stack walks the mesh for those it has no room
-/// for (`SelectionStats::sweeps`).
+/// for (`FrameStats::sweeps`).
 pub const STACK: usize = 256;
 /// Vertices below the bake (frames finer than the bake make them).
 pub const POOL: usize = 2048;
@@ -43,16 +42,16 @@ pub struct Frame {
 }
 
 /// Selects frame `k` in `selection` and writes its mesh (`remap` as long as
-/// `Selection::remap_len`), with the `clock` ticks that the selection and the write took (the checksum after
+/// `Tessellator::remap_len`), with the `clock` ticks that the selection and the write took (the checksum after
 /// them is not counted); `None` on any error.
 pub fn frame_timed(
-    selection: &mut Selection<'_, '_>,
+    selection: &mut Tessellator<'_, '_>,
     k: usize,
     vertices: &mut [Vertex],
     triangles: &mut [[u16; 3]],
     remap: &mut [u32],
     clock: &mut dyn FnMut() -> u64,
-) -> Option<(Frame, SelectionStats, u64)> {
+) -> Option<(Frame, FrameStats, u64)> {
     let view = view(k)?;
     let start = clock();
     let stats = selection.update(&view);
@@ -69,10 +68,10 @@ pub fn frame_timed(
 
 /// A run time over `tree` in caller storage.
 pub fn selection<'t, 's>(
-    tree: Bintree<'t>,
+    tree: Hierarchy<'t>,
     bits: &'s mut [u32],
     stack: &'s mut [Pending],
     pool: &'s mut [RefinedVertex],
-) -> Option<Selection<'t, 's>> {
-    Selection::new(tree, bits, stack, pool).ok()
+) -> Option<Tessellator<'t, 's>> {
+    Tessellator::new(tree, bits, stack, pool).ok()
 }

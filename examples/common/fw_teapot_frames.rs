@@ -7,8 +7,8 @@
 // of vertices below the bake. `no_std`, no allocation. Hand-written.
 
 use embedded_graphics::pixelcolor::Rgb888;
-use spline_tess::bisect::{Selection, SelectionStats};
 use spline_tess::render::{ListSlot, RenderStats, Renderer, Shading, Style, Wireframe};
+use spline_tess::tessellator::{FrameStats, Tessellator};
 use spline_tess::{Camera, Projection, Vec3, View};
 
 use super::spi_display::SpiDisplay;
@@ -40,7 +40,7 @@ pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2000 };
 pub const STACK: usize = 64;
 /// Vertices below the bake (`RefinedVertex`, 48 bytes each): none. Frames 0 to 2 are within
 /// the bake; frame 3 is not, and leaves 250 triangles whole, within the bound it reports
-/// (`SelectionStats::worst_bound`, printed by the host run as `bound_px`: 1.9 px). Measured
+/// (`FrameStats::worst_bound`, printed by the host run as `bound_px`: 1.9 px). Measured
 /// 2026-11-25: a pool of 64 (3 KB) makes 56 vertices in frame 3 and leaves its bound at 1.9 px,
 /// so the demo keeps none, and is built without the crate's `refine` feature (20 KB less code
 /// at opt-level "s"; `scripts/footprint.sh`).
@@ -87,7 +87,7 @@ pub fn style(k: usize) -> Option<Style> {
 /// Brings `selection` to frame `k`. Not inlined, so that a profile finds where the update
 /// starts (`scripts/fw_profile.py`).
 #[inline(never)]
-pub fn update(selection: &mut Selection<'_, '_>, k: usize) -> Option<SelectionStats> {
+pub fn update(selection: &mut Tessellator<'_, '_>, k: usize) -> Option<FrameStats> {
     let camera = camera(k)?;
     let tolerance_px = FRAMES.get(k)?.1;
     Some(selection.update(&View::Screen {
@@ -103,7 +103,7 @@ pub fn update(selection: &mut Selection<'_, '_>, k: usize) -> Option<SelectionSt
 /// inlined: the renderer's locals then take the stack after the update's, not beside them.
 #[inline(never)]
 pub fn render(
-    selection: &Selection<'_, '_>,
+    selection: &Tessellator<'_, '_>,
     k: usize,
     depth: &mut [u16],
     colors: &mut [u8],

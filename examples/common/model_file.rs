@@ -2,11 +2,9 @@
 //! and baking its hierarchy into `Vec`s, for host programs: the examples, and host-tests
 //! (which include this file).
 
-use spline_tess::bisect::{
-    bake_bintree, Bintree, BintreeBakeError, BintreeBuffers, BintreeNode, BintreePatch,
-    BintreeSettings, BintreeVertex,
-};
+use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeError, BakeSettings};
 use spline_tess::parse::{self, NurbsJsonBuffers};
+use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
 use spline_tess::{BoundaryCurve, EdgeLink, Model, NurbsSurface, ParamRect, PatchHeader, PatchSet};
 
 /// A model's patches in owned storage. A NURBS surface is decomposed into its rational Bezier
@@ -143,32 +141,32 @@ impl ModelFile {
 /// A model's bisection hierarchy (`spline_tess::bisect`) in `Vec`s, with the model it was
 /// baked from.
 #[derive(Clone, Debug)]
-pub struct BakedBintree {
+pub struct BakedHierarchy {
     /// The model.
     pub file: ModelFile,
     /// Nodes.
-    pub nodes: Vec<BintreeNode>,
+    pub nodes: Vec<HierarchyNode>,
     /// Vertices.
-    pub vertices: Vec<BintreeVertex>,
+    pub vertices: Vec<HierarchyVertex>,
     /// Patch records.
-    pub patches: Vec<BintreePatch>,
+    pub patches: Vec<HierarchyPatch>,
 }
 
-impl BakedBintree {
+impl BakedHierarchy {
     /// Bakes `file` with `settings`, growing the buffers until they fit.
-    pub fn bake(file: &ModelFile, settings: &BintreeSettings) -> Result<Self, String> {
+    pub fn bake(file: &ModelFile, settings: &BakeSettings) -> Result<Self, String> {
         let count = file.patches().len();
         let (mut nodes, mut vertices) = (1usize << 16, 1usize << 14);
         loop {
-            let mut n = vec![BintreeNode::default(); nodes];
-            let mut v = vec![BintreeVertex::default(); vertices];
-            let mut p = vec![BintreePatch::default(); count];
-            let mut s = vec![spline_tess::bisect::BakeScratch::default(); nodes];
+            let mut n = vec![HierarchyNode::default(); nodes];
+            let mut v = vec![HierarchyVertex::default(); vertices];
+            let mut p = vec![HierarchyPatch::default(); count];
+            let mut s = vec![spline_tess::bake::BakeScratch::default(); nodes];
             let result = file.with_model(|m| {
-                bake_bintree(
+                bake_hierarchy(
                     m,
                     settings,
-                    BintreeBuffers {
+                    BakeBuffers {
                         nodes: &mut n,
                         vertices: &mut v,
                         patches: &mut p,
@@ -180,23 +178,23 @@ impl BakedBintree {
                 Ok(size) => {
                     n.truncate(size.nodes);
                     v.truncate(size.vertices);
-                    return Ok(BakedBintree {
+                    return Ok(BakedHierarchy {
                         file: file.clone(),
                         nodes: n,
                         vertices: v,
                         patches: p,
                     });
                 }
-                Err(BintreeBakeError::NodesFull { .. }) => nodes *= 2,
-                Err(BintreeBakeError::VerticesFull { .. }) => vertices *= 2,
+                Err(BakeError::NodesFull { .. }) => nodes *= 2,
+                Err(BakeError::VerticesFull { .. }) => vertices *= 2,
                 Err(e) => return Err(e.to_string()),
             }
         }
     }
 
     /// The checked hierarchy.
-    pub fn tree(&self) -> Bintree<'_> {
-        Bintree::new(
+    pub fn tree(&self) -> Hierarchy<'_> {
+        Hierarchy::new(
             self.file.patches(),
             &self.nodes,
             &self.vertices,

@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
-use spline_tess::bisect::Selection;
+use spline_tess::tessellator::Tessellator;
 use spline_tess::{ParamRect, TriangleInfo, Vertex};
 
 use super::model_file::ModelFile;
@@ -30,7 +30,7 @@ pub struct ObjFace {
 
 /// The faces of the run time's current frame: `triangles` as `write_mesh` wrote them, with
 /// each corner's parameters in the face's own patch.
-pub fn frame_faces(selection: &Selection<'_, '_>, triangles: &[[u32; 3]]) -> Vec<ObjFace> {
+pub fn frame_faces(selection: &Tessellator<'_, '_>, triangles: &[[u32; 3]]) -> Vec<ObjFace> {
     faces_of(|f| selection.stream_with_info(|info, _| f(info)), triangles)
 }
 

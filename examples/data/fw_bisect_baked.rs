@@ -2,9 +2,9 @@
 // the settings of examples/common/fw_bisect_frames.rs.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 // A baked bisection hierarchy of spline-tess: wrap it, with the patches it was baked
-// from, in `spline_tess::bisect::Bintree::new(patches, &TEAPOT_NODES, &TEAPOT_VERTICES,
+// from, in `spline_tess::tessellator::Hierarchy::new(patches, &TEAPOT_NODES, &TEAPOT_VERTICES,
 // &TEAPOT_PATCHES)`.
-use spline_tess::bisect::{BintreeNode as Node, BintreePatch as Patch, BintreeVertex as Vertex, SideLink};
+use spline_tess::tessellator::{HierarchyNode as Node, HierarchyPatch as Patch, HierarchyVertex as Vertex, SideLink};
 use spline_tess::Side;
 
 const fn n(children: u32, vertex: u32, vectors: [[i8; 3]; 4], scale: u32, remainder: u32) -> Node {

@@ -17,12 +17,13 @@
 
 use std::sync::OnceLock;
 
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{BintreeSettings, Pending, RefinedVertex, Selection};
+use spline_tess::tessellator::{Pending, RefinedVertex, Tessellator};
 use spline_tess::{Camera, Projection, TriangleSink, Vec3, Vertex, View, WriteError};
 
 use super::bytes::Bytes;
-use super::model_file::{BakedBintree, ModelFile};
+use super::model_file::{BakedHierarchy, ModelFile};
 
 /// The models: poles (teaspoon, teapot, hemisphere), seams (torus), a degree-1 direction and
 /// open edges (quarter cylinder).
@@ -108,16 +109,16 @@ fn vertex_bits(v: &Vertex) -> [u32; 9] {
 /// Bake tolerances, relative to the diagonal.
 const BAKES: [f32; 2] = [1e-2, 3e-3];
 
-fn baked(model: usize, bake: usize) -> &'static BakedBintree {
-    static CACHE: [[OnceLock<BakedBintree>; BAKES.len()]; MODELS.len()] =
+fn baked(model: usize, bake: usize) -> &'static BakedHierarchy {
+    static CACHE: [[OnceLock<BakedHierarchy>; BAKES.len()]; MODELS.len()] =
         [const { [const { OnceLock::new() }; BAKES.len()] }; MODELS.len()];
     CACHE[model][bake].get_or_init(|| {
         let file = model_file(model);
-        let settings = BintreeSettings {
+        let settings = BakeSettings {
             tolerance: Tolerance::Relative(BAKES[bake]),
-            ..BintreeSettings::default()
+            ..BakeSettings::default()
         };
-        BakedBintree::bake(&file, &settings).expect("a repository model bakes")
+        BakedHierarchy::bake(&file, &settings).expect("a repository model bakes")
     })
 }
 
@@ -136,7 +137,7 @@ impl TriangleSink for Stream {
 /// The current frame written whole (`None` past `limit` triangles), after a write into small
 /// buffers that must be refused untouched or succeed.
 fn written(
-    s: &mut Selection<'_, '_>,
+    s: &mut Tessellator<'_, '_>,
     r: &mut Bytes<'_>,
     limit: usize,
 ) -> Option<(Vec<Vertex>, Vec<[u32; 3]>)> {
@@ -227,7 +228,7 @@ fn run(data: &[u8], limits: &Limits) {
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack_slots = vec![Pending::default(); stack];
     let mut pool_slots = vec![RefinedVertex::default(); pool];
-    let mut s = Selection::new(tree, &mut bits, &mut stack_slots, &mut pool_slots)
+    let mut s = Tessellator::new(tree, &mut bits, &mut stack_slots, &mut pool_slots)
         .expect("storage sized for the tree");
     let aabb = b.file.patches().aabb().expect("a model has patches");
     let (center, diag) = ((aabb.min + aabb.max) * 0.5, aabb.diagonal());

@@ -1,4 +1,4 @@
-//! Bakes of the hierarchy (`spline_tess::bisect::bake_bintree`) of every model: their
+//! Bakes of the hierarchy (`spline_tess::bake::bake_hierarchy`) of every model: their
 //! triangles, vertices and bytes. Prints a Markdown table.
 //!
 //! ```text
@@ -13,10 +13,11 @@
 use std::time::Instant;
 
 use host_tests::model_file::ModelFile;
-use host_tests::runtime::BakedBintree;
+use host_tests::runtime::BakedHierarchy;
 use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::{BintreeNode, BintreePatch, BintreeSettings, BintreeVertex};
+use spline_tess::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
 
 fn main() {
     let rels: Vec<f32> = std::env::args()
@@ -31,17 +32,17 @@ fn main() {
     for rel in rels {
         for path in bpt_models().into_iter().chain(nurbs_fixtures()) {
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-            let settings = BintreeSettings {
+            let settings = BakeSettings {
                 tolerance: Tolerance::Relative(rel),
-                ..BintreeSettings::default()
+                ..BakeSettings::default()
             };
             let start = Instant::now();
-            let bake = BakedBintree::bake(&file, &settings).expect("a bisection bake");
+            let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
             let seconds = start.elapsed().as_secs_f64();
             let leaves = bake.nodes.iter().filter(|n| n.children == 0).count();
-            let bytes = bake.nodes.len() * size_of::<BintreeNode>()
-                + bake.vertices.len() * size_of::<BintreeVertex>()
-                + bake.patches.len() * size_of::<BintreePatch>();
+            let bytes = bake.nodes.len() * size_of::<HierarchyNode>()
+                + bake.vertices.len() * size_of::<HierarchyVertex>()
+                + bake.patches.len() * size_of::<HierarchyPatch>();
             println!(
                 "| {} | {rel:e} | {} | {} | {leaves} | {} | {bytes} | {seconds:.2} | {:.1} |",
                 name(&path),

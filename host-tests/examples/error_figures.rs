@@ -41,10 +41,10 @@ use std::time::Instant;
 
 use host_tests::model_file::{within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
-use host_tests::runtime::{streamed, BakedBintree, SelectionStorage};
+use host_tests::runtime::{streamed, BakedHierarchy, VecStorage};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, ParamRect, Projection, Vec3, Vertex, View};
 
 /// The default bake tolerance, relative to the model's diagonal (`BAKE_REL` sets another).
@@ -81,7 +81,7 @@ struct Baked {
     model: &'static str,
     file: ModelFile,
     pieces: Option<Vec<ParamRect>>,
-    hierarchy: BakedBintree,
+    hierarchy: BakedHierarchy,
 }
 
 struct Case {
@@ -220,11 +220,11 @@ fn main() {
             } else {
                 Tolerance::Relative(rel)
             };
-            let settings = BintreeSettings {
+            let settings = BakeSettings {
                 tolerance,
-                ..BintreeSettings::default()
+                ..BakeSettings::default()
             };
-            let hierarchy = BakedBintree::bake(&kernel, &settings).expect("a bake");
+            let hierarchy = BakedHierarchy::bake(&kernel, &settings).expect("a bake");
             baked_cache.push(Baked {
                 model: case.model,
                 file,
@@ -326,7 +326,7 @@ fn main() {
         let mut count = 0;
         let mut left_over = 0;
         let tree = hierarchy.tree();
-        let mut store = SelectionStorage::new(&tree, 1 << 12, 1 << 16);
+        let mut store = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
         for _ in 0..3 {
             let start = Instant::now();

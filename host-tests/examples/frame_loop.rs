@@ -15,9 +15,9 @@
 use std::time::Instant;
 
 use host_tests::model_file::ModelFile;
-use host_tests::runtime::{BakedBintree, SelectionStorage};
+use host_tests::runtime::{BakedHierarchy, VecStorage};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -59,13 +59,13 @@ fn main() {
         }
     };
     {
-        let settings = BintreeSettings {
+        let settings = BakeSettings {
             tolerance: Tolerance::Relative(rel),
-            ..BintreeSettings::default()
+            ..BakeSettings::default()
         };
-        let bake = BakedBintree::bake(&file, &settings).expect("a bisection bake");
+        let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
         let tree = bake.tree();
-        let mut storage = SelectionStorage::new(&tree, 1 << 12, 1 << 16);
+        let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let mut selection = storage.selection(tree);
         let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
         let mut vertices = vec![Vertex::default(); 1 << 20];

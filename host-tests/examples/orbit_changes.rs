@@ -16,13 +16,13 @@ use std::collections::HashSet;
 
 use host_tests::model_file::ModelFile;
 use host_tests::runtime::triangle_set;
-use host_tests::runtime::{streamed, BakedBintree, SelectionStorage};
+use host_tests::runtime::{streamed, BakedHierarchy, VecStorage};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, Projection, Vec3, View};
 
 /// `fw_teapot`'s bake (`examples/common/fw_bisect_frames.rs`).
-const BAKE: BintreeSettings = BintreeSettings {
+const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(2e-3),
     max_depth: 24,
 };
@@ -33,9 +33,9 @@ const STEPS: usize = 48;
 fn main() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/models/teapot.bpt");
     let file = ModelFile::read(path).expect("the teapot");
-    let baked = BakedBintree::bake(&file, &BAKE).expect("a bisection bake");
+    let baked = BakedHierarchy::bake(&file, &BAKE).expect("a bisection bake");
     let tree = baked.tree();
-    let mut storage = SelectionStorage::new(&tree, 1 << 12, 0);
+    let mut storage = VecStorage::new(&tree, 1 << 12, 0);
     let mut selection = storage.selection(tree);
     // `fw_teapot`'s first frame: eye (9, -12, 7), target (0, 0, 1.5).
     let target = Vec3::new(0.0, 0.0, 1.5);

@@ -1,28 +1,28 @@
 //! Host-side helpers for the run time (`spline_tess::bisect`): a bake in `Vec`s
-//! (`model_file::BakedBintree`, which the examples share), run-time storage in `Vec`s, and a
+//! (`model_file::BakedHierarchy`, which the examples share), run-time storage in `Vec`s, and a
 //! frame as an indexed mesh or as streamed triangles, with the checks the tests and figures
 //! share.
 
 use std::collections::HashMap;
 
-use spline_tess::bisect::{Bintree, Pending, RefinedVertex, Selection};
+use spline_tess::tessellator::{Hierarchy, Pending, RefinedVertex, Tessellator};
 use spline_tess::{TriangleInfo, Vertex};
 
-pub use crate::model_file::BakedBintree;
+pub use crate::model_file::BakedHierarchy;
 
-/// Run-time storage for a [`Selection`] in `Vec`s.
+/// Run-time storage for a [`Tessellator`] in `Vec`s.
 #[derive(Debug)]
-pub struct SelectionStorage {
+pub struct VecStorage {
     bits: Vec<u32>,
     stack: Vec<Pending>,
     pool: Vec<RefinedVertex>,
 }
 
-impl SelectionStorage {
+impl VecStorage {
     /// Storage for `tree` with a stack of `stack` entries and a pool of `pool` vertices
     /// below the bake.
-    pub fn new(tree: &Bintree<'_>, stack: usize, pool: usize) -> Self {
-        SelectionStorage {
+    pub fn new(tree: &Hierarchy<'_>, stack: usize, pool: usize) -> Self {
+        VecStorage {
             bits: vec![0; tree.bit_words()],
             stack: vec![Pending::default(); stack],
             pool: vec![RefinedVertex::default(); pool],
@@ -30,8 +30,8 @@ impl SelectionStorage {
     }
 
     /// A run time over `tree` in this storage.
-    pub fn selection<'t>(&mut self, tree: Bintree<'t>) -> Selection<'t, '_> {
-        Selection::new(tree, &mut self.bits, &mut self.stack, &mut self.pool)
+    pub fn selection<'t>(&mut self, tree: Hierarchy<'t>) -> Tessellator<'t, '_> {
+        Tessellator::new(tree, &mut self.bits, &mut self.stack, &mut self.pool)
             .expect("storage sized for the tree")
     }
 }
@@ -46,7 +46,7 @@ pub struct Mesh {
 }
 
 /// The current frame as an indexed mesh.
-pub fn indexed(selection: &mut Selection<'_, '_>) -> Mesh {
+pub fn indexed(selection: &mut Tessellator<'_, '_>) -> Mesh {
     let size = selection.mesh_size();
     let mut mesh = Mesh {
         vertices: vec![Vertex::default(); size.vertices],
@@ -85,7 +85,7 @@ impl Streamed {
 }
 
 /// The current frame as streamed triangles.
-pub fn streamed(selection: &Selection<'_, '_>) -> Vec<Streamed> {
+pub fn streamed(selection: &Tessellator<'_, '_>) -> Vec<Streamed> {
     let mut out = Vec::new();
     selection.stream_with_info(|info, c| out.push(Streamed::of(info, c)));
     out

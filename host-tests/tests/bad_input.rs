@@ -529,10 +529,10 @@ fn evaluation_takes_any_parameter() {
 #[test]
 fn bisection_errors_are_typed() {
     use spline_tess::bake::Tolerance;
-    use spline_tess::bisect::{
-        bake_bintree, BakeScratch, Bintree, BintreeBakeError, BintreeBuffers, BintreeError,
-        BintreeNode, BintreePatch, BintreeSettings, BintreeVertex, Pending, RefinedVertex,
-        Selection, SelectionError,
+    use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings};
+    use spline_tess::tessellator::{
+        Hierarchy, HierarchyError, HierarchyNode, HierarchyPatch, HierarchyVertex, Pending,
+        RefinedVertex, Tessellator, TessellatorError,
     };
     use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet, View};
 
@@ -541,19 +541,19 @@ fn bisection_errors_are_typed() {
         degree_v: 1,
         first_point: 0,
     }];
-    let bake = |points: &[[f32; 3]], settings: BintreeSettings, nodes: usize, vertices: usize| {
+    let bake = |points: &[[f32; 3]], settings: BakeSettings, nodes: usize, vertices: usize| {
         let patches = PatchSet::new(&headers, points, None).unwrap();
         let mut edges = [[EdgeLink::Collapsed; 4]];
         let mut curves = [BoundaryCurve::default(); 4];
         let model = Model::build(patches, &mut edges, &mut curves).unwrap();
-        let mut n = vec![BintreeNode::default(); nodes];
-        let mut v = vec![BintreeVertex::default(); vertices];
-        let mut p = [BintreePatch::default()];
+        let mut n = vec![HierarchyNode::default(); nodes];
+        let mut v = vec![HierarchyVertex::default(); vertices];
+        let mut p = [HierarchyPatch::default()];
         let mut s = vec![BakeScratch::default(); nodes];
-        bake_bintree(
+        bake_hierarchy(
             &model,
             &settings,
-            BintreeBuffers {
+            BakeBuffers {
                 nodes: &mut n,
                 vertices: &mut v,
                 patches: &mut p,
@@ -563,74 +563,74 @@ fn bisection_errors_are_typed() {
         .map(|size| (n, v, p, size))
     };
     let flat = square();
-    let settings = BintreeSettings::default();
+    let settings = BakeSettings::default();
     for t in [0.0, -1.0, f32::NAN, f32::INFINITY] {
-        let bad = BintreeSettings {
+        let bad = BakeSettings {
             tolerance: Tolerance::Absolute(t),
             ..settings
         };
         assert!(matches!(
             bake(&flat, bad, 16, 16),
-            Err(BintreeBakeError::BadTolerance(_))
+            Err(BakeError::BadTolerance(_))
         ));
     }
-    let deep = BintreeSettings {
+    let deep = BakeSettings {
         max_depth: 31,
         ..settings
     };
     assert_eq!(
         bake(&flat, deep, 16, 16).err(),
-        Some(BintreeBakeError::TooDeep(31))
+        Some(BakeError::TooDeep(31))
     );
     // A bump needs halving: one node slot is short.
     let mut bump = flat.clone();
     bump[0][2] = 1.0;
-    let fine = BintreeSettings {
+    let fine = BakeSettings {
         tolerance: Tolerance::Absolute(1e-4),
         ..settings
     };
     assert!(matches!(
         bake(&bump, fine, 2, 64),
-        Err(BintreeBakeError::NodesFull { .. })
+        Err(BakeError::NodesFull { .. })
     ));
     assert!(matches!(
         bake(&bump, fine, 4096, 8),
-        Err(BintreeBakeError::VerticesFull { capacity: 8 })
+        Err(BakeError::VerticesFull { capacity: 8 })
     ));
     // Records that do not hold together are refused.
-    let (mut n, v, p, size) = bake(&bump, BintreeSettings::default(), 4096, 4096).unwrap();
+    let (mut n, v, p, size) = bake(&bump, BakeSettings::default(), 4096, 4096).unwrap();
     let patches = PatchSet::new(&headers, &bump, None).unwrap();
     n.truncate(size.nodes);
     let v = &v[..size.vertices];
-    assert!(Bintree::new(patches, &n, v, &p).is_ok());
+    assert!(Hierarchy::new(patches, &n, v, &p).is_ok());
     let mut broken = n.clone();
     broken[0].children = 0;
     broken[0].children = broken.len() as u32;
     assert!(matches!(
-        Bintree::new(patches, &broken, v, &p),
-        Err(BintreeError::BadNode { node: 0 })
+        Hierarchy::new(patches, &broken, v, &p),
+        Err(HierarchyError::BadNode { node: 0 })
     ));
     assert_eq!(
-        Bintree::new(patches, &n[..1], v, &p).err(),
-        Some(BintreeError::Empty)
+        Hierarchy::new(patches, &n[..1], v, &p).err(),
+        Some(HierarchyError::Empty)
     );
-    let tree = Bintree::new(patches, &n, v, &p).unwrap();
+    let tree = Hierarchy::new(patches, &n, v, &p).unwrap();
     let mut bits = vec![0u32; tree.bit_words() - 1];
     let mut stack = [Pending::default(); 8];
     let mut pool: [RefinedVertex; 0] = [];
     assert_eq!(
-        Selection::new(tree, &mut bits, &mut stack, &mut pool).err(),
-        Some(SelectionError::BitsTooShort {
+        Tessellator::new(tree, &mut bits, &mut stack, &mut pool).err(),
+        Some(TessellatorError::BitsTooShort {
             needed: tree.bit_words()
         })
     );
     let mut bits = vec![0u32; tree.bit_words()];
     assert_eq!(
-        Selection::new(tree, &mut bits, &mut stack[..2], &mut pool).err(),
-        Some(SelectionError::StackTooShort)
+        Tessellator::new(tree, &mut bits, &mut stack[..2], &mut pool).err(),
+        Some(TessellatorError::StackTooShort)
     );
     // No pool: a view finer than the bake keeps its leaves and says so.
-    let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+    let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
     let stats = selection.update(&View::Object { tolerance: 1e-6 });
     assert!(stats.left_over > 0 && stats.worst_bound > 1e-6);
     for t in [f32::NAN, -1.0] {

@@ -24,22 +24,22 @@ use host_tests::bintree::{bintree, children, model_spot, roots, Bin, BINTREE_BIT
 use host_tests::frame_checks::{camera_path, check_watertight, measure_frame, Step};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
-use host_tests::runtime::{streamed, BakedBintree, SelectionStorage};
+use host_tests::runtime::{streamed, BakedHierarchy, VecStorage};
 use host_tests::runtime::{triangle_set, Mesh};
 use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::{EdgeLink, Vertex, View};
 
-const BAKE: BintreeSettings = BintreeSettings {
+const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_depth: 24,
 };
 
 /// A model file, its hierarchy with [`BAKE`], and its patches in the `f64` reference.
-fn baked(path: &std::path::Path) -> (ModelFile, BakedBintree, Vec<RefPatch>) {
+fn baked(path: &std::path::Path) -> (ModelFile, BakedHierarchy, Vec<RefPatch>) {
     let file = ModelFile::read(path.to_str().unwrap()).unwrap();
-    let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+    let baked = BakedHierarchy::bake(&file, &BAKE).unwrap();
     let refs = file
         .patches()
         .iter()
@@ -67,10 +67,10 @@ fn run_model(path: &std::path::Path) {
         EdgeLink::Collapsed => false,
         EdgeLink::Curve { curve, .. } => uses[curve as usize] == 1,
     };
-    let mut storage = SelectionStorage::new(&tree, 1 << 16, 1 << 16);
-    let mut fresh_storage = SelectionStorage::new(&tree, 1 << 16, 1 << 16);
+    let mut storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
+    let mut fresh_storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
     // A stack of 8: leaves it has no room for are found by walks, to the same mesh.
-    let mut short_storage = SelectionStorage::new(&tree, 8, 1 << 16);
+    let mut short_storage = VecStorage::new(&tree, 8, 1 << 16);
     let mut sweeps = 0;
     let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
     let mut selection = storage.selection(tree);
@@ -229,7 +229,7 @@ fn coarsest(path: &std::path::Path) {
         }
     }
     let spot = |p: usize, g: [u32; 2]| model_spot(&refs, diag, p, g);
-    let mut storage = SelectionStorage::new(&tree, 1 << 16, 1 << 16);
+    let mut storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
     let mut selection = storage.selection(tree);
     for rel in [2e-3, 5e-3] {
         let tolerance = (rel * diag) as f32;

@@ -4,20 +4,20 @@
 
 use host_tests::model_file::ModelFile;
 use host_tests::models_dir;
-use host_tests::runtime::{edge_uses, indexed, BakedBintree, SelectionStorage};
+use host_tests::runtime::{edge_uses, indexed, BakedHierarchy, VecStorage};
 use host_tests::seeds::proptest_config;
 use proptest::prelude::*;
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, CameraError, Projection, Vec3, Vertex, View, WriteError};
 
-fn teaspoon() -> BakedBintree {
+fn teaspoon() -> BakedHierarchy {
     let file = ModelFile::read(models_dir().join("teaspoon.bpt").to_str().unwrap()).unwrap();
-    let settings = BintreeSettings {
+    let settings = BakeSettings {
         tolerance: Tolerance::Relative(2e-3),
-        ..BintreeSettings::default()
+        ..BakeSettings::default()
     };
-    BakedBintree::bake(&file, &settings).unwrap()
+    BakedHierarchy::bake(&file, &settings).unwrap()
 }
 
 fn camera(eye: Vec3) -> Result<Camera, CameraError> {
@@ -77,7 +77,7 @@ fn bad_cameras_are_typed_errors() {
 fn small_buffers_are_untouched_and_say_what_is_needed() {
     let baked = teaspoon();
     let tree = baked.tree();
-    let mut storage = SelectionStorage::new(&tree, 256, 1 << 18);
+    let mut storage = VecStorage::new(&tree, 256, 1 << 18);
     let mut t = storage.selection(tree);
     let stats = t.update(&View::Object { tolerance: 1e-3 });
     let need = t.mesh_size();
@@ -130,7 +130,7 @@ proptest! {
     ) {
         let baked = teaspoon();
         let tree = baked.tree();
-        let mut storage = SelectionStorage::new(&tree, 64, 4096);
+        let mut storage = VecStorage::new(&tree, 64, 4096);
         let mut t = storage.selection(tree);
         let Ok(cam) = camera(Vec3::from_array(eye)) else { return Ok(()) };
         let view = View::Screen { camera: cam, tolerance_px: tol };

@@ -148,16 +148,16 @@ fn frames_source(example: &str, third: &str, frames: &[[u32; 4]]) -> String {
 mod fw_bisect;
 
 /// The teapot's bisection hierarchy with fw_bisect's settings (fw_teapot's too), baked once.
-fn fw_bisect_bake() -> &'static host_tests::runtime::BakedBintree {
-    static BAKE: std::sync::OnceLock<host_tests::runtime::BakedBintree> =
+fn fw_bisect_bake() -> &'static host_tests::runtime::BakedHierarchy {
+    static BAKE: std::sync::OnceLock<host_tests::runtime::BakedHierarchy> =
         std::sync::OnceLock::new();
     BAKE.get_or_init(|| {
         let file = host_tests::model_file::ModelFile::from_bpt(&teapot_text()).unwrap();
-        host_tests::runtime::BakedBintree::bake(&file, &fw_bisect::BAKE).unwrap()
+        host_tests::runtime::BakedHierarchy::bake(&file, &fw_bisect::BAKE).unwrap()
     })
 }
 
-fn fw_bisect_baked_source(bake: &host_tests::runtime::BakedBintree) -> String {
+fn fw_bisect_baked_source(bake: &host_tests::runtime::BakedHierarchy) -> String {
     let mut s = String::new();
     writeln!(
         s,
@@ -166,17 +166,17 @@ fn fw_bisect_baked_source(bake: &host_tests::runtime::BakedBintree) -> String {
          // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`."
     )
     .unwrap();
-    spline_tess::bisect::write_rust_source(&mut s, "TEAPOT", &bake.tree()).unwrap();
+    spline_tess::bake::write_rust_source(&mut s, "TEAPOT", &bake.tree()).unwrap();
     s
 }
 
 /// Every frame of fw_bisect computed on the host with the same code: triangles, vertices,
 /// triangles judged, checksum.
-fn fw_bisect_frames(bake: &host_tests::runtime::BakedBintree) -> Vec<[u32; 4]> {
+fn fw_bisect_frames(bake: &host_tests::runtime::BakedHierarchy) -> Vec<[u32; 4]> {
     let tree = bake.tree();
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack = vec![spline_tess::bisect::Pending::default(); fw_bisect::STACK];
-    let mut pool = vec![spline_tess::bisect::RefinedVertex::default(); fw_bisect::POOL];
+    let mut stack = vec![spline_tess::tessellator::Pending::default(); fw_bisect::STACK];
+    let mut pool = vec![spline_tess::tessellator::RefinedVertex::default(); fw_bisect::POOL];
     let mut selection = fw_bisect::selection(tree, &mut bits, &mut stack, &mut pool).unwrap();
     let mut remap = vec![0u32; selection.remap_len()];
     let mut vertices = vec![spline_tess::Vertex::default(); fw_bisect::OUT_VERTICES];
@@ -198,7 +198,7 @@ fn fw_bisect_frames(bake: &host_tests::runtime::BakedBintree) -> Vec<[u32; 4]> {
         .collect()
 }
 
-fn fw_bisect_expected_source(bake: &host_tests::runtime::BakedBintree) -> String {
+fn fw_bisect_expected_source(bake: &host_tests::runtime::BakedHierarchy) -> String {
     frames_source("fw_bisect", "triangles judged", &fw_bisect_frames(bake))
 }
 
@@ -230,14 +230,14 @@ mod spi_display;
 /// Runs `f` on a selection over the firmware's hierarchy of the teapot, in fw_teapot's
 /// storage.
 fn with_fw_teapot_tessellator<R>(
-    f: impl FnOnce(&mut spline_tess::bisect::Selection<'_, '_>) -> R,
+    f: impl FnOnce(&mut spline_tess::tessellator::Tessellator<'_, '_>) -> R,
 ) -> R {
     let tree = fw_bisect_bake().tree();
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack = vec![spline_tess::bisect::Pending::default(); fw_teapot::STACK];
-    let mut pool = vec![spline_tess::bisect::RefinedVertex::default(); fw_teapot::POOL];
+    let mut stack = vec![spline_tess::tessellator::Pending::default(); fw_teapot::STACK];
+    let mut pool = vec![spline_tess::tessellator::RefinedVertex::default(); fw_teapot::POOL];
     let mut selection =
-        spline_tess::bisect::Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+        spline_tess::tessellator::Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
     f(&mut selection)
 }
 

@@ -13,13 +13,13 @@ use std::collections::{HashMap, HashSet};
 use host_tests::model_file::ModelFile;
 use host_tests::obj::{frame_faces, obj_text};
 use host_tests::reference::{self, RefNurbs, RefPatch, V3};
-use host_tests::runtime::{indexed, BakedBintree, SelectionStorage};
+use host_tests::runtime::{indexed, BakedHierarchy, VecStorage};
 use host_tests::{bpt_models, name, nurbs_fixtures};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::{Camera, Projection, Vec3, View};
 
-const BAKE: BintreeSettings = BintreeSettings {
+const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_depth: 24,
 };
@@ -138,12 +138,12 @@ fn every_face_corner_carries_its_own_parameters() {
         } else {
             Surface::Patches(reference::read_bpt(&text))
         };
-        let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+        let baked = BakedHierarchy::bake(&file, &BAKE).unwrap();
         let tree = baked.tree();
         let bounds = file.patches().aabb().unwrap();
         let diag = bounds.diagonal();
         let center = (bounds.min + bounds.max) * 0.5;
-        let mut storage = SelectionStorage::new(&tree, 1024, 1 << 16);
+        let mut storage = VecStorage::new(&tree, 1024, 1 << 16);
         let mut selection = storage.selection(tree);
         for (view_label, view) in views(center, diag) {
             selection.update(&view);

@@ -22,10 +22,10 @@ use embedded_graphics::prelude::{OriginDimensions, Pixel, Point, PointsIter, Rgb
 use embedded_graphics::primitives::Rectangle;
 use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
-use host_tests::runtime::{indexed, BakedBintree, SelectionStorage};
+use host_tests::runtime::{indexed, BakedHierarchy, VecStorage};
 use host_tests::{models_dir, Rng};
+use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::bisect::BintreeSettings;
 use spline_tess::render::{
     IndexedMesh, ListSlot, RenderError, Renderer, Shading, Style, TriangleSource, Wireframe,
 };
@@ -283,16 +283,16 @@ fn a_tilted_square_in_perspective_has_no_overdraw_or_gap() {
     }
 }
 
-const BAKE: BintreeSettings = BintreeSettings {
+const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_depth: 24,
 };
 
 /// The teapot and its hierarchy.
-fn teapot() -> (ModelFile, BakedBintree) {
+fn teapot() -> (ModelFile, BakedHierarchy) {
     let path = models_dir().join("teapot.bpt");
     let file = ModelFile::read(path.to_str().unwrap()).unwrap();
-    let baked = BakedBintree::bake(&file, &BAKE).unwrap();
+    let baked = BakedHierarchy::bake(&file, &BAKE).unwrap();
     (file, baked)
 }
 
@@ -374,7 +374,7 @@ fn mask_of(source: &impl TriangleSource, camera: &Camera, band_rows: u32) -> Cou
 fn bands_streaming_and_repeats_give_the_same_pixels() {
     let (_, baked) = teapot();
     let tree = baked.tree();
-    let mut storage = SelectionStorage::new(&tree, 1 << 12, 1 << 14);
+    let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
     let mut tess = storage.selection(tree);
     let style = Style {
         wireframe: Some(Wireframe {
@@ -471,7 +471,7 @@ impl TriangleSource for WithBound<'_> {
 fn bisection_frames_cover_the_surface_and_draw_as_their_mesh() {
     let (file, bake) = teapot();
     let tree = bake.tree();
-    let mut storage = SelectionStorage::new(&tree, 1 << 12, 1 << 14);
+    let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
     let mut selection = storage.selection(tree);
     let mut remap = vec![0u32; selection.remap_len()];
     let (rv, rt) = dense_reference(&file, 96);
@@ -734,7 +734,7 @@ impl DrawTarget for Windows {
 fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
     let (_, baked) = teapot();
     let tree = baked.tree();
-    let mut storage = SelectionStorage::new(&tree, 1 << 12, 1 << 14);
+    let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
     let mut tess = storage.selection(tree);
     let (w, h) = (200u32, 150u32);
     for (k, eye) in EYES.iter().enumerate() {

@@ -1,4 +1,12 @@
-//! What a bake is given: its tolerance.
+//! The bake: a model's hierarchy of halvings, each triangle with its bound (see
+//! [`bake_hierarchy`]), and the hierarchy as Rust source for a firmware
+//! ([`write_rust_source`]).
+
+mod hierarchy;
+mod rust_source;
+
+pub use hierarchy::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings, BakeSize};
+pub use rust_source::write_rust_source;
 
 /// The bake tolerance: the deviation at which halving stops.
 #[derive(Clone, Copy, Debug, PartialEq)]

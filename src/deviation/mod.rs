@@ -63,6 +63,8 @@
 
 use crate::math::max;
 
+pub(crate) mod kept;
+pub(crate) mod lattice;
 mod patch_bounds;
 mod screen;
 

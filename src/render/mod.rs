@@ -30,7 +30,7 @@
 //! shared by neighbouring triangles is evaluated and transformed once for most of them.
 //! Triangles whose corners are all inside the clip planes skip the clipper, and while the list
 //! is filled, such a corner is also projected and packed once while the cache holds it. A source
-//! that names corners by vertex number (a [`Selection`](crate::bisect::Selection)) can be
+//! that names corners by vertex number (a [`Tessellator`](crate::tessellator::Tessellator)) can be
 //! given a vertex map instead ([`Renderer::with_vertex_map`]): every vertex is then projected
 //! once and found in the list by its number.
 //!
@@ -259,7 +259,7 @@ impl<'d> Renderer<'d> {
 
     /// This renderer with a vertex map for its triangle list: one entry per vertex number of
     /// a source that names its corners by vertex number
-    /// ([`TriangleSource::vertex_numbers`]: a [`Selection`](crate::bisect::Selection) does,
+    /// ([`TriangleSource::vertex_numbers`]: a [`Tessellator`](crate::tessellator::Tessellator) does,
     /// one per vertex of its bake and pool). Filling the list then projects each vertex once
     /// and finds its slot by its number, instead of keeping the last corners in a cache and
     /// looking slots up by value; the pixels are the same. A map shorter than the source's

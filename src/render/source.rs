@@ -5,11 +5,11 @@ use core::ops::Range;
 
 use glam::Vec3;
 
-use crate::bisect::Selection;
 use crate::bound::{Aabb, BoundingSphere};
 use crate::math::{max, min};
 use crate::patch::BezierPatch;
 use crate::sink::{MeshIndex, TriangleSink, Vertex};
+use crate::tessellator::Tessellator;
 use crate::view::Camera;
 
 /// Triangles the [`Renderer`](super::Renderer) can draw, band by band.
@@ -33,12 +33,12 @@ pub trait TriangleSource {
     }
 }
 
-/// The current frame of a bisection run time ([`Selection`]), streamed without a mesh buffer:
+/// The current frame of a bisection run time ([`Tessellator`]), streamed without a mesh buffer:
 /// every written triangle, its corners named by their vertex numbers (equal within a frame, so
 /// the renderer's sinks project each corner once), the patches that cannot reach the band's
 /// rows left out as the tessellator's stream leaves them out. Nothing is evaluated: the
 /// vertices are the bake's, or the pool's below it.
-impl TriangleSource for Selection<'_, '_> {
+impl TriangleSource for Tessellator<'_, '_> {
     fn bound(&self) -> Option<BoundingSphere> {
         sphere_around(self.model_box()?)
     }
@@ -52,7 +52,7 @@ impl TriangleSource for Selection<'_, '_> {
         });
     }
 
-    /// The bake's vertices and the pool's ([`Selection::remap_len`]).
+    /// The bake's vertices and the pool's ([`Tessellator::remap_len`]).
     fn vertex_numbers(&self) -> Option<usize> {
         Some(self.remap_len())
     }

@@ -19,8 +19,8 @@
 //! pool), and this code and the surface evaluation it calls are left out of a build.
 
 use super::address::{point_on, side_parameter, unit, Point, Tri};
-use super::tree::Bintree;
-use super::BintreeVertex;
+use super::hierarchy::Hierarchy;
+use super::HierarchyVertex;
 use crate::patch::Side;
 
 /// An empty entry's key.
@@ -31,7 +31,7 @@ const EMPTY: u64 = u64::MAX;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RefinedVertex {
     key: u64,
-    pub(super) vertex: BintreeVertex,
+    pub(super) vertex: HierarchyVertex,
     pub(super) seen: bool,
 }
 
@@ -39,7 +39,7 @@ impl Default for RefinedVertex {
     fn default() -> Self {
         RefinedVertex {
             key: EMPTY,
-            vertex: BintreeVertex::default(),
+            vertex: HierarchyVertex::default(),
             seen: false,
         }
     }
@@ -47,7 +47,7 @@ impl Default for RefinedVertex {
 
 /// Where grid point `g` of patch `patch` is, as one key from every patch that has it: a point
 /// of a shared side is named by the patch of lower index (its own grid point there).
-pub(super) fn key(tree: &Bintree<'_>, patch: u32, g: Point) -> (u32, Point) {
+pub(super) fn key(tree: &Hierarchy<'_>, patch: u32, g: Point) -> (u32, Point) {
     let mut best = (patch, g);
     for side in Side::ALL {
         let on = match side {
@@ -118,7 +118,7 @@ impl Pool<'_> {
     /// Makes the vertex at the midpoint of `t`'s hypotenuse (if the pool has room): evaluated
     /// from the patch that names it, written out as the pole where `t`'s hypotenuse lies on a
     /// collapsed side; `base` is added to the slot to make its vertex number.
-    pub fn make(&mut self, tree: &Bintree<'_>, t: &Tri, base: u32) -> Option<u32> {
+    pub fn make(&mut self, tree: &Hierarchy<'_>, t: &Tri, base: u32) -> Option<u32> {
         if self.is_full() {
             return None;
         }
@@ -136,11 +136,11 @@ impl Pool<'_> {
             .hypotenuse_side()
             .and_then(|side| tree.pole(t.patch, side));
         let vertex = match pole {
-            Some(corner) => BintreeVertex {
+            Some(corner) => HierarchyVertex {
                 output: corner,
                 ..tree.vertices[corner as usize]
             },
-            None => BintreeVertex {
+            None => HierarchyVertex {
                 position: s.map_or([0.0; 3], |s| s.position.to_array()),
                 normal: s.map_or([0.0; 3], |s| s.normal.to_array()),
                 uv: at.1,

@@ -3,24 +3,24 @@
 //! hidden, and whether a leaf of the bake is halved below it. How many words a hierarchy
 //! takes, and where each set starts.
 
+use super::hierarchy::Hierarchy;
 #[cfg(doc)]
-use super::select::Selection;
-use super::tree::Bintree;
+use super::select::Tessellator;
 
-impl Bintree<'_> {
-    /// `u32` words of [`Selection`]'s bit storage for this hierarchy: two bits per vertex
+impl Hierarchy<'_> {
+    /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: two bits per vertex
     /// and three per node.
     pub fn bit_words(&self) -> usize {
         bit_words_for(self.nodes.len(), self.vertices.len())
     }
 }
 
-/// `u32` words of [`Selection`]'s bit storage for a hierarchy of `nodes` nodes and `vertices`
-/// vertices (as [`Bintree::bit_words`]), for sizing storage at compile time from the lengths
+/// `u32` words of [`Tessellator`]'s bit storage for a hierarchy of `nodes` nodes and `vertices`
+/// vertices (as [`Hierarchy::bit_words`]), for sizing storage at compile time from the lengths
 /// of a hierarchy's statics.
 ///
 /// ```
-/// use spline_tess::bisect::bit_words_for;
+/// use spline_tess::tessellator::bit_words_for;
 /// const BITS: usize = bit_words_for(7520, 3900);
 /// let bits = [0u32; BITS];
 /// assert_eq!(bits.len(), 2 * 122 + 3 * 235);
@@ -29,7 +29,7 @@ pub const fn bit_words_for(nodes: usize, vertices: usize) -> usize {
     2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32)
 }
 
-/// Offsets of the bit sets in [`Selection::bits`].
+/// Offsets of the bit sets in [`Tessellator::bits`].
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Layout {
     pub seen: usize,
@@ -39,7 +39,7 @@ pub(super) struct Layout {
 }
 
 impl Layout {
-    pub fn of(tree: &Bintree<'_>) -> Layout {
+    pub fn of(tree: &Hierarchy<'_>) -> Layout {
         let (v, n) = (
             tree.vertices.len().div_ceil(32),
             tree.nodes.len().div_ceil(32),

@@ -223,6 +223,16 @@ pub(crate) fn keep(vectors: &[Vec3], candidates: &[Vec3]) -> Kept {
     }
 }
 
+/// The longest of `vectors`' lengths, rounded up (a bound of the root of the largest square,
+/// the squares' few roundings covered).
+pub(crate) fn longest_of(vectors: &[Vec3]) -> f32 {
+    let mut big = 0.0f32;
+    for v in vectors {
+        big = max(big, v.dot(*v));
+    }
+    crate::math::sqrt_above(big) * (1.0 + 4.0 * crate::deviation::EPS)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -274,7 +284,7 @@ mod tests {
 
 #[cfg(test)]
 mod longest_tests {
-    use crate::bisect::BintreeNode;
+    use crate::tessellator::HierarchyNode;
     use crate::test_rng::TestRng;
 
     /// The length bound from the quantised vectors covers every kept vector, as the bake's
@@ -283,9 +293,9 @@ mod longest_tests {
     fn the_quantised_length_bound_covers_the_kept_vectors() {
         let mut rng = TestRng::new(0x0b16_1e55);
         for k in 0..20_000 {
-            let mut node = BintreeNode {
+            let mut node = HierarchyNode {
                 scale: [1e-7, 3.3e-4, 0.71, 12.5][k % 4] * (1.0 + rng.signed(1000) as f32 / 1e4),
-                ..BintreeNode::default()
+                ..HierarchyNode::default()
             };
             for v in &mut node.vectors {
                 *v = [0; 3].map(|_| rng.signed(127) as i8);

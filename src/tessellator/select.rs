@@ -22,7 +22,7 @@
 //!
 //! # Storage
 //!
-//! Bits, in the caller's `u32`s ([`Bintree::bit_words`]): per vertex, whether it is in the
+//! Bits, in the caller's `u32`s ([`Hierarchy::bit_words`]): per vertex, whether it is in the
 //! mesh (its triangles halved) and whether the frame's count has seen it; per node, whether it
 //! was judged, whether it is hidden (not written out), and whether a leaf of the bake is halved
 //! below it. A stack of waiting triangles, and a
@@ -32,10 +32,10 @@ use core::fmt;
 
 use super::address::Tri;
 use super::bits::{bit, set, Layout};
+use super::hierarchy::{walk, walk_patches, Hierarchy, Pending, RUN_TIME};
 use super::judge::judge;
 use super::refine::{key, Pool, RefinedVertex};
-use super::tree::{walk, walk_patches, Bintree, Pending, RUN_TIME};
-use super::BintreeVertex;
+use super::HierarchyVertex;
 use crate::deviation::PatchBounds;
 use crate::math::max;
 use crate::view::View;
@@ -43,9 +43,9 @@ use crate::view::View;
 /// What a frame did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct SelectionStats {
+pub struct FrameStats {
     /// Triangles written out. (The vertices they use are counted on demand:
-    /// [`Selection::mesh_size`].)
+    /// [`Tessellator::mesh_size`].)
     pub triangles: usize,
     /// Triangles judged.
     pub judged: usize,
@@ -69,42 +69,42 @@ pub struct SelectionStats {
 /// Why a run time could not be made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum SelectionError {
-    /// The bit storage is shorter than [`Bintree::bit_words`].
+pub enum TessellatorError {
+    /// The bit storage is shorter than [`Hierarchy::bit_words`].
     BitsTooShort {
         /// Words needed.
         needed: usize,
     },
-    /// The stack holds fewer than [`Selection::MIN_STACK`] entries.
+    /// The stack holds fewer than [`Tessellator::MIN_STACK`] entries.
     StackTooShort,
 }
 
-impl fmt::Display for SelectionError {
+impl fmt::Display for TessellatorError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SelectionError::BitsTooShort { needed } => {
+            TessellatorError::BitsTooShort { needed } => {
                 write!(f, "bit storage too short: {needed} words needed")
             }
-            SelectionError::StackTooShort => write!(
+            TessellatorError::StackTooShort => write!(
                 f,
                 "the stack holds fewer than {} entries",
-                Selection::MIN_STACK
+                Tessellator::MIN_STACK
             ),
         }
     }
 }
 
-impl core::error::Error for SelectionError {}
+impl core::error::Error for TessellatorError {}
 
 /// The run time of a baked hierarchy: each [`update`](Self::update) finds the frame's mesh
 /// for a view; [`stream`](Self::stream) and [`write_mesh`](Self::write_mesh) write it out.
 ///
-/// Its storage is the caller's: [`Bintree::bit_words`] words of bits and a stack of waiting
+/// Its storage is the caller's: [`Hierarchy::bit_words`] words of bits and a stack of waiting
 /// triangles, at least [`MIN_STACK`](Self::MIN_STACK) long (a longer one saves walks on
 /// fine frames; see `stats().sweeps`).
 #[derive(Debug)]
-pub struct Selection<'t, 's> {
-    pub(super) tree: Bintree<'t>,
+pub struct Tessellator<'t, 's> {
+    pub(super) tree: Hierarchy<'t>,
     pub(super) bits: &'s mut [u32],
     pub(super) pool: Pool<'s>,
     stack: &'s mut [Pending],
@@ -125,7 +125,7 @@ pub struct Selection<'t, 's> {
     pub(super) layout: Layout,
     /// The last frame's view.
     view: Option<View>,
-    pub(super) stats: SelectionStats,
+    pub(super) stats: FrameStats,
     /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
     /// asks for it every frame.
     #[cfg(feature = "embedded-graphics")]
@@ -135,35 +135,35 @@ pub struct Selection<'t, 's> {
 /// Most walks of a frame for the leaves its stack had no room for. Each walk judges the
 /// leaves below the bake again (they have no bit), so a stack far too short for a frame deep
 /// below the bake could take many: past this many, the frame stops searching and reports the
-/// bound it honours (see [`SelectionStats::worst_bound`]).
+/// bound it honours (see [`FrameStats::worst_bound`]).
 const MAX_SWEEPS: usize = 16;
 
 /// Deepest nesting of triangles below the bake judged at once for want of stack room.
 const INLINE_DEPTH: usize = 16;
 
-impl<'t, 's> Selection<'t, 's> {
+impl<'t, 's> Tessellator<'t, 's> {
     /// Fewest stack entries a run time takes.
     pub const MIN_STACK: usize = 4;
 
     /// A run time over `tree` with caller storage: `bits` of at least
-    /// [`Bintree::bit_words`] words, `stack` of at least [`MIN_STACK`](Self::MIN_STACK)
+    /// [`Hierarchy::bit_words`] words, `stack` of at least [`MIN_STACK`](Self::MIN_STACK)
     /// entries, and `pool` for vertices below the bake (any length, none included: a frame
     /// finer than the bake then reports what it honours).
     pub fn new(
-        tree: Bintree<'t>,
+        tree: Hierarchy<'t>,
         bits: &'s mut [u32],
         stack: &'s mut [Pending],
         pool: &'s mut [RefinedVertex],
-    ) -> Result<Self, SelectionError> {
+    ) -> Result<Self, TessellatorError> {
         if bits.len() < tree.bit_words() {
-            return Err(SelectionError::BitsTooShort {
+            return Err(TessellatorError::BitsTooShort {
                 needed: tree.bit_words(),
             });
         }
         if stack.len() < Self::MIN_STACK {
-            return Err(SelectionError::StackTooShort);
+            return Err(TessellatorError::StackTooShort);
         }
-        Ok(Selection {
+        Ok(Tessellator {
             tree,
             bits,
             pool: Pool {
@@ -180,7 +180,7 @@ impl<'t, 's> Selection<'t, 's> {
             vertices: None,
             layout: Layout::of(&tree),
             view: None,
-            stats: SelectionStats::default(),
+            stats: FrameStats::default(),
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
         })
@@ -193,12 +193,12 @@ impl<'t, 's> Selection<'t, 's> {
     }
 
     /// The last frame's figures.
-    pub fn stats(&self) -> SelectionStats {
+    pub fn stats(&self) -> FrameStats {
         self.stats
     }
 
     /// The hierarchy.
-    pub fn tree(&self) -> Bintree<'t> {
+    pub fn tree(&self) -> Hierarchy<'t> {
         self.tree
     }
 
@@ -268,7 +268,7 @@ impl<'t, 's> Selection<'t, 's> {
     }
 
     /// Vertex `v`: the bake's, or one below it.
-    pub(super) fn vertex_record(&self, v: u32) -> &BintreeVertex {
+    pub(super) fn vertex_record(&self, v: u32) -> &HierarchyVertex {
         let baked = self.tree.vertices.len();
         match (v as usize).checked_sub(baked) {
             None => &self.tree.vertices[v as usize],
@@ -312,11 +312,11 @@ impl<'t, 's> Selection<'t, 's> {
 
     /// Finds the mesh of `view`: the coarsest conforming mesh of the bake's triangles whose
     /// bounds are within the tolerance (see the [module docs](super)).
-    pub fn update(&mut self, view: &View) -> SelectionStats {
+    pub fn update(&mut self, view: &View) -> FrameStats {
         let words = self.tree.bit_words();
         self.bits[..words].fill(0);
         self.pool.clear();
-        self.stats = SelectionStats::default();
+        self.stats = FrameStats::default();
         self.vertices = None;
         self.view = Some(*view);
         (self.full, self.dropped_below, self.recount) = (false, false, false);
@@ -520,18 +520,15 @@ impl<'t, 's> Selection<'t, 's> {
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::bake::Tolerance;
-    use crate::bisect::{
-        bake_bintree, BakeScratch, BintreeBuffers, BintreeNode, BintreePatch, BintreeSettings,
-        BintreeVertex,
-    };
+    use crate::bake::{bake_hierarchy, BakeBuffers, BakeScratch, BakeSettings, Tolerance};
+    use crate::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
     use crate::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
 
     /// The one-patch bump (a bicubic square with its middle raised), baked at `relative` of
     /// its diagonal into buffers of `N` nodes, handed to `f` with its model and its diagonal.
-    pub(in crate::bisect) fn with_bump<const N: usize>(
+    pub(crate) fn with_bump<const N: usize>(
         relative: f32,
-        f: impl FnOnce(&Model<'_>, Bintree<'_>, f32),
+        f: impl FnOnce(&Model<'_>, Hierarchy<'_>, f32),
     ) {
         let mut points = [[0.0f32; 3]; 16];
         for (k, p) in points.iter_mut().enumerate() {
@@ -551,22 +548,22 @@ pub(super) mod tests {
         let patches = PatchSet::new(&headers, &points, None).unwrap();
         let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
         let model = Model::build(patches, &mut edges, &mut curves).unwrap();
-        let mut nodes = [BintreeNode::default(); N];
-        let mut vertices = [BintreeVertex::default(); N];
-        let mut records = [BintreePatch::default()];
+        let mut nodes = [HierarchyNode::default(); N];
+        let mut vertices = [HierarchyVertex::default(); N];
+        let mut records = [HierarchyPatch::default()];
         let mut scratch = [BakeScratch::default(); N];
-        let buffers = BintreeBuffers {
+        let buffers = BakeBuffers {
             nodes: &mut nodes,
             vertices: &mut vertices,
             patches: &mut records,
             scratch: &mut scratch,
         };
-        let settings = BintreeSettings {
+        let settings = BakeSettings {
             tolerance: Tolerance::Relative(relative),
-            ..BintreeSettings::default()
+            ..BakeSettings::default()
         };
-        let size = bake_bintree(&model, &settings, buffers).unwrap();
-        let tree = Bintree::new(
+        let size = bake_hierarchy(&model, &settings, buffers).unwrap();
+        let tree = Hierarchy::new(
             patches,
             &nodes[..size.nodes],
             &vertices[..size.vertices],
@@ -584,7 +581,7 @@ pub(super) mod tests {
             let mut bits = [0u32; 64];
             let mut stack = [Pending::default(); 64];
             let mut pool = [RefinedVertex::default(); 256];
-            let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+            let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
             // A hundredth of the bake's tolerance: far below the bake.
             let tolerance = 1e-2 * Tolerance::Relative(2e-2).in_model_units(diagonal);
             let stats = selection.update(&View::Object { tolerance });

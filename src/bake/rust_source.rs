@@ -2,47 +2,48 @@
 
 use core::fmt;
 
-use super::tree::Bintree;
 use crate::patch::Side;
+use crate::tessellator::Hierarchy;
 
 /// Writes `tree` as Rust source: `pub static {name}_NODES`, `{name}_VERTICES` and
-/// `{name}_PATCHES`, the records [`Bintree::new`] takes, bit for bit (floats by their bits).
+/// `{name}_PATCHES`, the records [`Hierarchy::new`] takes, bit for bit (floats by their bits).
 /// The source names the records by their paths in `spline_tess::bisect`; include it in a
 /// module of its own.
 ///
 /// ```
-/// use spline_tess::bisect::{write_rust_source, Bintree, BintreeNode, BintreePatch, BintreeVertex};
+/// use spline_tess::bake::write_rust_source;
+/// use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
 /// use spline_tess::{PatchHeader, PatchSet};
 ///
 /// let headers = [PatchHeader { degree_u: 1, degree_v: 1, first_point: 0 }];
 /// let points = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]];
 /// let model = PatchSet::new(&headers, &points, None).unwrap();
-/// let nodes = [BintreeNode::default(); 2];
-/// let vertices = [BintreeVertex::default(); 1];
-/// let patches = [BintreePatch::default()];
-/// let tree = Bintree::new(model, &nodes, &vertices, &patches).unwrap();
+/// let nodes = [HierarchyNode::default(); 2];
+/// let vertices = [HierarchyVertex::default(); 1];
+/// let patches = [HierarchyPatch::default()];
+/// let tree = Hierarchy::new(model, &nodes, &vertices, &patches).unwrap();
 /// let mut src = String::new();
 /// write_rust_source(&mut src, "TEAPOT", &tree).unwrap();
 /// assert!(src.contains("pub static TEAPOT_NODES: [Node; 2] = ["));
 /// ```
-pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, tree: &Bintree<'_>) -> fmt::Result {
+pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, tree: &Hierarchy<'_>) -> fmt::Result {
     writeln!(
         w,
         "// A baked bisection hierarchy of spline-tess: wrap it, with the patches it was baked\n\
-         // from, in `spline_tess::bisect::Bintree::new(patches, &{name}_NODES, &{name}_VERTICES,\n\
+         // from, in `spline_tess::tessellator::Hierarchy::new(patches, &{name}_NODES, &{name}_VERTICES,\n\
          // &{name}_PATCHES)`."
     )?;
     writeln!(
         w,
-        "use spline_tess::bisect::{{BintreeNode as Node, BintreePatch as Patch, \
-         BintreeVertex as Vertex, SideLink}};\nuse spline_tess::Side;\n\n\
+        "use spline_tess::tessellator::{{HierarchyNode as Node, HierarchyPatch as Patch, \
+         HierarchyVertex as Vertex, SideLink}};\nuse spline_tess::Side;\n\n\
          const fn n(children: u32, vertex: u32, vectors: [[i8; 3]; {k}], scale: u32, remainder: u32) -> Node {{\n    \
          Node {{ children, vertex, vectors, scale: f32::from_bits(scale), remainder: f32::from_bits(remainder) }}\n}}\n\n\
          const fn f(b: [u32; 3]) -> [f32; 3] {{\n    \
          [f32::from_bits(b[0]), f32::from_bits(b[1]), f32::from_bits(b[2])]\n}}\n\n\
          const fn v(position: [u32; 3], normal: [u32; 3], uv: [u16; 2], patch: u32, output: u32) -> Vertex {{\n    \
          Vertex {{ position: f(position), normal: f(normal), uv, patch, output }}\n}}\n",
-        k = super::KEPT
+        k = crate::tessellator::KEPT
     )?;
     let nodes = tree.nodes();
     writeln!(w, "pub static {name}_NODES: [Node; {}] = [", nodes.len())?;

@@ -2,11 +2,11 @@
 //! vertices shared by index.
 
 use super::address::unit;
-use super::select::Selection;
-use super::tree::{walk_patches, Pending};
+use super::hierarchy::{walk_patches, Pending};
+use super::select::Tessellator;
 use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
 
-impl Selection<'_, '_> {
+impl Tessellator<'_, '_> {
     /// Calls `f` on every written leaf of the current mesh, patch by patch, with its
     /// vertices.
     fn each_written(&self, mut f: impl FnMut(&Pending, [u32; 3])) {

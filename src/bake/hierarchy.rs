@@ -4,30 +4,27 @@
 
 use core::fmt;
 
-use glam::Vec3;
-
-use super::address::{unit, SideLink, Tri, ONE};
-use super::kept::{dequantize, keep, KEPT};
-use super::lattice::{coarse, deviation_vectors, POINTS, STEPS};
-use super::{BintreeNode, BintreePatch, BintreeVertex, NO_VERTEX};
-use crate::bake::Tolerance;
-use crate::math::max;
+use super::Tolerance;
+use crate::deviation::kept::keep;
+use crate::deviation::lattice::{coarse, deviation_vectors, POINTS, STEPS};
 use crate::model::Model;
 use crate::patch::Side;
+use crate::tessellator::address::{unit, SideLink, Tri, ONE};
+use crate::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex, NO_VERTEX};
 
 /// What to bake.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BintreeSettings {
+pub struct BakeSettings {
     /// Where halving stops: a triangle within this bound of the surface is not halved.
     pub tolerance: Tolerance,
     /// Most halvings from a patch's square (two halve a side; at most 30).
     pub max_depth: u8,
 }
 
-impl Default for BintreeSettings {
+impl Default for BakeSettings {
     fn default() -> Self {
-        BintreeSettings {
+        BakeSettings {
             tolerance: Tolerance::Relative(1e-3),
             max_depth: 24,
         }
@@ -36,13 +33,13 @@ impl Default for BintreeSettings {
 
 /// The caller's storage for a bake.
 #[derive(Debug)]
-pub struct BintreeBuffers<'a> {
+pub struct BakeBuffers<'a> {
     /// One per triangle of the hierarchy.
-    pub nodes: &'a mut [BintreeNode],
+    pub nodes: &'a mut [HierarchyNode],
     /// One per vertex (patch corners and halving points).
-    pub vertices: &'a mut [BintreeVertex],
+    pub vertices: &'a mut [HierarchyVertex],
     /// One per patch.
-    pub patches: &'a mut [BintreePatch],
+    pub patches: &'a mut [HierarchyPatch],
     /// Working memory: one per triangle, as many as `nodes`.
     pub scratch: &'a mut [BakeScratch],
 }
@@ -58,7 +55,7 @@ pub struct BakeScratch {
 /// How much a bake wrote.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BintreeSize {
+pub struct BakeSize {
     /// Triangles of the hierarchy.
     pub nodes: usize,
     /// Vertices.
@@ -68,7 +65,7 @@ pub struct BintreeSize {
 /// Why a bake failed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum BintreeBakeError {
+pub enum BakeError {
     /// The model has no patch.
     NoPatches,
     /// The tolerance is not a positive finite number.
@@ -97,50 +94,50 @@ pub enum BintreeBakeError {
     },
 }
 
-impl fmt::Display for BintreeBakeError {
+impl fmt::Display for BakeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            BintreeBakeError::NoPatches => write!(f, "the model has no patch"),
-            BintreeBakeError::BadTolerance(t) => write!(f, "tolerance {t} is not positive"),
-            BintreeBakeError::TooDeep(d) => write!(f, "max_depth {d} is above 30"),
-            BintreeBakeError::NonManifold { curve } => {
+            BakeError::NoPatches => write!(f, "the model has no patch"),
+            BakeError::BadTolerance(t) => write!(f, "tolerance {t} is not positive"),
+            BakeError::TooDeep(d) => write!(f, "max_depth {d} is above 30"),
+            BakeError::NonManifold { curve } => {
                 write!(f, "curve {curve} is shared by more than two patch edges")
             }
-            BintreeBakeError::PatchesTooSmall { needed } => {
+            BakeError::PatchesTooSmall { needed } => {
                 write!(f, "patch buffer too small: {needed} entries needed")
             }
-            BintreeBakeError::NodesFull { capacity } => {
+            BakeError::NodesFull { capacity } => {
                 write!(f, "node buffer full at {capacity} triangles")
             }
-            BintreeBakeError::VerticesFull { capacity } => {
+            BakeError::VerticesFull { capacity } => {
                 write!(f, "vertex buffer full at {capacity} vertices")
             }
         }
     }
 }
 
-impl core::error::Error for BintreeBakeError {}
+impl core::error::Error for BakeError {}
 
 /// Bakes `model` into `out` (see the [module docs](super)).
-pub fn bake_bintree(
+pub fn bake_hierarchy(
     model: &Model<'_>,
-    settings: &BintreeSettings,
-    out: BintreeBuffers<'_>,
-) -> Result<BintreeSize, BintreeBakeError> {
+    settings: &BakeSettings,
+    out: BakeBuffers<'_>,
+) -> Result<BakeSize, BakeError> {
     let count = model.patches.len();
     if count == 0 {
-        return Err(BintreeBakeError::NoPatches);
+        return Err(BakeError::NoPatches);
     }
     if settings.max_depth > 30 {
-        return Err(BintreeBakeError::TooDeep(settings.max_depth));
+        return Err(BakeError::TooDeep(settings.max_depth));
     }
     let diagonal = model.patches.aabb().map_or(f32::NAN, |b| b.diagonal());
     let tolerance = settings.tolerance.in_model_units(diagonal);
     if !(tolerance > 0.0 && tolerance.is_finite()) {
-        return Err(BintreeBakeError::BadTolerance(tolerance));
+        return Err(BakeError::BadTolerance(tolerance));
     }
     if out.patches.len() < count {
-        return Err(BintreeBakeError::PatchesTooSmall { needed: count });
+        return Err(BakeError::PatchesTooSmall { needed: count });
     }
     let capacity = out.nodes.len().min(out.scratch.len());
     let mut baker = Baker {
@@ -170,7 +167,7 @@ pub fn bake_bintree(
         }
         i += 1;
     }
-    Ok(BintreeSize {
+    Ok(BakeSize {
         nodes: baker.node_count,
         vertices: baker.vertex_count,
     })
@@ -178,9 +175,9 @@ pub fn bake_bintree(
 
 struct Baker<'m, 'o> {
     model: &'o Model<'m>,
-    nodes: &'o mut [BintreeNode],
-    vertices: &'o mut [BintreeVertex],
-    patches: &'o mut [BintreePatch],
+    nodes: &'o mut [HierarchyNode],
+    vertices: &'o mut [HierarchyVertex],
+    patches: &'o mut [HierarchyPatch],
     scratch: &'o mut [BakeScratch],
     capacity: usize,
     node_count: usize,
@@ -190,12 +187,12 @@ struct Baker<'m, 'o> {
 
 impl Baker<'_, '_> {
     /// Which side of which patch each shared side joins.
-    fn link_sides(&mut self) -> Result<(), BintreeBakeError> {
+    fn link_sides(&mut self) -> Result<(), BakeError> {
         let edges = self.model.topology.edges();
         let curves = self.model.topology.curves();
         for (c, curve) in curves.iter().enumerate() {
             if curve.uses > 2 {
-                return Err(BintreeBakeError::NonManifold { curve: c as u32 });
+                return Err(BakeError::NonManifold { curve: c as u32 });
             }
         }
         for p in 0..self.patches.len() {
@@ -238,7 +235,7 @@ impl Baker<'_, '_> {
 
     /// One vertex per distinct patch corner (corners whose control points are equal bit for
     /// bit are one vertex).
-    fn corners(&mut self) -> Result<(), BintreeBakeError> {
+    fn corners(&mut self) -> Result<(), BakeError> {
         let corner_point = |p: usize, k: usize| {
             self.model.patches.patch(p).map_or([0; 3], |patch| {
                 let (du, dv) = (patch.degree_u(), patch.degree_v());
@@ -274,19 +271,19 @@ impl Baker<'_, '_> {
         Ok(())
     }
 
-    fn push_vertex(&mut self, patch: u32, at: [u16; 2]) -> Result<u32, BintreeBakeError> {
+    fn push_vertex(&mut self, patch: u32, at: [u16; 2]) -> Result<u32, BakeError> {
         let n = self.vertex_count;
         let slot = self
             .vertices
             .get_mut(n)
-            .ok_or(BintreeBakeError::VerticesFull { capacity: n })?;
+            .ok_or(BakeError::VerticesFull { capacity: n })?;
         let (u, v) = unit(at);
         let s = self
             .model
             .patches
             .patch(patch as usize)
             .map(|bp| bp.evaluate(u, v));
-        *slot = BintreeVertex {
+        *slot = HierarchyVertex {
             position: s.map_or([0.0; 3], |s| s.position.to_array()),
             normal: s.map_or([0.0; 3], |s| s.normal.to_array()),
             uv: at,
@@ -297,17 +294,17 @@ impl Baker<'_, '_> {
         Ok(n as u32)
     }
 
-    fn push_node(&mut self, tri: Tri, corners: [u32; 3]) -> Result<usize, BintreeBakeError> {
+    fn push_node(&mut self, tri: Tri, corners: [u32; 3]) -> Result<usize, BakeError> {
         let n = self.node_count;
         if n >= self.capacity {
-            return Err(BintreeBakeError::NodesFull {
+            return Err(BakeError::NodesFull {
                 capacity: self.capacity,
             });
         }
-        self.nodes[n] = BintreeNode {
+        self.nodes[n] = HierarchyNode {
             children: 0,
             vertex: NO_VERTEX,
-            ..BintreeNode::default()
+            ..HierarchyNode::default()
         };
         self.scratch[n] = BakeScratch { tri, corners };
         self.node_count += 1;
@@ -356,7 +353,7 @@ impl Baker<'_, '_> {
     /// where needed, so that one of their halves is across), unless it is at the depth
     /// limit or the triangle across cannot be made. `depth` guards the recursion (a coarser
     /// triangle across is at least one level up, so the guard is never reached by 30 levels).
-    fn split(&mut self, i: usize, depth: u32) -> Result<(), BintreeBakeError> {
+    fn split(&mut self, i: usize, depth: u32) -> Result<(), BakeError> {
         let t = self.scratch[i].tri;
         if self.nodes[i].children != 0 || !t.can_split() || self.level(&t) >= self.max_depth {
             return Ok(());
@@ -386,7 +383,7 @@ impl Baker<'_, '_> {
         let v = self.push_vertex(t.patch, t.midpoint())?;
         if let Some(pole) = self.pole(&t) {
             // A point of a collapsed side is the pole: written out as its corner's vertex.
-            self.vertices[v as usize] = BintreeVertex {
+            self.vertices[v as usize] = HierarchyVertex {
                 output: pole,
                 ..self.vertices[pole as usize]
             };
@@ -404,7 +401,7 @@ impl Baker<'_, '_> {
     }
 
     /// The corner vertex of the side `t`'s hypotenuse lies on, if that side is collapsed (as
-    /// the run time names it: `Bintree::pole`).
+    /// the run time names it: `Hierarchy::pole`).
     fn pole(&self, t: &Tri) -> Option<u32> {
         let side = t.hypotenuse_side()?;
         let collapsed = self
@@ -429,46 +426,5 @@ impl Baker<'_, '_> {
         let diagonal = b[0] != c[0] && b[1] != c[1];
         let halvings = (ONE as u32 / span.max(1)).trailing_zeros() as u8;
         2 * halvings + u8::from(!diagonal)
-    }
-}
-
-/// The longest of `vectors`' lengths, rounded up (a bound of the root of the largest square,
-/// the squares' few roundings covered).
-pub(crate) fn longest_of(vectors: &[Vec3]) -> f32 {
-    let mut big = 0.0f32;
-    for v in vectors {
-        big = max(big, v.dot(*v));
-    }
-    crate::math::sqrt_above(big) * (1.0 + 4.0 * crate::deviation::EPS)
-}
-
-impl BintreeNode {
-    /// The bound of the node's deviation in model units: its longest kept vector plus the
-    /// remainder.
-    pub fn object_bound(&self) -> f32 {
-        self.longest() + self.remainder
-    }
-
-    /// The longest kept vector's length, rounded up (a bound of the root of the largest
-    /// square, the squares' few roundings covered).
-    pub(crate) fn longest(&self) -> f32 {
-        longest_of(&self.kept())
-    }
-
-    /// An upper bound of the longest kept vector's length from the quantised vectors: the
-    /// root of the largest integer square times the scale, rounded up (`q · scale` rounds to
-    /// within a relative `ε` of itself, the root and the product add two more roundings,
-    /// `4 ε` covers them). A few roundings apart from [`longest`](Self::longest), which the
-    /// bake and a view in model units take; the run time's judgements on screen take this one,
-    /// which needs no vector in floats.
-    pub(crate) fn longest_quantised(&self) -> f32 {
-        let square = |q: &[i8; 3]| q.iter().map(|&c| c as i32 * c as i32).sum::<i32>();
-        let n = self.vectors.iter().map(square).max().unwrap_or(0);
-        crate::math::sqrt_above(n as f32) * self.scale * (1.0 + 4.0 * crate::deviation::EPS)
-    }
-
-    /// The kept vectors in model units.
-    pub(crate) fn kept(&self) -> [Vec3; KEPT] {
-        dequantize(&self.vectors, self.scale)
     }
 }

@@ -3,7 +3,7 @@
 use core::fmt;
 
 use super::address::Tri;
-use super::{BintreeNode, BintreePatch, BintreeVertex, SideLink};
+use super::{HierarchyNode, HierarchyPatch, HierarchyVertex, SideLink};
 use crate::model::PatchSet;
 use crate::patch::{BezierPatch, Side};
 
@@ -15,17 +15,17 @@ pub(super) const RUN_TIME: u32 = u32::MAX;
 /// goes on from the patches.
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Bintree<'a> {
+pub struct Hierarchy<'a> {
     pub(super) model: PatchSet<'a>,
-    pub(super) nodes: &'a [BintreeNode],
-    pub(super) vertices: &'a [BintreeVertex],
-    pub(super) patches: &'a [BintreePatch],
+    pub(super) nodes: &'a [HierarchyNode],
+    pub(super) vertices: &'a [HierarchyVertex],
+    pub(super) patches: &'a [HierarchyPatch],
 }
 
 /// Why a baked hierarchy was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum BintreeError {
+pub enum HierarchyError {
     /// No patch, or fewer nodes than the patches' squares.
     Empty,
     /// The bake has records for another number of patches than the model has.
@@ -52,21 +52,21 @@ pub enum BintreeError {
     },
 }
 
-impl fmt::Display for BintreeError {
+impl fmt::Display for HierarchyError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            BintreeError::Empty => write!(f, "the hierarchy has no patch"),
-            BintreeError::PatchCount { model, baked } => {
+            HierarchyError::Empty => write!(f, "the hierarchy has no patch"),
+            HierarchyError::PatchCount { model, baked } => {
                 write!(f, "the model has {model} patches, the bake {baked}")
             }
-            BintreeError::BadNode { node } => write!(f, "node {node} is out of range"),
-            BintreeError::BadVertex { vertex } => write!(f, "vertex {vertex} is out of range"),
-            BintreeError::BadPatch { patch } => write!(f, "patch {patch} is out of range"),
+            HierarchyError::BadNode { node } => write!(f, "node {node} is out of range"),
+            HierarchyError::BadVertex { vertex } => write!(f, "vertex {vertex} is out of range"),
+            HierarchyError::BadPatch { patch } => write!(f, "patch {patch} is out of range"),
         }
     }
 }
 
-impl core::error::Error for BintreeError {}
+impl core::error::Error for HierarchyError {}
 
 /// A triangle of the current mesh, or waiting to be judged: its node, where it is, and its
 /// corners' vertices.
@@ -78,20 +78,20 @@ pub struct Pending {
     pub(super) corners: [u32; 3],
 }
 
-impl<'a> Bintree<'a> {
-    /// Checks and wraps a bake's records (as [`bake_bintree`](super::bake_bintree) wrote them,
+impl<'a> Hierarchy<'a> {
+    /// Checks and wraps a bake's records (as [`bake_hierarchy`](super::bake_hierarchy) wrote them,
     /// cut to the sizes it returned) and the patches they were baked from.
     pub fn new(
         model: PatchSet<'a>,
-        nodes: &'a [BintreeNode],
-        vertices: &'a [BintreeVertex],
-        patches: &'a [BintreePatch],
-    ) -> Result<Self, BintreeError> {
+        nodes: &'a [HierarchyNode],
+        vertices: &'a [HierarchyVertex],
+        patches: &'a [HierarchyPatch],
+    ) -> Result<Self, HierarchyError> {
         if patches.is_empty() || nodes.len() < 2 * patches.len() {
-            return Err(BintreeError::Empty);
+            return Err(HierarchyError::Empty);
         }
         if model.len() != patches.len() {
-            return Err(BintreeError::PatchCount {
+            return Err(HierarchyError::PatchCount {
                 model: model.len(),
                 baked: patches.len(),
             });
@@ -104,7 +104,7 @@ impl<'a> Bintree<'a> {
                     .flatten()
                     .any(|l| l.patch as usize >= patches.len());
             if bad {
-                return Err(BintreeError::BadPatch { patch: p as u32 });
+                return Err(HierarchyError::BadPatch { patch: p as u32 });
             }
         }
         for (i, n) in nodes.iter().enumerate() {
@@ -113,15 +113,15 @@ impl<'a> Bintree<'a> {
                     || n.children as usize + 1 >= nodes.len()
                     || n.vertex as usize >= vertices.len());
             if bad {
-                return Err(BintreeError::BadNode { node: i as u32 });
+                return Err(HierarchyError::BadNode { node: i as u32 });
             }
         }
         for (i, v) in vertices.iter().enumerate() {
             if v.output as usize >= vertices.len() {
-                return Err(BintreeError::BadVertex { vertex: i as u32 });
+                return Err(HierarchyError::BadVertex { vertex: i as u32 });
             }
         }
-        Ok(Bintree {
+        Ok(Hierarchy {
             model,
             nodes,
             vertices,
@@ -152,17 +152,17 @@ impl<'a> Bintree<'a> {
     }
 
     /// The nodes.
-    pub fn nodes(&self) -> &'a [BintreeNode] {
+    pub fn nodes(&self) -> &'a [HierarchyNode] {
         self.nodes
     }
 
     /// The vertices.
-    pub fn vertices(&self) -> &'a [BintreeVertex] {
+    pub fn vertices(&self) -> &'a [HierarchyVertex] {
         self.vertices
     }
 
     /// The patch records.
-    pub fn patches(&self) -> &'a [BintreePatch] {
+    pub fn patches(&self) -> &'a [HierarchyPatch] {
         self.patches
     }
 
@@ -188,7 +188,7 @@ impl<'a> Bintree<'a> {
     }
 
     /// The node of `h`, if it is a triangle of the bake.
-    pub(super) fn node(&self, h: &Pending) -> Option<&'a BintreeNode> {
+    pub(super) fn node(&self, h: &Pending) -> Option<&'a HierarchyNode> {
         self.nodes.get(h.node as usize)
     }
 
@@ -227,13 +227,13 @@ const WALK: usize = 34;
 /// returns the vertex the triangle is halved at, if it is (the walk then goes into its
 /// halves). `visit` may halve triangles: the walk goes by what `visit` returns when it gets
 /// to each.
-pub(super) fn walk(tree: Bintree<'_>, mut visit: impl FnMut(&Pending) -> Option<u32>) {
+pub(super) fn walk(tree: Hierarchy<'_>, mut visit: impl FnMut(&Pending) -> Option<u32>) {
     walk_patches(tree, &mut (), |_, _| true, |_, h| visit(h));
 }
 
 /// [`walk`] over the patches `wants` takes, both callbacks given `state`.
 pub(super) fn walk_patches<S: ?Sized>(
-    tree: Bintree<'_>,
+    tree: Hierarchy<'_>,
     state: &mut S,
     mut wants: impl FnMut(&mut S, u32) -> bool,
     mut visit: impl FnMut(&mut S, &Pending) -> Option<u32>,

@@ -6,24 +6,24 @@
 //! never grows with the tolerance. The fit brackets the budget by doubling or halving the
 //! view's tolerance, then halves the bracket (in ratio) until it is within 0.1%: about a dozen
 //! frames. The frame it leaves is the one at the fitted tolerance, and it reports what it
-//! honours: [`BintreeFit::bound`] is its [`SelectionStats::worst_bound`], above the tolerance
+//! honours: [`BudgetFit::bound`] is its [`FrameStats::worst_bound`], above the tolerance
 //! only where the pool of vertices below the bake ran short.
 
 use core::fmt;
 
-use super::select::{Selection, SelectionStats};
+use super::select::{FrameStats, Tessellator};
 use crate::view::View;
 
-/// What [`Selection::update_to_budget`] found.
+/// What [`Tessellator::update_to_budget`] found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BintreeFit {
+pub struct BudgetFit {
     /// The smallest tolerance (within 0.1%) whose mesh fits, in the view's units.
     pub tolerance: f32,
     /// The bound the frame honours, in the view's units (see the module docs).
     pub bound: f32,
     /// The frame's figures.
-    pub stats: SelectionStats,
+    pub stats: FrameStats,
     /// True when a tolerance a millionth of the view's still fits, or a finer tolerance met a
     /// full pool below the bake: no finer one was tried.
     pub exhausted: bool,
@@ -32,7 +32,7 @@ pub struct BintreeFit {
 /// Why no tolerance fits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum BintreeFitError {
+pub enum BudgetError {
     /// Even the patches' squares exceed the budget.
     TooSmall {
         /// The fewest triangles this view can have.
@@ -42,26 +42,27 @@ pub enum BintreeFitError {
     BadTolerance,
 }
 
-impl fmt::Display for BintreeFitError {
+impl fmt::Display for BudgetError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            BintreeFitError::TooSmall { minimum } => {
+            BudgetError::TooSmall { minimum } => {
                 write!(f, "the budget is below the fewest triangles, {minimum}")
             }
-            BintreeFitError::BadTolerance => write!(f, "the tolerance is not positive"),
+            BudgetError::BadTolerance => write!(f, "the tolerance is not positive"),
         }
     }
 }
 
-impl core::error::Error for BintreeFitError {}
+impl core::error::Error for BudgetError {}
 
-impl Selection<'_, '_> {
+impl Tessellator<'_, '_> {
     /// Fits `budget` triangles for `view` (its tolerance is where the search starts): updates
     /// to the smallest tolerance, within 0.1%, whose mesh has at most `budget` triangles.
     ///
     /// ```
-    /// # use spline_tess::bisect::{bake_bintree, BakeScratch, Bintree, BintreeBuffers, BintreeNode,
-    /// #     BintreePatch, BintreeSettings, BintreeVertex, Pending, RefinedVertex, Selection};
+    /// # use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeScratch, BakeSettings};
+    /// # use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex,
+    /// #     Pending, RefinedVertex, Tessellator};
     /// # use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet, View};
     /// // A bicubic bump, baked.
     /// let mut points = [[0.0f32; 3]; 16];
@@ -74,44 +75,44 @@ impl Selection<'_, '_> {
     /// let patches = PatchSet::new(&headers, &points, None).unwrap();
     /// let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
     /// let model = Model::build(patches, &mut edges, &mut curves).unwrap();
-    /// let mut nodes = vec![BintreeNode::default(); 4096];
-    /// let mut vertices = vec![BintreeVertex::default(); 2048];
-    /// let mut records = [BintreePatch::default()];
+    /// let mut nodes = vec![HierarchyNode::default(); 4096];
+    /// let mut vertices = vec![HierarchyVertex::default(); 2048];
+    /// let mut records = [HierarchyPatch::default()];
     /// let mut scratch = vec![BakeScratch::default(); 4096];
-    /// let buffers = BintreeBuffers {
+    /// let buffers = BakeBuffers {
     ///     nodes: &mut nodes,
     ///     vertices: &mut vertices,
     ///     patches: &mut records,
     ///     scratch: &mut scratch,
     /// };
-    /// let size = bake_bintree(&model, &BintreeSettings::default(), buffers).unwrap();
-    /// let tree = Bintree::new(patches, &nodes[..size.nodes], &vertices[..size.vertices], &records)
+    /// let size = bake_hierarchy(&model, &BakeSettings::default(), buffers).unwrap();
+    /// let tree = Hierarchy::new(patches, &nodes[..size.nodes], &vertices[..size.vertices], &records)
     ///     .unwrap();
     ///
     /// // At most 100 triangles, as fine as that allows.
     /// let (mut bits, mut stack) = (vec![0; tree.bit_words()], [Pending::default(); 64]);
     /// let mut pool = vec![RefinedVertex::default(); 256];
-    /// let mut selection = Selection::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+    /// let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
     /// let fit = selection.update_to_budget(&View::Object { tolerance: 1e-3 }, 100).unwrap();
     /// assert!(fit.stats.triangles <= 100);
     /// assert!(fit.bound <= fit.tolerance);
-    /// # Ok::<(), spline_tess::bisect::BintreeFitError>(())
+    /// # Ok::<(), spline_tess::tessellator::BudgetError>(())
     /// ```
     pub fn update_to_budget(
         &mut self,
         view: &View,
         budget: usize,
-    ) -> Result<BintreeFit, BintreeFitError> {
+    ) -> Result<BudgetFit, BudgetError> {
         let start = view.tolerance();
         if !(start > 0.0 && start.is_finite()) {
-            return Err(BintreeFitError::BadTolerance);
+            return Err(BudgetError::BadTolerance);
         }
         let count = |s: &mut Self, t: f32| s.update(&view.with_tolerance(t)).triangles;
         // A frame left over (its pool below the bake full) is as fine as finer tolerances get.
         let saturated = |s: &Self| s.stats().left_over > 0;
         let coarsest = count(self, f32::MAX);
         if coarsest > budget {
-            return Err(BintreeFitError::TooSmall { minimum: coarsest });
+            return Err(BudgetError::TooSmall { minimum: coarsest });
         }
         // Bracket: `lo` over the budget (or the floor), `hi` within it.
         let (mut lo, mut hi) = (start, start);
@@ -120,7 +121,7 @@ impl Selection<'_, '_> {
                 lo *= 0.5;
                 if lo < start * 1e-6 || saturated(self) {
                     let stats = self.update(&view.with_tolerance(hi));
-                    return Ok(BintreeFit {
+                    return Ok(BudgetFit {
                         tolerance: hi,
                         bound: stats.worst_bound,
                         stats,
@@ -156,7 +157,7 @@ impl Selection<'_, '_> {
             }
         }
         let stats = self.update(&view.with_tolerance(hi));
-        Ok(BintreeFit {
+        Ok(BudgetFit {
             tolerance: hi,
             bound: stats.worst_bound,
             stats,

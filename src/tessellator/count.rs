@@ -2,10 +2,10 @@
 //! judges them, and the vertices the mesh uses, counted by a walk on demand.
 
 use super::bits::{bit, set};
-use super::select::Selection;
-use super::tree::{walk, Pending};
+use super::hierarchy::{walk, Pending};
+use super::select::Tessellator;
 
-impl Selection<'_, '_> {
+impl Tessellator<'_, '_> {
     /// Counts leaf `h`, judged and kept whole, as a triangle written out (if it is).
     ///
     /// The frame's triangles and hidden leaves are counted as the search judges them, so that
@@ -93,11 +93,11 @@ mod tests {
             let mut rng = crate::test_rng::TestRng::new(0xc0_4e7);
             let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
             let (mut hidden_frames, mut halved_after, mut sweeps) = (0, 0, 0);
-            for length in [Selection::MIN_STACK, 64] {
+            for length in [Tessellator::MIN_STACK, 64] {
                 let mut bits = [0u32; 1024];
                 let mut stack = [Pending::default(); 64];
                 let mut selection =
-                    Selection::new(tree, &mut bits, &mut stack[..length], &mut []).unwrap();
+                    Tessellator::new(tree, &mut bits, &mut stack[..length], &mut []).unwrap();
                 for k in 0..60 {
                     let distance = [0.4, 1.5, 6.0][k % 3];
                     let target = Vec3::new(1.5 + unit(1.5), 1.5 + unit(1.5), 0.5);

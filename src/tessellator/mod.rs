@@ -17,13 +17,13 @@
 //! needs it halved to stay conforming. That mesh is unique (the set of meshes whose triangles
 //! are all within the tolerance is closed under intersection), so a frame depends on its view
 //! alone, never on the frames before it, and it is found top-down from the squares by
-//! [`Selection::update`].
+//! [`Tessellator::update`].
 //!
 //! # The bake
 //!
-//! [`bake_bintree`] halves each patch in model space until every triangle is within the bake's
+//! [`bake_hierarchy`] halves each patch in model space until every triangle is within the bake's
 //! tolerance (or at the depth limit), and records for every triangle of that hierarchy a few
-//! deviation vectors and a remainder ([`BintreeNode`]): the surface over the triangle lies
+//! deviation vectors and a remainder ([`HierarchyNode`]): the surface over the triangle lies
 //! within the hull of the zero vector and the kept vectors, widened by the remainder, around
 //! the flat triangle through its corners' recorded points (the `deviation` module derives the
 //! lattice's vectors and remainder; `kept` how a few vectors stand for 28). The run time
@@ -36,42 +36,34 @@
 //! bounding the new triangles itself. That takes the crate's default feature `refine`: a build
 //! without it (a firmware that keeps its views within the bake, and so holds no surface
 //! evaluation in its code) leaves such leaves whole, as a full pool does. Either way a leaf
-//! still over the tolerance is reported ([`SelectionStats::left_over`], with the bound it has
-//! in [`SelectionStats::worst_bound`]), not hidden.
+//! still over the tolerance is reported ([`FrameStats::left_over`], with the bound it has
+//! in [`FrameStats::worst_bound`]), not hidden.
 
-mod address;
-mod bake;
+pub(crate) mod address;
 mod bits;
 mod budget;
 mod count;
+pub(crate) mod hierarchy;
 mod judge;
-mod kept;
-mod lattice;
 mod output;
 mod refine;
 mod select;
-mod source;
-mod tree;
 
+pub use crate::deviation::kept::KEPT;
 pub use address::SideLink;
-pub use bake::{
-    bake_bintree, BakeScratch, BintreeBakeError, BintreeBuffers, BintreeSettings, BintreeSize,
-};
 pub use bits::bit_words_for;
-pub use budget::{BintreeFit, BintreeFitError};
-pub use kept::KEPT;
+pub use budget::{BudgetError, BudgetFit};
+pub use hierarchy::{Hierarchy, HierarchyError, Pending};
 pub use refine::RefinedVertex;
-pub use select::{Selection, SelectionError, SelectionStats};
-pub use source::write_rust_source;
-pub use tree::{Bintree, BintreeError, Pending};
+pub use select::{FrameStats, Tessellator, TessellatorError};
 
-/// No vertex: a leaf's [`BintreeNode::vertex`].
+/// No vertex: a leaf's [`HierarchyNode::vertex`].
 pub const NO_VERTEX: u32 = u32::MAX;
 
 /// One triangle of the baked hierarchy.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BintreeNode {
+pub struct HierarchyNode {
     /// Index of the first of its two halves (the second follows it), or 0 for a leaf of the
     /// bake.
     pub children: u32,
@@ -86,9 +78,9 @@ pub struct BintreeNode {
     pub remainder: f32,
 }
 
-impl Default for BintreeNode {
+impl Default for HierarchyNode {
     fn default() -> Self {
-        BintreeNode {
+        HierarchyNode {
             children: 0,
             vertex: NO_VERTEX,
             vectors: [[0; 3]; KEPT],
@@ -101,7 +93,7 @@ impl Default for BintreeNode {
 /// One vertex of the baked hierarchy: a patch corner or a hypotenuse's midpoint.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BintreeVertex {
+pub struct HierarchyVertex {
     /// Position in model space.
     pub position: [f32; 3],
     /// Unit surface normal.
@@ -119,9 +111,40 @@ pub struct BintreeVertex {
 /// One patch of the baked hierarchy: its corners' vertices and what its sides join.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BintreePatch {
+pub struct HierarchyPatch {
     /// Vertices at `(0, 0)`, `(1, 0)`, `(1, 1)`, `(0, 1)`.
     pub corners: [u32; 4],
     /// Per side (`V0, U1, V1, U0`), the other patch's side on the same curve, if shared.
     pub links: [Option<SideLink>; 4],
+}
+
+impl HierarchyNode {
+    /// The bound of the node's deviation in model units: its longest kept vector plus the
+    /// remainder.
+    pub fn object_bound(&self) -> f32 {
+        self.longest() + self.remainder
+    }
+
+    /// The longest kept vector's length, rounded up (a bound of the root of the largest
+    /// square, the squares' few roundings covered).
+    pub(crate) fn longest(&self) -> f32 {
+        crate::deviation::kept::longest_of(&self.kept())
+    }
+
+    /// An upper bound of the longest kept vector's length from the quantised vectors: the
+    /// root of the largest integer square times the scale, rounded up (`q · scale` rounds to
+    /// within a relative `ε` of itself, the root and the product add two more roundings,
+    /// `4 ε` covers them). A few roundings apart from [`longest`](Self::longest), which the
+    /// bake and a view in model units take; the run time's judgements on screen take this one,
+    /// which needs no vector in floats.
+    pub(crate) fn longest_quantised(&self) -> f32 {
+        let square = |q: &[i8; 3]| q.iter().map(|&c| c as i32 * c as i32).sum::<i32>();
+        let n = self.vectors.iter().map(square).max().unwrap_or(0);
+        crate::math::sqrt_above(n as f32) * self.scale * (1.0 + 4.0 * crate::deviation::EPS)
+    }
+
+    /// The kept vectors in model units.
+    pub(crate) fn kept(&self) -> [glam::Vec3; KEPT] {
+        crate::deviation::kept::dequantize(&self.vectors, self.scale)
+    }
 }

@@ -18,10 +18,10 @@
 use glam::Vec3;
 
 use super::address::ONE;
-use super::bake::longest_of;
-use super::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
-use super::select::Selection;
-use super::tree::Pending;
+use super::hierarchy::Pending;
+use super::select::Tessellator;
+use crate::deviation::kept::longest_of;
+use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
 use crate::math::sqrt_above;
 use crate::view::{Camera, Projection, View};
@@ -39,7 +39,7 @@ pub(super) struct Judged {
 /// that the bound is at least (the directional bound stops as soon as it is over: most
 /// triangles judged over are halved, and need no more).
 pub(super) fn judge(
-    selection: &Selection<'_, '_>,
+    selection: &Tessellator<'_, '_>,
     view: &View,
     h: &Pending,
     exact: bool,
@@ -143,7 +143,7 @@ fn judge_vectors<const K: usize>(
 /// judgement hid it by its lattice's tighter bound; this one, recomputed where the mesh is
 /// written out, leaves out no more.
 pub(super) fn hidden_below_the_bake(
-    selection: &Selection<'_, '_>,
+    selection: &Tessellator<'_, '_>,
     camera: &Camera,
     h: &Pending,
     bounds: &crate::deviation::PatchBounds,
