@@ -31,12 +31,8 @@ mod frames;
 #[path = "common/fw_views.rs"]
 mod fw_views;
 
-use spline_tess::tessellator::{Hierarchy, Pending, RefinedVertex};
+use spline_tess::tessellator::{Hierarchy, PoolSlot, StackSlot, Tessellator, TessellatorStorage};
 use spline_tess::{PatchSet, Vertex};
-
-mod data {
-    include!("data/teapot.rs");
-}
 
 /// Words of bits the hierarchy takes.
 const BITS: usize = spline_tess::tessellator::bit_words_for(
@@ -44,22 +40,23 @@ const BITS: usize = spline_tess::tessellator::bit_words_for(
     baked::TEAPOT_VERTICES.len(),
 );
 
-/// Bytes of the hierarchy in flash: its nodes, vertices and patch records.
+/// Bytes of the hierarchy in flash: its nodes, vertices and patch records (the patches' control
+/// points and headers besides).
 const FLASH_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_NODES)
     + core::mem::size_of_val(&baked::TEAPOT_VERTICES)
     + core::mem::size_of_val(&baked::TEAPOT_PATCHES);
 
 /// Bytes of the run time's storage: its bits, its stack and its pool.
 const STORAGE_BYTES: usize = 4 * BITS
-    + frames::STACK * core::mem::size_of::<Pending>()
-    + frames::POOL * core::mem::size_of::<RefinedVertex>();
+    + frames::STACK * core::mem::size_of::<StackSlot>()
+    + frames::POOL * core::mem::size_of::<PoolSlot>();
 
 /// Runs every frame, reporting each; true when all match the host.
 fn run(
     mut report: impl FnMut(usize, &frames::Frame, &spline_tess::tessellator::FrameStats, u64, bool),
     mut clock: impl FnMut() -> u64,
 ) -> bool {
-    let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
+    let Ok(patches) = PatchSet::new(&baked::TEAPOT_HEADERS, &baked::TEAPOT_POINTS, None) else {
         return false;
     };
     let Ok(tree) = Hierarchy::new(
@@ -70,10 +67,8 @@ fn run(
     ) else {
         return false;
     };
-    let mut bits = [0u32; BITS];
-    let mut stack = [Pending::default(); frames::STACK];
-    let mut pool = [RefinedVertex::default(); frames::POOL];
-    let Some(mut selection) = frames::selection(tree, &mut bits, &mut stack, &mut pool) else {
+    let mut storage = TessellatorStorage::<BITS, { frames::STACK }, { frames::POOL }>::new();
+    let Ok(mut selection) = Tessellator::new(tree, &mut storage) else {
         return false;
     };
     let mut remap = [0u32; baked::TEAPOT_VERTICES.len() + frames::POOL];
@@ -143,8 +138,8 @@ mod device {
             "fw_bisect: storage {} bytes (bits {}, stack {}, pool {})",
             super::STORAGE_BYTES,
             4 * super::BITS,
-            super::frames::STACK * core::mem::size_of::<spline_tess::tessellator::Pending>(),
-            super::frames::POOL * core::mem::size_of::<spline_tess::tessellator::RefinedVertex>(),
+            super::frames::STACK * core::mem::size_of::<spline_tess::tessellator::StackSlot>(),
+            super::frames::POOL * core::mem::size_of::<spline_tess::tessellator::PoolSlot>(),
         );
         finish(ok)
     }

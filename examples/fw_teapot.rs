@@ -1,5 +1,5 @@
-//! Firmware demo: the Utah teapot's bisection hierarchy in flash (`spline_tess::bisect`,
-//! shared with `fw_bisect`), its frames selected and drawn at 240x240 Rgb565 on the
+//! Firmware demo: the Utah teapot's patches and hierarchy in flash (`spline_tess::tessellator`,
+//! shared with `fw_bisect`), its frames tessellated and drawn at 240x240 Rgb565 on the
 //! Cortex-M4F with no framebuffer. Each frame is projected once into a triangle list (when it
 //! fits; otherwise its first patches are, and the rest streamed band by band), rasterised into one
 //! 240x16 band at a time (a depth band and a colour band of big-endian Rgb565 bytes) and each
@@ -42,9 +42,6 @@
 
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
-mod data {
-    include!("data/teapot.rs");
-}
 mod baked {
     include!("data/fw_bisect_baked.rs");
 }
@@ -63,7 +60,7 @@ mod teapot;
 
 use spi_display::SpiDisplay;
 use spline_tess::render::ListSlot;
-use spline_tess::tessellator::{Hierarchy, Pending, RefinedVertex, Tessellator};
+use spline_tess::tessellator::{Hierarchy, PoolSlot, StackSlot, Tessellator, TessellatorStorage};
 use spline_tess::PatchSet;
 
 /// Words of bits the hierarchy takes.
@@ -98,8 +95,8 @@ struct Measured {
 /// Buffer sizes in bytes: the run time's storage, the two bands, the triangle list.
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const STORAGE_BYTES: usize = 4 * BITS
-    + teapot::STACK * core::mem::size_of::<Pending>()
-    + teapot::POOL * core::mem::size_of::<RefinedVertex>();
+    + teapot::STACK * core::mem::size_of::<StackSlot>()
+    + teapot::POOL * core::mem::size_of::<PoolSlot>();
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const BAND_BYTES: usize = teapot::BAND * (2 + 2); // a depth value and two colour bytes a pixel
 #[cfg_attr(fw_quiet, allow(dead_code))]
@@ -179,7 +176,7 @@ fn run(
     mut clock: impl FnMut() -> u64,
     mut mark: impl FnMut(),
 ) -> bool {
-    let Ok(patches) = PatchSet::new(&data::TEAPOT_HEADERS, &data::TEAPOT_POINTS, None) else {
+    let Ok(patches) = PatchSet::new(&baked::TEAPOT_HEADERS, &baked::TEAPOT_POINTS, None) else {
         return false;
     };
     let Ok(tree) = Hierarchy::new(
@@ -190,10 +187,8 @@ fn run(
     ) else {
         return false;
     };
-    let mut bits = [0u32; BITS];
-    let mut stack = [Pending::default(); teapot::STACK];
-    let mut pool = [RefinedVertex::default(); teapot::POOL];
-    let Ok(mut tess) = Tessellator::new(tree, &mut bits, &mut stack, &mut pool) else {
+    let mut storage = TessellatorStorage::<BITS, { teapot::STACK }, { teapot::POOL }>::new();
+    let Ok(mut tess) = Tessellator::new(tree, &mut storage) else {
         return false;
     };
     let mut buffers = Buffers {
@@ -331,8 +326,8 @@ fn main() -> std::process::ExitCode {
         core::mem::size_of_val(&baked::TEAPOT_NODES)
             + core::mem::size_of_val(&baked::TEAPOT_VERTICES)
             + core::mem::size_of_val(&baked::TEAPOT_PATCHES),
-        core::mem::size_of_val(&data::TEAPOT_POINTS)
-            + core::mem::size_of_val(&data::TEAPOT_HEADERS)
+        core::mem::size_of_val(&baked::TEAPOT_POINTS)
+            + core::mem::size_of_val(&baked::TEAPOT_HEADERS)
     );
     println!(
         "fw_teapot (host): sizing bit_words {} stack {} stack_entry {} pool {} pool_entry {} \
@@ -340,9 +335,9 @@ fn main() -> std::process::ExitCode {
          width {} height {}",
         BITS,
         teapot::STACK,
-        core::mem::size_of::<Pending>(),
+        core::mem::size_of::<StackSlot>(),
         teapot::POOL,
-        core::mem::size_of::<RefinedVertex>(),
+        core::mem::size_of::<PoolSlot>(),
         baked::TEAPOT_NODES.len(),
         baked::TEAPOT_VERTICES.len(),
         teapot::LIST,

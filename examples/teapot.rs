@@ -33,7 +33,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
 use spline_tess::render::{ListSlot, Renderer, Shading, Style, Wireframe};
-use spline_tess::tessellator::{Pending, RefinedVertex, Tessellator};
+use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: teapot [--model FILE] [--tolerance PX] [--budget N] [--frames N] \
@@ -151,9 +151,9 @@ fn run() -> Result<(), String> {
     let bound = file.patches().aabb().ok_or("the model is empty")?;
     let (center, radius) = (bound.center(), 0.5 * bound.diagonal());
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack = vec![Pending::default(); 1 << 12];
-    let mut pool = vec![RefinedVertex::default(); 1 << 16];
-    let mut tess = Tessellator::new(tree, &mut bits, &mut stack, &mut pool)
+    let mut stack = vec![StackSlot::default(); 1 << 12];
+    let mut pool = vec![PoolSlot::default(); 1 << 16];
+    let mut tess = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)
         .map_err(|e| format!("run time: {e}"))?;
     println!(
         "# {}: {} patches baked in {bake_ms:.0} ms ({} triangles, {} bytes); {} frames at {}x{}",
@@ -222,7 +222,10 @@ fn run() -> Result<(), String> {
                     .map_err(|e| format!("frame {k}: {e}"))?;
                 (fit.stats, fit.tolerance)
             }
-            None => (tess.update(&view), args.tolerance),
+            None => (
+                tess.update(&view).map_err(|e| format!("frame {k}: {e}"))?,
+                args.tolerance,
+            ),
         };
         let update_ms = start.elapsed().as_secs_f64() * 1e3;
         let mut image = Image::new(w, h, Rgb888::new(0, 0, 0));

@@ -34,7 +34,7 @@ use common::model_file::{BakedHierarchy, ModelFile};
 use common::obj::{frame_faces, write_obj};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::{Pending, RefinedVertex, Tessellator};
+use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
@@ -190,9 +190,9 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
     let bake = BakedHierarchy::bake(file, &settings).map_err(|e| format!("bake: {e}"))?;
     let tree = bake.tree();
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack = vec![Pending::default(); 4096];
-    let mut pool = vec![RefinedVertex::default(); 1 << 16];
-    let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool)
+    let mut stack = vec![StackSlot::default(); 4096];
+    let mut pool = vec![PoolSlot::default(); 1 << 16];
+    let mut selection = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)
         .map_err(|e| format!("run time: {e}"))?;
     let mut remap = vec![0u32; selection.remap_len()];
     let (mut vertices, mut triangles) = (Vec::new(), Vec::<[u32; 3]>::new());
@@ -205,7 +205,12 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
                     .map_err(|e| format!("frame {frame}: {e}"))?;
                 (fit.stats, fit.tolerance)
             }
-            None => (selection.update(view), view.tolerance()),
+            None => (
+                selection
+                    .update(view)
+                    .map_err(|e| format!("frame {frame}: {e}"))?,
+                view.tolerance(),
+            ),
         };
         let size = selection.mesh_size();
         vertices.resize(size.vertices, Vertex::default());

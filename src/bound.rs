@@ -80,3 +80,11 @@ impl BoundingSphere {
         Some(BoundingSphere { center, radius })
     }
 }
+
+/// Whether the box of `points` has a diagonal `f32` cannot hold (each coordinate finite, their
+/// spread past about `1.8e19` in some direction, or the three together past `f32::MAX`): such
+/// a model's bounds, distances and tolerances would overflow, so it is refused where it is
+/// loaded.
+pub(crate) fn extent_overflows(points: &[[f32; 3]]) -> bool {
+    Aabb::of_points(points).is_some_and(|b| !b.diagonal().is_finite())
+}

@@ -50,8 +50,8 @@
 //! decides for the whole patch ([`NormalCone::faces_away_from`]). For a parallel projection
 //! the rays share the direction `d`: `d · a ≥ sin α` ([`NormalCone::faces_away_along`]).
 //!
-//! Which way is outward is a property of the whole closed surface; the tessellator works it
-//! out once (see `tessellator`'s back-patch culling).
+//! Which way is outward is a property of the whole closed surface; the bake works it out once
+//! (see `bake`'s orientation rule), and a tessellator culls with it (its `cull` module).
 
 use glam::Vec3;
 
@@ -230,6 +230,16 @@ impl NormalCone {
             axis: axis.to_array(),
             sin_half_angle: sqrt((1.0 - cos_half * cos_half).max(0.0)),
         })
+    }
+
+    /// A cone from its unit axis and the sine of its half-angle, as
+    /// [`axis`](Self::axis) and [`sin_half_angle`](Self::sin_half_angle) give them (a
+    /// hierarchy's records keep them so).
+    pub(crate) fn from_parts(axis: [f32; 3], sin_half_angle: f32) -> NormalCone {
+        NormalCone {
+            axis,
+            sin_half_angle,
+        }
     }
 
     /// The cone's unit axis.

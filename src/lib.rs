@@ -1,72 +1,118 @@
 //! # spline-tess
 //!
 //! A `no_std`, allocation-free kernel that tessellates rational Bezier and NURBS surfaces into
-//! crack-free triangle meshes, for firmware that drives small displays and for host programs.
-//! The algorithm is Chhugani & Kumar's view-dependent adaptive tessellation (I3D 2001).
+//! crack-free triangle meshes whose error on screen stays within a pixel tolerance, for
+//! firmware that drives small displays and for host programs. The method is Chhugani &
+//! Kumar's view-dependent adaptive tessellation (I3D 2001), with a hierarchy of halvings for
+//! its samples.
 //!
-//! What it holds:
+//! 1. **Load** the surfaces: [`parse`] reads BPT text and NURBS JSON into caller buffers; a
+//!    [`PatchSet`] is rational Bezier patches ([`BezierPatch`], degree 1 to [`MAX_DEGREE`])
+//!    over flat slices, so a model can be a `static` in flash; a [`NurbsSurface`] decomposes
+//!    into one; [`Model`] adds which curve each patch side is, so that neighbours share it.
+//! 2. **Bake** once ([`bake`]): each patch's `(u, v)` square is halved at a hypotenuse, and
+//!    halved again, until every triangle is within the bake's tolerance of the surface; each
+//!    triangle records a bound that provably covers the surface over it. The result is a
+//!    [`Hierarchy`]; a firmware bakes on the host and compiles the hierarchy in
+//!    ([`bake::write_rust_source`]).
+//! 3. **Tessellate** a [`View`] ([`Tessellator`]): a [`Camera`] with a tolerance in pixels, or
+//!    a tolerance in model units. A frame's mesh is the coarsest conforming mesh of the
+//!    hierarchy whose triangles are all within the tolerance, each judged by its own bound on
+//!    screen; where the view is finer than the bake, halving goes on into a caller pool. The
+//!    mesh depends on the view alone, shared curves share their vertices (no cracks), and in a
+//!    closed model patches facing away are culled.
+//! 4. **Write** it: into caller buffers of vertices and indices
+//!    ([`Tessellator::write_mesh`]), streamed to a [`TriangleSink`], or drawn band by band
+//!    onto a display (`render`, feature `embedded-graphics`).
 //!
-//! - [`BezierPatch`]: rational Bezier patches of degree 1 to [`MAX_DEGREE`] in u and in v,
-//!   as views over control-point slices, with position, partials, a unit normal that is the
-//!   correct limit at collapsed edges, and conservative bounds;
-//! - [`NurbsSurface`]: validated NURBS views, evaluation, and exact decomposition into Bezier
-//!   patches written into caller buffers;
-//! - [`PatchSet`], [`Topology`] and [`Model`]: patches over flat slices (so a model can be a
-//!   `static` in flash) and which boundary curve each patch edge is;
-//! - [`parse`]: the BPT text format and the NURBS JSON fixtures, read into caller buffers;
-//! - [`DomainMesh`]: the fixed-capacity Delaunay triangulation of a patch's (u,v) square with
-//!   insertion and deletion and exact, history-independent decisions, which the bake and the
-//!   run time share.
-//! - [`bake`]: ordered samples per curve and patch by greedy maximum deviation, in a compact
-//!   format read in place from flash;
-//! - [`tessellator`]: the run time. A [`View`] (a [`Camera`] and a pixel tolerance, or an
-//!   object-space tolerance) selects each patch's and curve's prefix of samples, the domain
-//!   meshes are updated in place, triangles past the samples are refined with edge factors
-//!   both sides agree on, and the crack-free mesh is written to caller buffers or streamed to a
-//!   [`TriangleSink`];
-//! - [`bisect`]: the other run time, by longest-edge bisection. Its bake halves every patch's
-//!   square until each triangle is within the tolerance and records each triangle's bound (a
-//!   few deviation vectors and a remainder, so the bound is a bound); a frame selects every
-//!   triangle by its own bound on screen (the coarsest conforming mesh within the tolerance,
-//!   history-free), goes on below the bake into a caller pool where a view is finer, fits
-//!   budgets, and streams or writes its mesh. Fewer triangles for the same verified error than
-//!   the prefixes (BENCHMARKS.md), at several times the bake's flash; see
-//!   [`Tessellator::update_to_budget`](bisect::Tessellator::update_to_budget) for a whole use;
-//! - `render` (feature `embedded-graphics`): the band renderer for displays.
+//! Nothing allocates: every capacity is a const generic or a caller slice, and running out of
+//! room is an error that states what was needed, or a frame that reports the bound it keeps.
+//! Triangles come counter-clockwise seen from outside, with outward normals (the bake's
+//! orientation rule, [`bake`]).
 //!
-//! Nothing allocates: every capacity is a caller slice, and running out of room is an error that
-//! states what was needed.
+//! ## On a host
 //!
-//! The run time's domain meshes share one pool of slots that the caller sizes (see
-//! [`Tessellator`]'s example): [`StorageSize::of`](tessellator::StorageSize::of) holds every
-//! baked step, and any pool down to
-//! [`StorageSize::minimum`](tessellator::StorageSize::minimum) works. A frame that needs more
-//! than the pool holds cuts its steps to fit and refines instead, within the same bound
-//! ([`FrameStats::prefix_scale`]); [`FrameStats::pool_needed`] tells what a view needs. The
-//! pool's slots are numbered by `u16`, or by `u8` ([`DomainIndex`]) at half the bytes per
-//! triangle slot, for meshes of up to 130 vertices a patch ([`Tessellator::indexed`], and the
-//! last parameter of [`FixedStorage`](tessellator::FixedStorage), firmware's storage).
+//! Load, bake, tessellate, write: one bicubic patch here, a model file the same way.
+//!
+//! ```
+//! use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings};
+//! use spline_tess::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
+//! use spline_tess::tessellator::{PoolSlot, StackSlot};
+//! use spline_tess::{parse, BoundaryCurve, EdgeLink, Hierarchy, Model, PatchHeader, Tessellator};
+//! use spline_tess::{Vertex, View};
+//!
+//! // Load: BPT text (a patch count, then per patch its degrees and its control points).
+//! let text = "1\n3 3\n\
+//!     0 0 0\n0 1 0\n0 2 0\n0 3 0\n1 0 0\n1 1 1\n1 2 1\n1 3 0\n\
+//!     2 0 0\n2 1 1\n2 2 1\n2 3 0\n3 0 0\n3 1 0\n3 2 0\n3 3 0\n";
+//! let size = parse::bpt_size(text)?;
+//! let mut headers = vec![PatchHeader::default(); size.patches];
+//! let mut points = vec![[0.0; 3]; size.points];
+//! let patches = parse::parse_bpt(text, &mut headers, &mut points)?;
+//! let mut edges = vec![[EdgeLink::Collapsed; 4]; patches.len()];
+//! let mut curves = vec![BoundaryCurve::default(); 4 * patches.len()];
+//! let model = Model::build(patches, &mut edges, &mut curves)?;
+//!
+//! // Bake: a hierarchy's size is known once it is baked, so grow until it fits.
+//! let mut capacity = 1024;
+//! let (nodes, vertices, records) = loop {
+//!     let mut nodes = vec![HierarchyNode::default(); capacity];
+//!     let mut vertices = vec![HierarchyVertex::default(); capacity];
+//!     let mut records = vec![HierarchyPatch::default(); patches.len()];
+//!     let mut scratch = vec![BakeScratch::default(); capacity];
+//!     let buffers = BakeBuffers {
+//!         nodes: &mut nodes,
+//!         vertices: &mut vertices,
+//!         patches: &mut records,
+//!         scratch: &mut scratch,
+//!     };
+//!     match bake_hierarchy(&model, &BakeSettings::default(), buffers) {
+//!         Ok(size) => {
+//!             nodes.truncate(size.nodes);
+//!             vertices.truncate(size.vertices);
+//!             break (nodes, vertices, records);
+//!         }
+//!         Err(BakeError::NodesFull { .. } | BakeError::VerticesFull { .. }) => capacity *= 2,
+//!         Err(e) => return Err(e.into()),
+//!     }
+//! };
+//! let hierarchy = Hierarchy::new(patches, &nodes, &vertices, &records)?;
+//!
+//! // Tessellate: storage for the hierarchy, a stack, and a pool below the bake.
+//! let mut bits = vec![0; hierarchy.bit_words()];
+//! let mut stack = vec![StackSlot::EMPTY; 256];
+//! let mut pool = vec![PoolSlot::EMPTY; 4096];
+//! let mut tessellator = Tessellator::from_slices(hierarchy, &mut bits, &mut stack, &mut pool)?;
+//! let stats = tessellator.update(&View::Object { tolerance: 1e-3 })?;
+//! assert!(stats.left_over == 0 && stats.worst_bound <= 1e-3);
+//!
+//! // Write: vertices shared by index.
+//! let size = tessellator.mesh_size();
+//! let mut vertices = vec![Vertex::default(); size.vertices];
+//! let mut triangles = vec![[0u32; 3]; size.triangles];
+//! let mut remap = vec![0; tessellator.remap_len()];
+//! tessellator.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
+//! assert_eq!(triangles.len(), stats.triangles);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! ## On a microcontroller
 //!
-//! A bisection hierarchy is baked on the host ([`bisect::bake_hierarchy`]) and written as
-//! statics ([`bisect::write_rust_source`]) that the firmware reads in place from flash. The run
-//! time's storage is three arrays sized at compile time, whatever the view: bits for the
-//! hierarchy ([`bisect::bit_words_for`]), a stack of waiting triangles (any length from
-//! [`Tessellator::MIN_STACK`](bisect::Tessellator::MIN_STACK); a short one walks the patches of
-//! what it had no room for again), and a pool of vertices below the bake (empty here: a view
-//! finer than the bake leaves its triangles whole, and the frame reports the bound it keeps).
-//! The firmware demo `fw_teapot` does this in 5.4 KB, and draws the frame band by band with
-//! `render` (README, *Footprint*).
+//! The hierarchy is baked on the host and written as statics ([`bake::write_rust_source`])
+//! that the firmware includes and reads in place from flash. The tessellator's storage is sized
+//! at compile time ([`tessellator::TessellatorStorage`]): bits for the hierarchy, a stack of
+//! waiting triangles, and a pool of vertices below the bake, which may be empty (a view finer
+//! than the bake then leaves its triangles whole, and the frame reports the bound it keeps).
 //!
 //! ```
 //! # use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeScratch, BakeSettings};
-//! # use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
+//! # use spline_tess::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
 //! # use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
-//! use spline_tess::tessellator::{bit_words_for, Pending, RefinedVertex, Tessellator};
-//! use spline_tess::{Camera, Projection, Vec3, View};
+//! use spline_tess::tessellator::{bit_words_for, TessellatorStorage};
+//! use spline_tess::{Camera, Hierarchy, Projection, Tessellator, Vec3, View};
 //!
-//! // The hierarchy's statics, as `write_rust_source` writes them (here baked in place).
+//! // The statics `write_rust_source` writes (here baked in place): their lengths size the
+//! // storage.
 //! const NODES: usize = 2048;
 //! const VERTICES: usize = 1024;
 //! # let mut points = [[0.0f32; 3]; 16];
@@ -82,24 +128,21 @@
 //! # let mut nodes = [HierarchyNode::default(); NODES];
 //! # let mut vertices = [HierarchyVertex::default(); VERTICES];
 //! # let mut records = [HierarchyPatch::default()];
-//! # let mut scratch = vec![BakeScratch::default(); 4096];
+//! # let mut scratch = vec![BakeScratch::default(); NODES];
 //! # let buffers = BakeBuffers {
 //! #     nodes: &mut nodes,
 //! #     vertices: &mut vertices,
 //! #     patches: &mut records,
 //! #     scratch: &mut scratch,
 //! # };
-//! # let size = bake_hierarchy(&model, &BakeSettings::default(), buffers)?;
-//! # let (nodes, vertices) = (&nodes[..size.nodes], &vertices[..size.vertices]);
-//! let tree = Hierarchy::new(patches, nodes, vertices, &records)?;
+//! # bake_hierarchy(&model, &BakeSettings::default(), buffers)?;
+//! let hierarchy = Hierarchy::new(patches, &nodes, &vertices, &records)?;
 //!
-//! // The run time's storage: bits, a stack, no pool.
-//! let mut bits = [0u32; bit_words_for(NODES, VERTICES)];
-//! let mut stack = [Pending::default(); 64];
-//! let mut pool: [RefinedVertex; 0] = [];
-//! let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool)?;
+//! // Bits, a stack of 64 and no pool, sized at compile time.
+//! let mut storage = TessellatorStorage::<{ bit_words_for(NODES, VERTICES) }, 64, 0>::new();
+//! let mut tessellator = Tessellator::new(hierarchy, &mut storage)?;
 //!
-//! // A frame: 1 px on a 240x240 display.
+//! // A frame: 1 px on a 240x240 display, streamed (to a renderer, here a count).
 //! let camera = Camera::new(
 //!     Vec3::new(6.0, -4.0, 5.0),
 //!     Vec3::new(1.5, 1.5, 0.5),
@@ -108,63 +151,34 @@
 //!     0.1,
 //!     [240, 240],
 //! )?;
-//! let stats = selection.update(&View::Screen { camera, tolerance_px: 1.0 });
+//! let stats = tessellator.update(&View::Screen { camera, tolerance_px: 1.0 })?;
 //! assert!(stats.left_over > 0 || stats.worst_bound <= 1.0);
 //! let mut drawn = 0;
-//! selection.stream_with_info(|_info, _corners| drawn += 1);
+//! tessellator.stream_with_info(|_info, _corners| drawn += 1);
 //! assert_eq!(drawn, stats.triangles);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! ## Example
-//!
-//! ```
-//! use spline_tess::{parse, BoundaryCurve, EdgeLink, Model, PatchHeader};
-//!
-//! // One bicubic patch of the Utah teapot's lid (BPT text: count, degrees, 16 points).
-//! let text = "1\n3 3\n0 0 3.15\n0 0 3.15\n0 0 3.15\n0 0 3.15\n\
-//!             0.8 0 3.15\n0.8 -0.45 3.15\n0.45 -0.8 3.15\n0 -0.8 3.15\n\
-//!             0 0 2.85\n0 0 2.85\n0 0 2.85\n0 0 2.85\n\
-//!             0.2 0 2.7\n0.2 -0.112 2.7\n0.112 -0.2 2.7\n0 -0.2 2.7\n";
-//! let size = parse::bpt_size(text)?;
-//! let mut headers = [PatchHeader::default(); 1];
-//! let mut points = [[0.0; 3]; 16];
-//! assert_eq!((size.patches, size.points), (1, 16));
-//! let patches = parse::parse_bpt(text, &mut headers, &mut points)?;
-//!
-//! // The edge u = 0 is collapsed to the pole; the normal there is the limit, not NaN.
-//! let pole = patches.patch(0).unwrap().evaluate(0.0, 0.3);
-//! assert_eq!(pole.position.to_array(), [0.0, 0.0, 3.15]);
-//! assert!(pole.normal.z.abs() > 0.999);
-//!
-//! let mut edges = [[EdgeLink::Collapsed; 4]; 1];
-//! let mut curves = [BoundaryCurve::default(); 4];
-//! let model = Model::build(patches, &mut edges, &mut curves).unwrap();
-//! assert_eq!(model.topology.edge_counts().collapsed, 1);
-//! # Ok::<(), spline_tess::parse::BptError>(())
-//! ```
-//!
 //! ## Crate features
 //!
-//! - `refine` (default): refinement below a bisection hierarchy's bake, in the caller's pool
-//!   of vertices ([`bisect`]). A firmware whose views stay within its bake can leave it out:
-//!   its code then holds no surface evaluation (20 KB less at opt-level "s" in `fw_teapot`),
+//! - `refine` (default): refinement below the bake, into the caller's pool. A firmware whose
+//!   views stay within its bake can leave it out: its code then holds no surface evaluation,
 //!   and a view finer than the bake leaves its triangles whole, within the bound the frame
 //!   reports, as with a full pool.
-//! - `large-viewports` (default): the renderer draws viewports up to
-//!   `render::MAX_VIEWPORT` = 2^20 pixels across, with 64-bit edge functions where corners
-//!   lie far out. Without it, up to 256 pixels, in 32-bit arithmetic only (2.5 KB less code
-//!   in `fw_teapot`).
+//! - `large-viewports` (default): the renderer draws viewports up to `render::MAX_VIEWPORT`
+//!   = 2^20 pixels across, with 64-bit edge functions where corners lie far out. Without it,
+//!   up to 256 pixels, in 32-bit arithmetic only.
 //! - `defmt`: every public type implements `defmt::Format`.
 //! - `embedded-graphics`: `render`, a band-by-band, z-buffered rasteriser that draws a
-//!   tessellator's triangles (streamed, no mesh buffer) or an indexed mesh onto any
+//!   tessellator's frame (streamed, no mesh buffer) or an indexed mesh onto any
 //!   `embedded_graphics` `DrawTarget` with RGB colours, with a caller depth band.
 //!
 //! ## Numbers
 //!
 //! Evaluation is in `f32` (the single-precision FPU of a Cortex-M4F) using only element-wise
 //! IEEE-754 operations in a fixed order, so a host and a microcontroller compute the same bits.
-//! `host-tests/` checks it against an `f64` reference and against `curvo` and `truck-geometry`.
+//! `host-tests/` checks it against an `f64` reference and against `curvo` and `truck-geometry`,
+//! and every frame's triangles against dense `f64` sampling on screen.
 
 #![no_std]
 #![forbid(unsafe_code)]

@@ -135,8 +135,8 @@ pub struct TriangleInfo {
     /// of that edge the corner sits at).
     pub uv: [[f32; 2]; 3],
     /// An upper bound of the distance between the patch and the triangle at the same
-    /// parameters, in model units (computed, not estimated: see
-    /// [`PatchBounds`](crate::bake::PatchBounds)).
+    /// parameters, in model units (computed, not estimated: see the bound's derivation in
+    /// the `deviation` module).
     pub bound: f32,
 }
 
@@ -165,11 +165,10 @@ pub enum WriteError {
         /// Vertices of the mesh.
         vertices: usize,
     },
-    /// The tessellator's output scratch
-    /// ([`TessellatorStorage::scratch`](crate::tessellator::TessellatorStorage::scratch)) is
-    /// shorter than this frame's index tables; the buffers are untouched.
-    ScratchTooSmall {
-        /// `u32`s the frame needs.
+    /// The `remap` buffer is shorter than
+    /// [`Tessellator::remap_len`](crate::Tessellator::remap_len); the buffers are untouched.
+    RemapTooSmall {
+        /// Entries needed.
         needed: usize,
     },
 }
@@ -185,11 +184,8 @@ impl fmt::Display for WriteError {
             WriteError::IndexOverflow { vertices } => {
                 write!(f, "{vertices} vertices do not fit the index type")
             }
-            WriteError::ScratchTooSmall { needed } => {
-                write!(
-                    f,
-                    "output scratch too small: the frame needs {needed} slots"
-                )
+            WriteError::RemapTooSmall { needed } => {
+                write!(f, "remap too small: {needed} entries needed")
             }
         }
     }

@@ -5,7 +5,7 @@
 
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::{FrameStats, Hierarchy, Pending, RefinedVertex, Tessellator};
+use spline_tess::tessellator::{FrameStats, Tessellator};
 use spline_tess::Vertex;
 
 // The views and checksum (`fw_views.rs`), which the includer declares as `fw_views`.
@@ -54,7 +54,7 @@ pub fn frame_timed(
 ) -> Option<(Frame, FrameStats, u64)> {
     let view = view(k)?;
     let start = clock();
-    let stats = selection.update(&view);
+    let stats = selection.update(&view).ok()?;
     let size = selection.write_mesh(vertices, triangles, remap).ok()?;
     let used = clock().saturating_sub(start);
     let frame = Frame {
@@ -64,14 +64,4 @@ pub fn frame_timed(
         checksum: checksum(&vertices[..size.vertices], &triangles[..size.triangles]),
     };
     Some((frame, stats, used))
-}
-
-/// A run time over `tree` in caller storage.
-pub fn selection<'t, 's>(
-    tree: Hierarchy<'t>,
-    bits: &'s mut [u32],
-    stack: &'s mut [Pending],
-    pool: &'s mut [RefinedVertex],
-) -> Option<Tessellator<'t, 's>> {
-    Tessellator::new(tree, bits, stack, pool).ok()
 }

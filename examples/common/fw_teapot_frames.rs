@@ -2,9 +2,9 @@
 // expected checksums (host-tests/tests/firmware_data.rs): the views, the styles, one frame's
 // update, and its rendering band by band into a colour band buffer pushed to the SPI display
 // model (module `spi_display` beside this one, which also hashes the pixels). Uses the
-// teapot's bisection hierarchy of `fw_bisect` (`spline_tess::bisect`, baked at 2e-3 of the
-// diagonal with `fw_bisect_frames::BAKE`), in its own storage: a short stack and a small pool
-// of vertices below the bake. `no_std`, no allocation. Hand-written.
+// teapot's hierarchy of `fw_bisect` (baked at 2e-3 of the diagonal with
+// `fw_bisect_frames::BAKE`), in its own storage: a short stack and no pool of vertices below
+// the bake. `no_std`, no allocation. Hand-written.
 
 use embedded_graphics::pixelcolor::Rgb888;
 use spline_tess::render::{ListSlot, RenderStats, Renderer, Shading, Style, Wireframe};
@@ -35,10 +35,10 @@ pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// path on every frame.
 pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2000 };
 
-/// Triangles waiting to be judged (`Pending`, 32 bytes each). Measured 2026-11-25 under QEMU:
+/// Triangles waiting to be judged (`StackSlot`, 32 bytes each). Measured 2026-11-25 under QEMU:
 /// 256 entries instead of 64 (6 KiB more) spare frames 0 and 1 2% of their update.
 pub const STACK: usize = 64;
-/// Vertices below the bake (`RefinedVertex`, 48 bytes each): none. Frames 0 to 2 are within
+/// Vertices below the bake (`PoolSlot`, 48 bytes each): none. Frames 0 to 2 are within
 /// the bake; frame 3 is not, and leaves 250 triangles whole, within the bound it reports
 /// (`FrameStats::worst_bound`, printed by the host run as `bound_px`: 1.9 px). Measured
 /// 2026-11-25: a pool of 64 (3 KB) makes 56 vertices in frame 3 and leaves its bound at 1.9 px,
@@ -90,10 +90,12 @@ pub fn style(k: usize) -> Option<Style> {
 pub fn update(selection: &mut Tessellator<'_, '_>, k: usize) -> Option<FrameStats> {
     let camera = camera(k)?;
     let tolerance_px = FRAMES.get(k)?.1;
-    Some(selection.update(&View::Screen {
-        camera,
-        tolerance_px,
-    }))
+    selection
+        .update(&View::Screen {
+            camera,
+            tolerance_px,
+        })
+        .ok()
 }
 
 /// Draws `selection`'s current frame as frame `k` onto `display`, band by band: `depth` (`BAND`

@@ -1,11 +1,11 @@
-//! The bisection run time under arbitrary use: bytes choose a model of the runtime target's
-//! set, a bake tolerance, the run time's stack and pool sizes, and a sequence of views
+//! The tessellator under arbitrary use: bytes choose a model of a small set, a bake tolerance, the run time's stack and pool sizes, and a sequence of views
 //! (cameras, object tolerances, budgets, any of them invalid); every frame is written into
 //! small and exact buffers and streamed.
 //!
-//! What must hold: no panic; a refused write leaves the buffers untouched; every written index
-//! points at a written vertex; the stream is the indexed mesh, vertex for vertex; a frame with
-//! nothing left over is within its tolerance by its own bound; the same view again gives the
+//! What must hold: no panic; a tolerance is refused exactly when it is not a positive finite
+//! number; a refused write leaves the buffers untouched; every written index points at a
+//! written vertex; the stream is the indexed mesh, vertex for vertex; a frame with nothing left
+//! over is within its tolerance by its own bound, and one whose pool filled up leaves some; the same view again gives the
 //! same mesh, and so does a run time with another stack (history and storage do not matter); a
 //! budget frame keeps its budget.
 //!
@@ -19,7 +19,7 @@ use std::sync::OnceLock;
 
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::{Pending, RefinedVertex, Tessellator};
+use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
 use spline_tess::{Camera, Projection, TriangleSink, Vec3, Vertex, View, WriteError};
 
 use super::bytes::Bytes;
@@ -226,9 +226,9 @@ fn run(data: &[u8], limits: &Limits) {
     let stack = 4 + r.u8() as usize % 64;
     let pool = limits.pools[r.u8() as usize % 4];
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack_slots = vec![Pending::default(); stack];
-    let mut pool_slots = vec![RefinedVertex::default(); pool];
-    let mut s = Tessellator::new(tree, &mut bits, &mut stack_slots, &mut pool_slots)
+    let mut stack_slots = vec![StackSlot::default(); stack];
+    let mut pool_slots = vec![PoolSlot::default(); pool];
+    let mut s = Tessellator::from_slices(tree, &mut bits, &mut stack_slots, &mut pool_slots)
         .expect("storage sized for the tree");
     let aabb = b.file.patches().aabb().expect("a model has patches");
     let (center, diag) = ((aabb.min + aabb.max) * 0.5, aabb.diagonal());
@@ -255,19 +255,31 @@ fn run(data: &[u8], limits: &Limits) {
             }
             continue;
         }
-        let stats = s.update(&view);
         let tolerance = view.tolerance();
-        if stats.left_over == 0 && tolerance > 0.0 {
+        let valid = tolerance > 0.0 && tolerance.is_finite();
+        let stats = match s.update(&view) {
+            Ok(stats) => stats,
+            Err(e) => {
+                assert!(!valid, "tolerance {tolerance} refused: {e}");
+                continue;
+            }
+        };
+        assert!(valid, "tolerance {tolerance} taken");
+        if stats.left_over == 0 {
             assert!(
                 stats.worst_bound <= tolerance,
                 "bound {} over {tolerance} with nothing left over",
                 stats.worst_bound
             );
         }
+        assert!(
+            !stats.pool_full || stats.left_over > 0,
+            "a full pool leaves leaves over: {stats:?} pool {pool} view {view:?}"
+        );
         let Some(first) = written(&mut s, &mut r, 1 << 14) else {
             continue;
         };
-        s.update(&view);
+        s.update(&view).expect("the same view again");
         let again = written(&mut s, &mut r, 1 << 14).expect("the same frame again");
         assert!(first == again, "the same view twice differs");
     }

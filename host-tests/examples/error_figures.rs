@@ -330,16 +330,16 @@ fn main() {
         let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
         for _ in 0..3 {
             let start = Instant::now();
-            let mut s = store.selection(tree);
-            let stats = s.update(&view);
+            let mut s = store.tessellator(tree);
+            let stats = s.update(&view).unwrap();
             s.write_mesh(&mut vertices, &mut triangles, &mut remap)
                 .expect("room");
             best = best.min(start.elapsed().as_secs_f64() * 1e3);
             count = stats.triangles;
             left_over = stats.left_over;
         }
-        let mut s = store.selection(tree);
-        s.update(&view);
+        let mut s = store.tessellator(tree);
+        s.update(&view).unwrap();
         let tris = streamed(&s);
         if left_over > 0 {
             eprintln!("{}: {left_over} leaves of the bake left over", case.name);

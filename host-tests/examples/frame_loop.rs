@@ -66,7 +66,7 @@ fn main() {
         let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
         let tree = bake.tree();
         let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
-        let mut selection = storage.selection(tree);
+        let mut selection = storage.tessellator(tree);
         let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
@@ -74,7 +74,7 @@ fn main() {
         for k in 1..=frames {
             let view = view_at(k);
             let start = Instant::now();
-            let stats = selection.update(&view);
+            let stats = selection.update(&view).unwrap();
             selection
                 .write_mesh(&mut vertices, &mut triangles, &mut remap)
                 .expect("room");

@@ -36,7 +36,7 @@ fn main() {
     let baked = BakedHierarchy::bake(&file, &BAKE).expect("a bisection bake");
     let tree = baked.tree();
     let mut storage = VecStorage::new(&tree, 1 << 12, 0);
-    let mut selection = storage.selection(tree);
+    let mut selection = storage.tessellator(tree);
     // `fw_teapot`'s first frame: eye (9, -12, 7), target (0, 0, 1.5).
     let target = Vec3::new(0.0, 0.0, 1.5);
     let (radius, height, start) = (15.0f32, 7.0f32, (-12.0f32).atan2(9.0));
@@ -62,10 +62,12 @@ fn main() {
                 [240, 240],
             )
             .expect("a camera");
-            let stats = selection.update(&View::Screen {
-                camera,
-                tolerance_px: 1.0,
-            });
+            let stats = selection
+                .update(&View::Screen {
+                    camera,
+                    tolerance_px: 1.0,
+                })
+                .unwrap();
             let mesh: HashSet<_> = triangle_set(&streamed(&selection)).into_iter().collect();
             if let Some(before) = &last {
                 added.push(mesh.difference(before).count());

@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use spline_tess::tessellator::{Hierarchy, Pending, RefinedVertex, Tessellator};
+use spline_tess::tessellator::{Hierarchy, PoolSlot, StackSlot, Tessellator};
 use spline_tess::{TriangleInfo, Vertex};
 
 pub use crate::model_file::BakedHierarchy;
@@ -14,8 +14,8 @@ pub use crate::model_file::BakedHierarchy;
 #[derive(Debug)]
 pub struct VecStorage {
     bits: Vec<u32>,
-    stack: Vec<Pending>,
-    pool: Vec<RefinedVertex>,
+    stack: Vec<StackSlot>,
+    pool: Vec<PoolSlot>,
 }
 
 impl VecStorage {
@@ -24,14 +24,14 @@ impl VecStorage {
     pub fn new(tree: &Hierarchy<'_>, stack: usize, pool: usize) -> Self {
         VecStorage {
             bits: vec![0; tree.bit_words()],
-            stack: vec![Pending::default(); stack],
-            pool: vec![RefinedVertex::default(); pool],
+            stack: vec![StackSlot::default(); stack],
+            pool: vec![PoolSlot::default(); pool],
         }
     }
 
     /// A run time over `tree` in this storage.
-    pub fn selection<'t>(&mut self, tree: Hierarchy<'t>) -> Tessellator<'t, '_> {
-        Tessellator::new(tree, &mut self.bits, &mut self.stack, &mut self.pool)
+    pub fn tessellator<'t>(&mut self, tree: Hierarchy<'t>) -> Tessellator<'t, '_> {
+        Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut self.pool)
             .expect("storage sized for the tree")
     }
 }

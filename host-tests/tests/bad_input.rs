@@ -163,10 +163,12 @@ fn splits_refuse_short_buffers_and_points_past_f32() {
             "buffers too small: need 4 patches and 64 control points and weights"
         );
     }
-    // Finite points near f32::MAX whose homogeneous coordinates overflow: a typed error.
+    // Finite points near f32::MAX whose homogeneous coordinates overflow, within an extent
+    // f32 holds (a squared spread past f32 is refused as soon as the patches are made, below:
+    // here the spread is below the points' own rounding), give a typed error.
     let huge: Vec<[f32; 3]> = square()
         .iter()
-        .map(|q| q.map(|c| f32::MAX * (0.5 + 0.1 * c)))
+        .map(|q| q.map(|c| f32::MAX * 0.5 + 1e18 * c))
         .collect();
     let weights = vec![3.0; 16];
     let set = PatchSet::new(&headers, &huge, Some(&weights)).unwrap();
@@ -528,11 +530,12 @@ fn evaluation_takes_any_parameter() {
 /// negative tolerance, still gives a mesh.
 #[test]
 fn bisection_errors_are_typed() {
-    use spline_tess::bake::Tolerance;
-    use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings};
+    use spline_tess::bake::{
+        bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings, Tolerance,
+    };
     use spline_tess::tessellator::{
-        Hierarchy, HierarchyError, HierarchyNode, HierarchyPatch, HierarchyVertex, Pending,
-        RefinedVertex, Tessellator, TessellatorError,
+        BudgetError, Hierarchy, HierarchyError, HierarchyNode, HierarchyPatch, HierarchyVertex,
+        PoolSlot, StackSlot, Tessellator, TessellatorError, UpdateError,
     };
     use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet, View};
 
@@ -616,25 +619,100 @@ fn bisection_errors_are_typed() {
     );
     let tree = Hierarchy::new(patches, &n, v, &p).unwrap();
     let mut bits = vec![0u32; tree.bit_words() - 1];
-    let mut stack = [Pending::default(); 8];
-    let mut pool: [RefinedVertex; 0] = [];
+    let mut stack = [StackSlot::default(); 8];
+    let mut pool: [PoolSlot; 0] = [];
     assert_eq!(
-        Tessellator::new(tree, &mut bits, &mut stack, &mut pool).err(),
+        Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool).err(),
         Some(TessellatorError::BitsTooShort {
             needed: tree.bit_words()
         })
     );
     let mut bits = vec![0u32; tree.bit_words()];
     assert_eq!(
-        Tessellator::new(tree, &mut bits, &mut stack[..2], &mut pool).err(),
-        Some(TessellatorError::StackTooShort)
+        Tessellator::from_slices(tree, &mut bits, &mut stack[..2], &mut pool).err(),
+        Some(TessellatorError::StackTooShort { needed: 4 })
     );
+    assert!(TessellatorError::StackTooShort { needed: 4 }
+        .to_string()
+        .contains("4 entries needed"));
     // No pool: a view finer than the bake keeps its leaves and says so.
-    let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
-    let stats = selection.update(&View::Object { tolerance: 1e-6 });
+    let mut selection = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool).unwrap();
+    let stats = selection.update(&View::Object { tolerance: 1e-6 }).unwrap();
     assert!(stats.left_over > 0 && stats.worst_bound > 1e-6);
-    for t in [f32::NAN, -1.0] {
-        let stats = selection.update(&View::Object { tolerance: t });
-        assert!(stats.triangles > 0);
+    assert!(stats.pool_full, "an empty pool is full: {stats:?}");
+    // A tolerance that is not a positive finite number is refused, for a frame and a budget.
+    for t in [f32::NAN, -1.0, 0.0, -0.0, f32::INFINITY, f32::NEG_INFINITY] {
+        assert_eq!(
+            selection.update(&View::Object { tolerance: t }),
+            Err(UpdateError::BadTolerance),
+            "{t}"
+        );
+        assert_eq!(
+            selection.update_to_budget(&View::Object { tolerance: t }, 100),
+            Err(BudgetError::BadTolerance),
+            "{t}"
+        );
     }
+    assert!(UpdateError::BadTolerance.to_string().contains("tolerance"));
+    // A patch record whose cone is not a unit axis with a sine in [0, 1), nor none, is
+    // refused: culling trusts it.
+    for cone in [
+        [0.0, 0.0, 2.0, 0.5],
+        [0.0, 0.0, 1.0, -0.5],
+        [f32::NAN, 0.0, 1.0, 0.5],
+        [0.0, 0.0, 1.0, f32::NAN],
+    ] {
+        let mut bad = p;
+        bad[0].cone = cone;
+        assert_eq!(
+            Hierarchy::new(patches, &n, v, &bad).err(),
+            Some(HierarchyError::BadPatch { patch: 0 }),
+            "{cone:?}"
+        );
+    }
+    let mut fine = p;
+    fine[0].cone = [0.0, 0.6, 0.8, 0.3];
+    assert!(Hierarchy::new(patches, &n, v, &fine).is_ok());
+}
+
+/// A model whose extent overflows `f32` (finite points 6e38 apart) is refused where it is
+/// loaded, with a message that says so: as patches, as BPT text and as a NURBS surface.
+#[test]
+fn models_too_large_for_f32_are_refused_when_loaded() {
+    let far = [
+        [-3e38, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [3e38, 1.0, 0.0],
+    ];
+    let headers = [PatchHeader {
+        degree_u: 1,
+        degree_v: 1,
+        first_point: 0,
+    }];
+    let err = PatchSet::new(&headers, &far, None).unwrap_err();
+    assert_eq!(err, PatchSetError::ExtentOverflow);
+    assert!(err.to_string().contains("too large"), "{err}");
+    // Points 2e19 apart on each axis: each finite, the squared diagonal past f32.
+    let wide = [
+        [0.0; 3],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2e19, 2e19, 2e19],
+    ];
+    assert_eq!(
+        PatchSet::new(&headers, &wide, None).unwrap_err(),
+        PatchSetError::ExtentOverflow
+    );
+    let text = "1\n1 1\n-3e38 0 0\n0 1 0\n1 0 0\n3e38 1 0\n";
+    let err = bpt(text).unwrap_err();
+    assert_eq!(err.kind, BptErrorKind::ExtentOverflow);
+    assert!(err.to_string().contains("too large"), "{err}");
+    let (knots, points, weights) = ([0.0, 0.0, 1.0, 1.0], far, [1.0; 4]);
+    let err = NurbsSurface::new(1, 1, &knots, &knots, &points, Some(&weights)).unwrap_err();
+    assert_eq!(err, NurbsError::ExtentOverflow);
+    assert!(err.to_string().contains("too large"), "{err}");
+    // Large but within f32: taken.
+    let big = far.map(|p| p.map(|c| c * 1e-20));
+    assert!(PatchSet::new(&headers, &big, None).is_ok());
 }

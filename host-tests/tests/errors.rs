@@ -78,8 +78,8 @@ fn small_buffers_are_untouched_and_say_what_is_needed() {
     let baked = teaspoon();
     let tree = baked.tree();
     let mut storage = VecStorage::new(&tree, 256, 1 << 18);
-    let mut t = storage.selection(tree);
-    let stats = t.update(&View::Object { tolerance: 1e-3 });
+    let mut t = storage.tessellator(tree);
+    let stats = t.update(&View::Object { tolerance: 1e-3 }).unwrap();
     let need = t.mesh_size();
     assert_eq!(need.triangles, stats.triangles);
     let mut remap = vec![0u32; t.remap_len()];
@@ -101,7 +101,7 @@ fn small_buffers_are_untouched_and_say_what_is_needed() {
     );
     assert!(v.iter().all(|x| *x == marker));
     // A mesh past 65 536 vertices cannot use u16 indices.
-    t.update(&View::Object { tolerance: 1e-5 });
+    t.update(&View::Object { tolerance: 1e-5 }).unwrap();
     let need = t.mesh_size();
     assert!(need.vertices > 65_536, "{need:?}");
     let mut v = vec![marker; need.vertices];
@@ -131,10 +131,10 @@ proptest! {
         let baked = teaspoon();
         let tree = baked.tree();
         let mut storage = VecStorage::new(&tree, 64, 4096);
-        let mut t = storage.selection(tree);
+        let mut t = storage.tessellator(tree);
         let Ok(cam) = camera(Vec3::from_array(eye)) else { return Ok(()) };
         let view = View::Screen { camera: cam, tolerance_px: tol };
-        let stats = t.update(&view);
+        let stats = t.update(&view).unwrap();
         let mesh = indexed(&mut t);
         prop_assert_eq!(mesh.triangles.len(), stats.triangles);
         prop_assert!(edge_uses(&mesh).values().all(|&(n, _)| n <= 2));

@@ -175,9 +175,11 @@ fn fw_bisect_baked_source(bake: &host_tests::runtime::BakedHierarchy) -> String 
 fn fw_bisect_frames(bake: &host_tests::runtime::BakedHierarchy) -> Vec<[u32; 4]> {
     let tree = bake.tree();
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack = vec![spline_tess::tessellator::Pending::default(); fw_bisect::STACK];
-    let mut pool = vec![spline_tess::tessellator::RefinedVertex::default(); fw_bisect::POOL];
-    let mut selection = fw_bisect::selection(tree, &mut bits, &mut stack, &mut pool).unwrap();
+    let mut stack = vec![spline_tess::tessellator::StackSlot::default(); fw_bisect::STACK];
+    let mut pool = vec![spline_tess::tessellator::PoolSlot::default(); fw_bisect::POOL];
+    let mut selection =
+        spline_tess::tessellator::Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)
+            .unwrap();
     let mut remap = vec![0u32; selection.remap_len()];
     let mut vertices = vec![spline_tess::Vertex::default(); fw_bisect::OUT_VERTICES];
     let mut triangles = vec![[0u16; 3]; fw_bisect::OUT_TRIANGLES];
@@ -234,10 +236,11 @@ fn with_fw_teapot_tessellator<R>(
 ) -> R {
     let tree = fw_bisect_bake().tree();
     let mut bits = vec![0u32; tree.bit_words()];
-    let mut stack = vec![spline_tess::tessellator::Pending::default(); fw_teapot::STACK];
-    let mut pool = vec![spline_tess::tessellator::RefinedVertex::default(); fw_teapot::POOL];
+    let mut stack = vec![spline_tess::tessellator::StackSlot::default(); fw_teapot::STACK];
+    let mut pool = vec![spline_tess::tessellator::PoolSlot::default(); fw_teapot::POOL];
     let mut selection =
-        spline_tess::tessellator::Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+        spline_tess::tessellator::Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)
+            .unwrap();
     f(&mut selection)
 }
 

@@ -144,9 +144,9 @@ fn every_face_corner_carries_its_own_parameters() {
         let diag = bounds.diagonal();
         let center = (bounds.min + bounds.max) * 0.5;
         let mut storage = VecStorage::new(&tree, 1024, 1 << 16);
-        let mut selection = storage.selection(tree);
+        let mut selection = storage.tessellator(tree);
         for (view_label, view) in views(center, diag) {
-            selection.update(&view);
+            selection.update(&view).unwrap();
             let mesh = indexed(&mut selection);
             let faces = frame_faces(&selection, &mesh.triangles);
             let obj = parse(&obj_text(&file, nurbs, &mesh.vertices, &faces));

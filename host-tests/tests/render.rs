@@ -375,7 +375,7 @@ fn bands_streaming_and_repeats_give_the_same_pixels() {
     let (_, baked) = teapot();
     let tree = baked.tree();
     let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
-    let mut tess = storage.selection(tree);
+    let mut tess = storage.tessellator(tree);
     let style = Style {
         wireframe: Some(Wireframe {
             color: Rgb888::BLACK,
@@ -389,7 +389,8 @@ fn bands_streaming_and_repeats_give_the_same_pixels() {
         tess.update(&View::Screen {
             camera,
             tolerance_px: 1.0,
-        });
+        })
+        .unwrap();
         let draw = |source: &dyn Fn(&mut Renderer, &mut Counting), rows: u32| {
             draw_banded([200, 150], rows, source)
         };
@@ -472,7 +473,7 @@ fn bisection_frames_cover_the_surface_and_draw_as_their_mesh() {
     let (file, bake) = teapot();
     let tree = bake.tree();
     let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
-    let mut selection = storage.selection(tree);
+    let mut selection = storage.tessellator(tree);
     let mut remap = vec![0u32; selection.remap_len()];
     let (rv, rt) = dense_reference(&file, 96);
     let reference = IndexedMesh {
@@ -489,10 +490,12 @@ fn bisection_frames_cover_the_surface_and_draw_as_their_mesh() {
     };
     for eye in EYES {
         let camera = camera(eye, [320, 240]);
-        selection.update(&View::Screen {
-            camera,
-            tolerance_px: 1.0,
-        });
+        selection
+            .update(&View::Screen {
+                camera,
+                tolerance_px: 1.0,
+            })
+            .unwrap();
         let ours = mask_of(&selection, &camera, 16).mask();
         let want = mask_of(&reference, &camera, 16).mask();
         let differ = ours.iter().zip(&want).filter(|(a, b)| a != b).count();
@@ -735,14 +738,15 @@ fn band_buffers_push_each_pixel_once_with_the_framebuffer_colours() {
     let (_, baked) = teapot();
     let tree = baked.tree();
     let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
-    let mut tess = storage.selection(tree);
+    let mut tess = storage.tessellator(tree);
     let (w, h) = (200u32, 150u32);
     for (k, eye) in EYES.iter().enumerate() {
         let camera = camera(*eye, [w, h]);
         tess.update(&View::Screen {
             camera,
             tolerance_px: 1.0,
-        });
+        })
+        .unwrap();
         let style = Style {
             shading: if k % 2 == 0 {
                 Shading::Gouraud

@@ -49,7 +49,7 @@ pub struct BakeBuffers<'a> {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BakeScratch {
     tri: Tri,
-    corners: [u32; 3],
+    pub(super) corners: [u32; 3],
 }
 
 /// How much a bake wrote.
@@ -167,6 +167,13 @@ pub fn bake_hierarchy(
         }
         i += 1;
     }
+    let (n, v) = (baker.node_count, baker.vertex_count);
+    super::orientation::orient(
+        model,
+        baker.patches,
+        &mut baker.vertices[..v],
+        &mut baker.scratch[..n],
+    );
     Ok(BakeSize {
         nodes: baker.node_count,
         vertices: baker.vertex_count,

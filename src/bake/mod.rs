@@ -3,6 +3,7 @@
 //! ([`write_rust_source`]).
 
 mod hierarchy;
+mod orientation;
 mod rust_source;
 
 pub use hierarchy::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings, BakeSize};

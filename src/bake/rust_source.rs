@@ -1,14 +1,17 @@
-//! A baked hierarchy as Rust source: `static` arrays a firmware build keeps in flash.
+//! A baked model as Rust source: `static` arrays of its patches and their hierarchy, which a
+//! firmware build keeps in flash.
 
 use core::fmt;
 
 use crate::patch::Side;
 use crate::tessellator::Hierarchy;
 
-/// Writes `tree` as Rust source: `pub static {name}_NODES`, `{name}_VERTICES` and
-/// `{name}_PATCHES`, the records [`Hierarchy::new`] takes, bit for bit (floats by their bits).
-/// The source names the records by their paths in `spline_tess::bisect`; include it in a
-/// module of its own.
+/// Writes `tree` and the patches it was baked from as Rust source: `pub static`s
+/// `{name}_HEADERS` and `{name}_POINTS` (and `{name}_WEIGHTS` for a rational model), the
+/// patches [`PatchSet::new`](crate::PatchSet::new) takes, and `{name}_NODES`,
+/// `{name}_VERTICES` and `{name}_PATCHES`, the records [`Hierarchy::new`] takes, all bit for
+/// bit (floats by their bits). Include it in a module of its own; the source says how to wrap
+/// it.
 ///
 /// ```
 /// use spline_tess::bake::write_rust_source;
@@ -25,26 +28,70 @@ use crate::tessellator::Hierarchy;
 /// let mut src = String::new();
 /// write_rust_source(&mut src, "TEAPOT", &tree).unwrap();
 /// assert!(src.contains("pub static TEAPOT_NODES: [Node; 2] = ["));
+/// assert!(src.contains("pub static TEAPOT_POINTS: [[f32; 3]; 4] = ["));
 /// ```
 pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, tree: &Hierarchy<'_>) -> fmt::Result {
+    let model = tree.model();
     writeln!(
         w,
-        "// A baked bisection hierarchy of spline-tess: wrap it, with the patches it was baked\n\
-         // from, in `spline_tess::tessellator::Hierarchy::new(patches, &{name}_NODES, &{name}_VERTICES,\n\
-         // &{name}_PATCHES)`."
+        "// A model baked by spline-tess: its patches and their hierarchy. Wrap them as\n\
+         //\n\
+         //     let patches = spline_tess::PatchSet::new(&{name}_HEADERS, &{name}_POINTS, None)?;\n\
+         //     let hierarchy = spline_tess::Hierarchy::new(\n\
+         //         patches, &{name}_NODES, &{name}_VERTICES, &{name}_PATCHES)?;"
     )?;
+    if model.weights().is_some() {
+        writeln!(
+            w,
+            "//\n// with `Some(&{name}_WEIGHTS)` in place of `None`: the model is rational."
+        )?;
+    }
     writeln!(
         w,
         "use spline_tess::tessellator::{{HierarchyNode as Node, HierarchyPatch as Patch, \
-         HierarchyVertex as Vertex, SideLink}};\nuse spline_tess::Side;\n\n\
+         HierarchyVertex as Vertex, SideLink}};\nuse spline_tess::{{PatchHeader, Side}};\n\n\
          const fn n(children: u32, vertex: u32, vectors: [[i8; 3]; {k}], scale: u32, remainder: u32) -> Node {{\n    \
          Node {{ children, vertex, vectors, scale: f32::from_bits(scale), remainder: f32::from_bits(remainder) }}\n}}\n\n\
          const fn f(b: [u32; 3]) -> [f32; 3] {{\n    \
          [f32::from_bits(b[0]), f32::from_bits(b[1]), f32::from_bits(b[2])]\n}}\n\n\
+         const fn c(b: [u32; 4]) -> [f32; 4] {{\n    \
+         [f32::from_bits(b[0]), f32::from_bits(b[1]), f32::from_bits(b[2]), f32::from_bits(b[3])]\n}}\n\n\
          const fn v(position: [u32; 3], normal: [u32; 3], uv: [u16; 2], patch: u32, output: u32) -> Vertex {{\n    \
          Vertex {{ position: f(position), normal: f(normal), uv, patch, output }}\n}}\n",
         k = crate::tessellator::KEPT
     )?;
+    let headers = model.headers();
+    writeln!(
+        w,
+        "pub static {name}_HEADERS: [PatchHeader; {}] = [",
+        headers.len()
+    )?;
+    for h in headers {
+        writeln!(
+            w,
+            "    PatchHeader {{ degree_u: {}, degree_v: {}, first_point: {} }},",
+            h.degree_u, h.degree_v, h.first_point
+        )?;
+    }
+    writeln!(w, "];\n")?;
+    let points = model.points();
+    writeln!(
+        w,
+        "pub static {name}_POINTS: [[f32; 3]; {}] = [",
+        points.len()
+    )?;
+    for p in points {
+        let b = p.map(f32::to_bits);
+        writeln!(w, "    f([{:#x}, {:#x}, {:#x}]),", b[0], b[1], b[2])?;
+    }
+    writeln!(w, "];\n")?;
+    if let Some(weights) = model.weights() {
+        writeln!(w, "pub static {name}_WEIGHTS: [f32; {}] = [", weights.len())?;
+        for x in weights {
+            writeln!(w, "    f32::from_bits({:#x}),", x.to_bits())?;
+        }
+        writeln!(w, "];\n")?;
+    }
     let nodes = tree.nodes();
     writeln!(w, "pub static {name}_NODES: [Node; {}] = [", nodes.len())?;
     for node in nodes {
@@ -97,7 +144,12 @@ pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, tree: &Hierarchy<'
                 )?,
             }
         }
-        writeln!(w, "] }},")?;
+        let cone = p.cone.map(f32::to_bits);
+        writeln!(
+            w,
+            "], flip: {}, cone: c([{:#x}, {:#x}, {:#x}, {:#x}]) }},",
+            p.flip, cone[0], cone[1], cone[2], cone[3]
+        )?;
     }
     writeln!(w, "];")
 }

@@ -25,12 +25,9 @@ use glam::Vec3;
 use crate::deviation::EPS;
 use crate::math::{length, max};
 
-/// Deviation vectors a node keeps (besides zero). With the bake's lattice of step 1/12 (a
-/// remainder a quarter of the 1/6 lattice's) four are as good as eight: measured 2026-11-25
-/// (`BAKE_REL=2.5e-4 ENGINE=bintree error_figures`, the seven views), 8, 6, 4, 3 and
-/// 2 vectors took Gumbo 0.570, 0.569, 0.574, 0.592 and 0.705 of the verified grid and the
-/// teapot 0.71-0.75, 0.71-0.74, 0.71-0.74, 0.72-0.76 and 0.83-0.88; four take 12 bytes a
-/// triangle where eight took 24.
+/// Deviation vectors a node keeps (besides zero): 12 bytes a triangle. With the bake's lattice
+/// of step 1/12 (a remainder a quarter of the 1/6 lattice's), four give about the triangles
+/// eight do (CHANGELOG.md has the measurement).
 pub const KEPT: usize = 4;
 
 /// Frank-Wolfe steps per distance: while choosing the vectors to keep, and for the widening.

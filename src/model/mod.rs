@@ -51,6 +51,9 @@ pub enum PatchSetError {
         /// Weights given.
         found: usize,
     },
+    /// The box of the control points has a diagonal `f32` cannot hold: bounds and
+    /// tolerances would overflow.
+    ExtentOverflow,
     /// A patch is invalid.
     Patch {
         /// Index of the patch.
@@ -70,6 +73,9 @@ impl fmt::Display for PatchSetError {
                 write!(f, "expected {expected} weights, found {found}")
             }
             PatchSetError::Patch { patch, error } => write!(f, "patch {patch}: {error}"),
+            PatchSetError::ExtentOverflow => {
+                f.write_str("the model is too large: its bounding box's diagonal overflows f32")
+            }
         }
     }
 }
@@ -98,7 +104,8 @@ pub struct PatchSet<'a> {
 }
 
 impl<'a> PatchSet<'a> {
-    /// Validates every patch: degrees, ranges, finite points and positive weights.
+    /// Validates every patch: degrees, ranges, finite points and positive weights, and the
+    /// model's extent (a bounding box whose diagonal `f32` holds).
     /// `weights = None` means all weights are 1.
     pub fn new(
         headers: &'a [PatchHeader],
@@ -123,6 +130,9 @@ impl<'a> PatchSet<'a> {
                 return Err(PatchSetError::PointsOutOfRange { patch });
             }
             check_net(&points[start..end], weights.map(|w| &w[start..end])).map_err(wrap)?;
+        }
+        if crate::bound::extent_overflows(points) {
+            return Err(PatchSetError::ExtentOverflow);
         }
         Ok(Self::trusted(headers, points, weights))
     }

@@ -1,13 +1,8 @@
 //! Splitting every patch of a [`PatchSet`] into four, at the middle of its parameters.
 //!
-//! The bake orders each patch's samples once, and the run time chooses a prefix of them per
-//! patch from one threshold, the one its nearest part needs. A large patch that spans many
-//! depths is therefore cut everywhere as finely as its nearest part asks. Split into four, each
-//! quarter gets its own prefix and its own threshold. Measured with `error_figures` (the
-//! reference grid counted on the unsplit patches, the kernel's triangles checked against the
-//! unsplit surface): a bake at 2.5e-4 of the diagonal gives the teapot at 1024x768 1 px
-//! 0.97 → 0.86 of the grid's triangles, the rational torus 1.21 → 0.80; Gumbo, whose patches
-//! are already small, stays at 0.65 (BENCHMARKS.md has the full table).
+//! Smaller patches: a quarter of a patch is a model of its own, with its own square to halve
+//! and its own side to share (`error_figures` measures the tessellator on split models with
+//! `SPLIT`).
 //!
 //! Each quarter is the exact restriction of its patch (de Casteljau at `1/2` in homogeneous
 //! coordinates, so a rational patch stays exact up to `f32` rounding), and boundaries stay
@@ -102,11 +97,7 @@ impl<'a> PatchSet<'a> {
     /// Writes every patch as four patches, its quarters at `u = 1/2` and `v = 1/2`, and returns
     /// them as a [`PatchSet`].
     ///
-    /// A bake of the quarters gives each its own prefix of samples, which the run time chooses
-    /// from the quarter's own threshold instead of the one the nearest part of the whole patch
-    /// needs: fewer triangles for the same bound where a patch spans many depths (the teapot
-    /// at 1024x768 1 px, baked at 2.5e-4 of its diagonal: 0.97 to 0.86 of a verified uniform
-    /// grid's triangles; BENCHMARKS.md). Each quarter is the exact restriction (de Casteljau
+    /// Each quarter is the exact restriction (de Casteljau
     /// in homogeneous coordinates, up to `f32` rounding), and shared boundaries stay equal bit
     /// for bit, so [`Topology`](crate::Topology) finds the same shared curves, and the seams
     /// between quarters besides.

@@ -111,6 +111,9 @@ pub enum NurbsError {
         /// Index of the weight.
         index: usize,
     },
+    /// The surface is too large: its control points' bounding box has a diagonal `f32`
+    /// cannot hold.
+    ExtentOverflow,
 }
 
 impl fmt::Display for NurbsError {
@@ -158,6 +161,9 @@ impl fmt::Display for NurbsError {
             }
             NurbsError::InvalidWeight { index } => {
                 write!(f, "weight {index} is not a finite positive number")
+            }
+            NurbsError::ExtentOverflow => {
+                f.write_str("the surface is too large: its bounding box's diagonal overflows f32")
             }
         }
     }
@@ -272,6 +278,9 @@ impl<'a> NurbsSurface<'a> {
         }
         if let Some(index) = first_non_finite(points) {
             return Err(NurbsError::NonFinitePoint { index });
+        }
+        if crate::bound::extent_overflows(points) {
+            return Err(NurbsError::ExtentOverflow);
         }
         if let Some(w) = weights {
             if w.len() != expected {

@@ -60,6 +60,8 @@ pub enum BptErrorKind {
     },
     /// Non-blank lines follow the last patch.
     TrailingData,
+    /// The model is too large: its bounding box's diagonal overflows `f32`.
+    ExtentOverflow,
     /// The header or point buffer is too small.
     BufferTooSmall {
         /// Headers needed.
@@ -83,6 +85,9 @@ impl fmt::Display for BptError {
             }
             BptErrorKind::BadNumber => f.write_str("not a number"),
             BptErrorKind::NonFinite => f.write_str("coordinate is not finite"),
+            BptErrorKind::ExtentOverflow => {
+                f.write_str("the model is too large: its bounding box's diagonal overflows f32")
+            }
             BptErrorKind::Truncated { expected, complete } => {
                 write!(f, "file ends after {complete} of {expected} patches")
             }
@@ -245,6 +250,12 @@ pub fn parse_bpt<'a>(
         text,
         Some((&mut headers[..size.patches], &mut points[..size.points])),
     )?;
+    if crate::bound::extent_overflows(&points[..size.points]) {
+        return Err(BptError {
+            line: 1,
+            kind: BptErrorKind::ExtentOverflow,
+        });
+    }
     Ok(PatchSet::trusted(
         &headers[..size.patches],
         &points[..size.points],

@@ -459,7 +459,9 @@ impl Found {
             | NurbsError::DecreasingKnots { direction, .. }
             | NurbsError::NotClamped { direction }
             | NurbsError::KnotMultiplicity { direction, .. } => 2 + dir(direction),
-            NurbsError::PointCount { .. } | NurbsError::NonFinitePoint { .. } => 4,
+            NurbsError::PointCount { .. }
+            | NurbsError::NonFinitePoint { .. }
+            | NurbsError::ExtentOverflow => 4,
             NurbsError::WeightCount { .. } | NurbsError::InvalidWeight { .. } => 5,
         };
         self.line[field].or(self.line[4]).unwrap_or(1)

@@ -263,8 +263,7 @@ impl<'d> Renderer<'d> {
     /// one per vertex of its bake and pool). Filling the list then projects each vertex once
     /// and finds its slot by its number, instead of keeping the last corners in a cache and
     /// looking slots up by value; the pixels are the same. A map shorter than the source's
-    /// vertex numbers, or a source without them, leaves it unused. (Measured on `fw_teapot`,
-    /// 1,977 vertices: see its `LIST` docs.)
+    /// vertex numbers, or a source without them, leaves it unused.
     ///
     /// ```
     /// use spline_tess::render::{ListSlot, Renderer};
@@ -559,7 +558,7 @@ impl<'d> Renderer<'d> {
 /// Sets `depth` to 0, sixteen values a step, each pair of them the two halves of one `u32`
 /// (which the compiler stores as one word). The zero goes through `black_box`, so that the
 /// compiler does not turn the loop back into `memset`, which a Cortex-M4F build runs a word a
-/// loop (measured under QEMU: three times the instructions).
+/// loop (three times the instructions of this loop).
 fn clear(depth: &mut [u16]) {
     let zero = core::hint::black_box(0u32);
     let block: [u16; 16] = core::array::from_fn(|i| (zero >> (16 * (i % 2))) as u16);

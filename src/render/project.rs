@@ -176,9 +176,8 @@ const _: () = assert!(CORNER_CACHE <= 64 && CORNER_CACHE.is_multiple_of(2));
 /// evaluation, for a tessellator) and transforms it only when the cache does not have it.
 ///
 /// Two-way: a key's hash names a pair of entries, and a new corner replaces the one of the pair
-/// used less recently. (Measured 2026-11-25 on `fw_teapot`, whose streams keep no evaluated
-/// points of their own for the renderer: a direct-mapped cache of the same size evaluates
-/// the colliding corners again, for about 0.15M more render instructions a frame.)
+/// used less recently (a direct-mapped cache of the same size transforms the colliding
+/// corners again).
 pub(super) struct CornerCache {
     entries: [(u64, ClipVertex); CORNER_CACHE],
     /// Whether each entry's corner is inside (apart: a flag beside a `u64` would pad each

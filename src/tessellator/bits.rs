@@ -1,15 +1,15 @@
 //! The run time's bits, in the caller's `u32`s: per vertex, whether it is in the mesh and
 //! whether the frame's count has seen it; per node, whether it was judged, whether it is
-//! hidden, and whether a leaf of the bake is halved below it. How many words a hierarchy
-//! takes, and where each set starts.
+//! hidden, and whether a leaf of the bake is halved below it; per patch, whether it is culled
+//! for facing away. How many words a hierarchy takes, and where each set starts.
 
 use super::hierarchy::Hierarchy;
 #[cfg(doc)]
 use super::select::Tessellator;
 
 impl Hierarchy<'_> {
-    /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: two bits per vertex
-    /// and three per node.
+    /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: two bits per vertex,
+    /// three per node and one per patch.
     pub fn bit_words(&self) -> usize {
         bit_words_for(self.nodes.len(), self.vertices.len())
     }
@@ -23,10 +23,11 @@ impl Hierarchy<'_> {
 /// use spline_tess::tessellator::bit_words_for;
 /// const BITS: usize = bit_words_for(7520, 3900);
 /// let bits = [0u32; BITS];
-/// assert_eq!(bits.len(), 2 * 122 + 3 * 235);
+/// assert_eq!(bits.len(), 2 * 122 + 3 * 235 + 118);
 /// ```
 pub const fn bit_words_for(nodes: usize, vertices: usize) -> usize {
-    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32)
+    // (A hierarchy has at least two nodes a patch: a patch's bit fits in half a node's.)
+    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32) + nodes.div_ceil(64)
 }
 
 /// Offsets of the bit sets in [`Tessellator::bits`].
@@ -36,6 +37,8 @@ pub(super) struct Layout {
     pub judged: usize,
     pub hidden: usize,
     pub refined: usize,
+    /// Per patch: culled as facing away.
+    pub culled: usize,
 }
 
 impl Layout {
@@ -49,6 +52,7 @@ impl Layout {
             judged: 2 * v,
             hidden: 2 * v + n,
             refined: 2 * v + 2 * n,
+            culled: 2 * v + 3 * n,
         }
     }
 }

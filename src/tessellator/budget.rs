@@ -62,7 +62,7 @@ impl Tessellator<'_, '_> {
     /// ```
     /// # use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeScratch, BakeSettings};
     /// # use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex,
-    /// #     Pending, RefinedVertex, Tessellator};
+    /// #     StackSlot, PoolSlot, Tessellator};
     /// # use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet, View};
     /// // A bicubic bump, baked.
     /// let mut points = [[0.0f32; 3]; 16];
@@ -90,9 +90,9 @@ impl Tessellator<'_, '_> {
     ///     .unwrap();
     ///
     /// // At most 100 triangles, as fine as that allows.
-    /// let (mut bits, mut stack) = (vec![0; tree.bit_words()], [Pending::default(); 64]);
-    /// let mut pool = vec![RefinedVertex::default(); 256];
-    /// let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+    /// let (mut bits, mut stack) = (vec![0; tree.bit_words()], [StackSlot::default(); 64]);
+    /// let mut pool = vec![PoolSlot::default(); 256];
+    /// let mut selection = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool).unwrap();
     /// let fit = selection.update_to_budget(&View::Object { tolerance: 1e-3 }, 100).unwrap();
     /// assert!(fit.stats.triangles <= 100);
     /// assert!(fit.bound <= fit.tolerance);
@@ -107,7 +107,7 @@ impl Tessellator<'_, '_> {
         if !(start > 0.0 && start.is_finite()) {
             return Err(BudgetError::BadTolerance);
         }
-        let count = |s: &mut Self, t: f32| s.update(&view.with_tolerance(t)).triangles;
+        let count = |s: &mut Self, t: f32| s.select(&view.with_tolerance(t)).triangles;
         // A frame left over (its pool below the bake full) is as fine as finer tolerances get.
         let saturated = |s: &Self| s.stats().left_over > 0;
         let coarsest = count(self, f32::MAX);
@@ -120,7 +120,7 @@ impl Tessellator<'_, '_> {
             loop {
                 lo *= 0.5;
                 if lo < start * 1e-6 || saturated(self) {
-                    let stats = self.update(&view.with_tolerance(hi));
+                    let stats = self.select(&view.with_tolerance(hi));
                     return Ok(BudgetFit {
                         tolerance: hi,
                         bound: stats.worst_bound,
@@ -156,7 +156,7 @@ impl Tessellator<'_, '_> {
                 lo = mid;
             }
         }
-        let stats = self.update(&view.with_tolerance(hi));
+        let stats = self.select(&view.with_tolerance(hi));
         Ok(BudgetFit {
             tolerance: hi,
             bound: stats.worst_bound,

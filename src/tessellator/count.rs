@@ -9,7 +9,7 @@ impl Tessellator<'_, '_> {
     /// Counts leaf `h`, judged and kept whole, as a triangle written out (if it is).
     ///
     /// The frame's triangles and hidden leaves are counted as the search judges them, so that
-    /// a frame needs no walk to count them (a walk was an eighth of a `fw_teapot` update): a
+    /// a frame needs no walk to count them (a walk costs a good part of an update): a
     /// leaf halved later is taken off again ([`uncount_leaf`](Self::uncount_leaf)). A frame
     /// with leaves below the bake, which have no bit to say they were judged, is counted by a
     /// walk instead (see [`update`](Self::update)); a test checks both ways agree. The
@@ -95,9 +95,10 @@ mod tests {
             let (mut hidden_frames, mut halved_after, mut sweeps) = (0, 0, 0);
             for length in [Tessellator::MIN_STACK, 64] {
                 let mut bits = [0u32; 1024];
-                let mut stack = [Pending::default(); 64];
+                let mut stack = [crate::tessellator::StackSlot::default(); 64];
                 let mut selection =
-                    Tessellator::new(tree, &mut bits, &mut stack[..length], &mut []).unwrap();
+                    Tessellator::from_slices(tree, &mut bits, &mut stack[..length], &mut [])
+                        .unwrap();
                 for k in 0..60 {
                     let distance = [0.4, 1.5, 6.0][k % 3];
                     let target = Vec3::new(1.5 + unit(1.5), 1.5 + unit(1.5), 0.5);
@@ -121,7 +122,7 @@ mod tests {
                         camera,
                         tolerance_px: [0.5, 1.0, 3.0][k % 3],
                     };
-                    let stats = selection.update(&view);
+                    let stats = selection.update(&view).unwrap();
                     selection.count();
                     let walked = selection.stats();
                     assert_eq!(

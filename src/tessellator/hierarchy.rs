@@ -72,14 +72,26 @@ impl core::error::Error for HierarchyError {}
 /// corners' vertices.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Pending {
+pub(crate) struct Pending {
     pub(super) node: u32,
     pub(super) tri: Tri,
     pub(super) corners: [u32; 3],
 }
 
+impl Pending {
+    /// No triangle (an empty stack slot).
+    pub(super) const NONE: Pending = Pending {
+        node: 0,
+        tri: Tri {
+            patch: 0,
+            corners: [[0; 2]; 3],
+        },
+        corners: [0; 3],
+    };
+}
+
 impl<'a> Hierarchy<'a> {
-    /// Checks and wraps a bake's records (as [`bake_hierarchy`](super::bake_hierarchy) wrote them,
+    /// Checks and wraps a bake's records (as [`bake_hierarchy`](crate::bake::bake_hierarchy) wrote them,
     /// cut to the sizes it returned) and the patches they were baked from.
     pub fn new(
         model: PatchSet<'a>,
@@ -103,7 +115,12 @@ impl<'a> Hierarchy<'a> {
                     .iter()
                     .flatten()
                     .any(|l| l.patch as usize >= patches.len());
-            if bad {
+            // A cone: a unit axis (to rounding) and a sine in [0, 1); a sine of 1 or more is
+            // none. Anything else (NaN included) is refused: culling trusts it.
+            let [x, y, z, sin] = rec.cone;
+            let length2 = x * x + y * y + z * z;
+            let cone_ok = sin >= 1.0 || (sin >= 0.0 && (length2 - 1.0).abs() < 1e-3);
+            if bad || !cone_ok {
                 return Err(HierarchyError::BadPatch { patch: p as u32 });
             }
         }

@@ -44,6 +44,13 @@ pub(super) fn judge(
     h: &Pending,
     exact: bool,
 ) -> Judged {
+    if selection.is_culled(h.tri.patch) {
+        // A patch facing away (see `cull`): nothing of it shows.
+        return Judged {
+            bound: 0.0,
+            hidden: true,
+        };
+    }
     let stop = if exact {
         f32::INFINITY
     } else {
@@ -114,8 +121,7 @@ fn judge_vectors<const K: usize>(
                 };
             }
             // Most triangles a frame judges are within the tolerance by the isotropic bound
-            // already (counted on fw_teapot's first frame, 2026-11-26: 775 of 1,451), which
-            // needs no vectors; the others take the directional one.
+            // already, which needs no vectors; the others take the directional one.
             let m = big + remainder;
             let isotropic = isotropic_bound_on_screen(camera, viewed, m, remainder);
             if isotropic <= view.tolerance() {

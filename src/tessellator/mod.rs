@@ -1,6 +1,7 @@
-//! Tessellation by bisection: each patch's square is halved at a hypotenuse, and halved again,
-//! where a triangle's bound on screen is over the tolerance; a baked hierarchy holds every
-//! triangle's bound, so a frame evaluates no surface point and no bound of its own.
+//! The tessellator: a frame's mesh found in a baked [`Hierarchy`] of halvings, where each
+//! patch's square is halved at a hypotenuse, and halved again, wherever a triangle's bound on
+//! screen is over the tolerance. The hierarchy holds every triangle's bound, so a frame within
+//! the bake evaluates no surface point and no bound of its own.
 //!
 //! # The hierarchy
 //!
@@ -21,7 +22,7 @@
 //!
 //! # The bake
 //!
-//! [`bake_hierarchy`] halves each patch in model space until every triangle is within the bake's
+//! [`bake_hierarchy`](crate::bake::bake_hierarchy) halves each patch in model space until every triangle is within the bake's
 //! tolerance (or at the depth limit), and records for every triangle of that hierarchy a few
 //! deviation vectors and a remainder ([`HierarchyNode`]): the surface over the triangle lies
 //! within the hull of the zero vector and the kept vectors, widened by the remainder, around
@@ -32,30 +33,39 @@
 //! screen, and a triangle off screen for nothing.
 //!
 //! Where the bake's triangles run out (a view finer than the bake), the run time halves them
-//! further into a caller pool of vertices ([`RefinedVertex`]), evaluating the new vertices and
+//! further into a caller pool of vertices ([`PoolSlot`]), evaluating the new vertices and
 //! bounding the new triangles itself. That takes the crate's default feature `refine`: a build
 //! without it (a firmware that keeps its views within the bake, and so holds no surface
 //! evaluation in its code) leaves such leaves whole, as a full pool does. Either way a leaf
 //! still over the tolerance is reported ([`FrameStats::left_over`], with the bound it has
-//! in [`FrameStats::worst_bound`]), not hidden.
+//! in [`FrameStats::worst_bound`], and a full pool in [`FrameStats::pool_full`]), not hidden.
+//!
+//! # Storage
+//!
+//! A tessellator keeps nothing of its own: bits for its hierarchy, a stack of triangles
+//! waiting to be judged and the pool are the caller's, sized at compile time
+//! ([`TessellatorStorage`]) or at run time ([`Tessellator::from_slices`]); see `storage`.
 
 pub(crate) mod address;
 mod bits;
 mod budget;
 mod count;
+mod cull;
 pub(crate) mod hierarchy;
 mod judge;
 mod output;
 mod refine;
 mod select;
+mod storage;
 
 pub use crate::deviation::kept::KEPT;
 pub use address::SideLink;
 pub use bits::bit_words_for;
 pub use budget::{BudgetError, BudgetFit};
-pub use hierarchy::{Hierarchy, HierarchyError, Pending};
-pub use refine::RefinedVertex;
-pub use select::{FrameStats, Tessellator, TessellatorError};
+pub use hierarchy::{Hierarchy, HierarchyError};
+pub use refine::PoolSlot;
+pub use select::{FrameStats, Tessellator, TessellatorError, UpdateError};
+pub use storage::{StackSlot, TessellatorStorage};
 
 /// No vertex: a leaf's [`HierarchyNode::vertex`].
 pub const NO_VERTEX: u32 = u32::MAX;
@@ -108,14 +118,38 @@ pub struct HierarchyVertex {
     pub output: u32,
 }
 
-/// One patch of the baked hierarchy: its corners' vertices and what its sides join.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// One patch of the baked hierarchy: its corners' vertices, what its sides join, which side
+/// of it is out, and the cone of its outward normals.
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct HierarchyPatch {
     /// Vertices at `(0, 0)`, `(1, 0)`, `(1, 1)`, `(0, 1)`.
     pub corners: [u32; 4],
     /// Per side (`V0, U1, V1, U0`), the other patch's side on the same curve, if shared.
     pub links: [Option<SideLink>; 4],
+    /// The patch's outside is on the side of `S_v × S_u` (not `S_u × S_v`): its triangles
+    /// are written clockwise in `(u, v)` and its vertices' normals are `S_v × S_u` (see the
+    /// bake's orientation rule, [`bake_hierarchy`](crate::bake::bake_hierarchy)).
+    pub flip: bool,
+    /// A cone holding every outward normal of the patch, as its unit axis and the sine of its
+    /// half-angle (`[x, y, z, sin]`), where the model is closed and the cone is narrower than
+    /// a half-space; a sine of 1 or more where not. A tessellator culls a patch whose cone
+    /// faces away from the eye.
+    pub cone: [f32; 4],
+}
+
+/// [`HierarchyPatch::cone`] of a patch without a cone.
+pub const NO_CONE: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
+
+impl Default for HierarchyPatch {
+    fn default() -> Self {
+        HierarchyPatch {
+            corners: [0; 4],
+            links: [None; 4],
+            flip: false,
+            cone: NO_CONE,
+        }
+    }
 }
 
 impl HierarchyNode {

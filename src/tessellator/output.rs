@@ -48,7 +48,8 @@ impl Tessellator<'_, '_> {
     }
 
     /// Streams the current mesh to `sink`, patch by patch (patches the sink does not want
-    /// are skipped). Triangles are counter-clockwise in their patch's `(u, v)` square.
+    /// are skipped). Triangles are counter-clockwise seen from outside, and normals point out
+    /// (see `bake`'s orientation rule).
     pub fn stream(&self, sink: &mut impl TriangleSink) {
         self.each_written(|h, corners| {
             if sink.wants_patch(h.tri.patch) {
@@ -83,7 +84,7 @@ impl Tessellator<'_, '_> {
         self.each_written(|h, corners| {
             let info = TriangleInfo {
                 patch: h.tri.patch,
-                uv: h.tri.corners.map(|p| {
+                uv: self.oriented(h, h.tri.corners).map(|p| {
                     let (u, v) = unit(p);
                     [u, v]
                 }),
@@ -133,7 +134,7 @@ impl Tessellator<'_, '_> {
     ) -> Result<MeshSize, WriteError> {
         let needed = self.remap_len();
         let Some(remap) = remap.get_mut(..needed) else {
-            return Err(WriteError::ScratchTooSmall { needed });
+            return Err(WriteError::RemapTooSmall { needed });
         };
         // The mesh's size first, so that a mesh that does not fit leaves the buffers
         // untouched: counted by `update` or `mesh_size`, or else here (`remap` marks the

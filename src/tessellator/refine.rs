@@ -13,7 +13,7 @@
 //!
 //! When the pool is full (past seven eighths, to keep probes short), a leaf that needs a new
 //! vertex stays whole and is counted as left over, with its bound in the frame's worst: the
-//! frame reports what it honours.
+//! frame reports what it honours ([`FrameStats::pool_full`](super::FrameStats::pool_full)).
 //!
 //! Without the crate feature `refine` the selection makes no vertex here (as with a full
 //! pool), and this code and the surface evaluation it calls are left out of a build.
@@ -26,22 +26,35 @@ use crate::patch::Side;
 /// An empty entry's key.
 const EMPTY: u64 = u64::MAX;
 
-/// A vertex the run time made below the bake: one entry of the caller's pool.
+/// One entry of a tessellator's pool of vertices below the bake (see
+/// [`TessellatorStorage`](super::TessellatorStorage)): opaque, the caller only provides
+/// room for them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct RefinedVertex {
+pub struct PoolSlot {
     key: u64,
     pub(super) vertex: HierarchyVertex,
     pub(super) seen: bool,
 }
 
-impl Default for RefinedVertex {
+impl PoolSlot {
+    /// An empty slot.
+    pub const EMPTY: PoolSlot = PoolSlot {
+        key: EMPTY,
+        vertex: HierarchyVertex {
+            position: [0.0; 3],
+            normal: [0.0; 3],
+            uv: [0; 2],
+            patch: 0,
+            output: 0,
+        },
+        seen: false,
+    };
+}
+
+impl Default for PoolSlot {
     fn default() -> Self {
-        RefinedVertex {
-            key: EMPTY,
-            vertex: HierarchyVertex::default(),
-            seen: false,
-        }
+        PoolSlot::EMPTY
     }
 }
 
@@ -81,7 +94,7 @@ fn start(key: u64, len: usize) -> usize {
 /// The pool of vertices below the bake: the caller's entries and how many are used.
 #[derive(Debug)]
 pub(super) struct Pool<'s> {
-    pub entries: &'s mut [RefinedVertex],
+    pub entries: &'s mut [PoolSlot],
     pub used: usize,
 }
 
@@ -142,13 +155,17 @@ impl Pool<'_> {
             },
             None => HierarchyVertex {
                 position: s.map_or([0.0; 3], |s| s.position.to_array()),
-                normal: s.map_or([0.0; 3], |s| s.normal.to_array()),
+                // The outward normal: negated where the bake flipped the patch.
+                normal: s.map_or([0.0; 3], |s| match tree.patches.get(at.0 as usize) {
+                    Some(p) if p.flip => (-s.normal).to_array(),
+                    _ => s.normal.to_array(),
+                }),
                 uv: at.1,
                 patch: at.0,
                 output: id,
             },
         };
-        self.entries[i] = RefinedVertex {
+        self.entries[i] = PoolSlot {
             key: k,
             vertex,
             seen: false,

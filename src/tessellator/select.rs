@@ -34,7 +34,8 @@ use super::address::Tri;
 use super::bits::{bit, set, Layout};
 use super::hierarchy::{walk, walk_patches, Hierarchy, Pending, RUN_TIME};
 use super::judge::judge;
-use super::refine::{key, Pool, RefinedVertex};
+use super::refine::{key, Pool, PoolSlot};
+use super::storage::{StackSlot, TessellatorStorage};
 use super::HierarchyVertex;
 use crate::deviation::PatchBounds;
 use crate::math::max;
@@ -64,19 +65,26 @@ pub struct FrameStats {
     pub sweeps: usize,
     /// Most leaves waiting at once.
     pub stack_peak: usize,
+    /// The pool of vertices below the bake filled up and left leaves over the tolerance: a
+    /// larger pool gives a finer frame (the leaves it left whole are in
+    /// [`left_over`](Self::left_over)).
+    pub pool_full: bool,
 }
 
-/// Why a run time could not be made.
+/// Why a tessellator could not be made: its storage is too small for its hierarchy.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum TessellatorError {
-    /// The bit storage is shorter than [`Hierarchy::bit_words`].
+    /// The bits are fewer than [`Hierarchy::bit_words`].
     BitsTooShort {
         /// Words needed.
         needed: usize,
     },
     /// The stack holds fewer than [`Tessellator::MIN_STACK`] entries.
-    StackTooShort,
+    StackTooShort {
+        /// Entries needed.
+        needed: usize,
+    },
 }
 
 impl fmt::Display for TessellatorError {
@@ -85,16 +93,34 @@ impl fmt::Display for TessellatorError {
             TessellatorError::BitsTooShort { needed } => {
                 write!(f, "bit storage too short: {needed} words needed")
             }
-            TessellatorError::StackTooShort => write!(
-                f,
-                "the stack holds fewer than {} entries",
-                Tessellator::MIN_STACK
-            ),
+            TessellatorError::StackTooShort { needed } => {
+                write!(f, "stack too short: {needed} entries needed")
+            }
         }
     }
 }
 
 impl core::error::Error for TessellatorError {}
+
+/// Why a view cannot be tessellated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum UpdateError {
+    /// The view's tolerance is not a positive finite number.
+    BadTolerance,
+}
+
+impl fmt::Display for UpdateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            UpdateError::BadTolerance => {
+                write!(f, "the tolerance is not a positive finite number")
+            }
+        }
+    }
+}
+
+impl core::error::Error for UpdateError {}
 
 /// The run time of a baked hierarchy: each [`update`](Self::update) finds the frame's mesh
 /// for a view; [`stream`](Self::stream) and [`write_mesh`](Self::write_mesh) write it out.
@@ -107,7 +133,7 @@ pub struct Tessellator<'t, 's> {
     pub(super) tree: Hierarchy<'t>,
     pub(super) bits: &'s mut [u32],
     pub(super) pool: Pool<'s>,
-    stack: &'s mut [Pending],
+    stack: &'s mut [StackSlot],
     len: usize,
     full: bool,
     /// The patches of the triangles the stack had no room for, as bit `patch % 32` (a walk
@@ -125,6 +151,9 @@ pub struct Tessellator<'t, 's> {
     pub(super) layout: Layout,
     /// The last frame's view.
     view: Option<View>,
+    /// The sphere around the model's control points, where patches can be culled for facing
+    /// away (see `cull`).
+    pub(super) sphere: Option<crate::bound::BoundingSphere>,
     pub(super) stats: FrameStats,
     /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
     /// asks for it every frame.
@@ -145,15 +174,28 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// Fewest stack entries a run time takes.
     pub const MIN_STACK: usize = 4;
 
-    /// A run time over `tree` with caller storage: `bits` of at least
-    /// [`Hierarchy::bit_words`] words, `stack` of at least [`MIN_STACK`](Self::MIN_STACK)
-    /// entries, and `pool` for vertices below the bake (any length, none included: a frame
-    /// finer than the bake then reports what it honours).
-    pub fn new(
+    /// A tessellator of `tree` in `storage` (see [`TessellatorStorage`] for its sizes).
+    pub fn new<const BITS: usize, const STACK: usize, const POOL: usize>(
+        tree: Hierarchy<'t>,
+        storage: &'s mut TessellatorStorage<BITS, STACK, POOL>,
+    ) -> Result<Self, TessellatorError> {
+        Self::from_slices(
+            tree,
+            &mut storage.bits,
+            &mut storage.stack,
+            &mut storage.pool,
+        )
+    }
+
+    /// A tessellator of `tree` in the caller's slices, for sizes chosen at run time: `bits`
+    /// of at least [`Hierarchy::bit_words`] words, `stack` of at least
+    /// [`MIN_STACK`](Self::MIN_STACK) entries, and `pool` for vertices below the bake (any
+    /// length, none included: a frame finer than the bake then reports what it honours).
+    pub fn from_slices(
         tree: Hierarchy<'t>,
         bits: &'s mut [u32],
-        stack: &'s mut [Pending],
-        pool: &'s mut [RefinedVertex],
+        stack: &'s mut [StackSlot],
+        pool: &'s mut [PoolSlot],
     ) -> Result<Self, TessellatorError> {
         if bits.len() < tree.bit_words() {
             return Err(TessellatorError::BitsTooShort {
@@ -161,7 +203,9 @@ impl<'t, 's> Tessellator<'t, 's> {
             });
         }
         if stack.len() < Self::MIN_STACK {
-            return Err(TessellatorError::StackTooShort);
+            return Err(TessellatorError::StackTooShort {
+                needed: Self::MIN_STACK,
+            });
         }
         Ok(Tessellator {
             tree,
@@ -180,6 +224,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             vertices: None,
             layout: Layout::of(&tree),
             view: None,
+            sphere: tree.culling_sphere(),
             stats: FrameStats::default(),
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
@@ -240,6 +285,9 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// by [`judge::hidden_below_the_bake`](super::judge::hidden_below_the_bake), with `bounds`
     /// holding the last patch's bounds it needed (walks go patch by patch).
     pub(super) fn is_hidden(&self, h: &Pending, bounds: &mut Option<(u32, PatchBounds)>) -> bool {
+        if self.is_culled(h.tri.patch) {
+            return true;
+        }
         if h.node != RUN_TIME {
             return bit(&self.bits[self.layout().hidden..], h.node);
         }
@@ -279,9 +327,24 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// The vertices written out for leaf `h`, or `None` where two are one: a triangle with two
     /// corners on a side collapsed to a pole is a segment, which its neighbours' sides
     /// already draw.
+    /// They come counter-clockwise seen from outside: in the order of `h`'s corners, or in
+    /// the order [`oriented`](Self::oriented) gives for a flipped patch.
     pub(super) fn written(&self, h: &Pending) -> Option<[u32; 3]> {
-        let [a, b, c] = h.corners.map(|v| self.vertex_record(v).output);
+        let [a, b, c] = self
+            .oriented(h, h.corners)
+            .map(|v| self.vertex_record(v).output);
         (a != b && b != c && c != a).then_some([a, b, c])
+    }
+
+    /// `corners` of leaf `h` (its vertices, or anything per corner) in the order it is
+    /// written: as they are (counter-clockwise in `(u, v)`), or with the last two swapped in
+    /// a patch the bake flipped (see `bake`'s orientation rule).
+    pub(super) fn oriented<T: Copy>(&self, h: &Pending, corners: [T; 3]) -> [T; 3] {
+        let [a, b, c] = corners;
+        match self.tree.patches.get(h.tri.patch as usize) {
+            Some(p) if p.flip => [a, c, b],
+            _ => [a, b, c],
+        }
     }
 
     /// Queues `h`, or notes that a walk must find it.
@@ -291,7 +354,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     fn push(&mut self, h: Pending) {
         match self.stack.get_mut(self.len) {
             Some(slot) => {
-                *slot = h;
+                *slot = StackSlot(h);
                 self.len += 1;
                 self.stats.stack_peak = self.stats.stack_peak.max(self.len);
             }
@@ -310,9 +373,19 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
     }
 
-    /// Finds the mesh of `view`: the coarsest conforming mesh of the bake's triangles whose
-    /// bounds are within the tolerance (see the [module docs](super)).
-    pub fn update(&mut self, view: &View) -> FrameStats {
+    /// Finds the mesh of `view`: the coarsest conforming mesh of the hierarchy's triangles
+    /// whose bounds are within the tolerance (see the [module docs](super)); a tolerance that
+    /// is not a positive finite number is refused.
+    pub fn update(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
+        let t = view.tolerance();
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(UpdateError::BadTolerance);
+        }
+        Ok(self.select(view))
+    }
+
+    /// [`update`](Self::update) with a valid tolerance.
+    pub(super) fn select(&mut self, view: &View) -> FrameStats {
         let words = self.tree.bit_words();
         self.bits[..words].fill(0);
         self.pool.clear();
@@ -322,6 +395,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         self.dropped_patches = 0;
         let (tree, tolerance) = (self.tree, view.tolerance());
+        self.cull(view);
         for p in 0..tree.patches.len() as u32 {
             for k in 0..2 {
                 self.push(tree.root(p, k));
@@ -362,6 +436,9 @@ impl<'t, 's> Tessellator<'t, 's> {
             // short may have counted some twice: a walk counts.
             self.count();
         }
+        // (A split refused for a full pool may have been made later by another way, as the
+        // walks' figures tell: then the pool held the frame.)
+        self.stats.pool_full &= self.stats.left_over > 0;
         self.stats
     }
 
@@ -388,7 +465,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     fn drain(&mut self, view: &View, tolerance: f32) {
         while self.len > 0 {
             self.len -= 1;
-            let h = self.stack[self.len];
+            let h = self.stack[self.len].0;
             self.process(view, tolerance, h);
         }
     }
@@ -461,6 +538,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         let baked = self.tree.node(h).is_some_and(|n| n.children != 0);
         if !baked && self.pool.is_full() {
             // No room below the bake: no need to look across.
+            self.stats.pool_full |= cfg!(feature = "refine");
             return false;
         }
         let tree = self.tree;
@@ -495,7 +573,10 @@ impl<'t, 's> Tessellator<'t, 's> {
                     }
                     v
                 }
-                None => return false,
+                None => {
+                    self.stats.pool_full = true;
+                    return false;
+                }
             },
         };
         // Leaves judged and kept whole until now stop being leaves: all but `h` at the top of
@@ -578,13 +659,11 @@ pub(super) mod tests {
     #[test]
     fn views_finer_than_the_bake_refine_only_with_the_feature() {
         with_bump::<512>(2e-2, |_, tree, diagonal| {
-            let mut bits = [0u32; 64];
-            let mut stack = [Pending::default(); 64];
-            let mut pool = [RefinedVertex::default(); 256];
-            let mut selection = Tessellator::new(tree, &mut bits, &mut stack, &mut pool).unwrap();
+            let mut storage = TessellatorStorage::<128, 64, 256>::new();
+            let mut selection = Tessellator::new(tree, &mut storage).unwrap();
             // A hundredth of the bake's tolerance: far below the bake.
             let tolerance = 1e-2 * Tolerance::Relative(2e-2).in_model_units(diagonal);
-            let stats = selection.update(&View::Object { tolerance });
+            let stats = selection.update(&View::Object { tolerance }).unwrap();
             if cfg!(feature = "refine") {
                 assert!(stats.refined > 0);
             } else {

@@ -228,8 +228,7 @@ pub(super) fn inside_columns<I: EdgeInt>(
 }
 
 /// [`inside_columns`] in 64 bits, for rows of [`Edges::Wide`] triangles: out of line, so
-/// that the 32-bit arithmetic of small viewports keeps its registers (measured on the
-/// Cortex-M4F: 0.1M instructions of a `fw_teapot` frame).
+/// that the 32-bit arithmetic of small viewports keeps its registers.
 #[inline(never)]
 pub(super) fn wide_columns(
     k: &[i64; 3],

@@ -7,8 +7,8 @@
 //! edge's value `E_i - bias_i` at the row's first column of the box, stepped by a constant per
 //! row, and solves the exact integer inequality of the module above (a pixel centre is inside
 //! edge `i` when `E_i - bias_i >= 0`) for the row's columns, one division per edge. (Testing
-//! every pixel of the box instead, three additions and a sign test each, was measured slower
-//! on `fw_teapot`: most of a box is outside its triangle.) Triangles with a corner beyond
+//! every pixel of the box instead, three additions and a sign test each, is slower: most of a
+//! box is outside its triangle.) Triangles with a corner beyond
 //! [`NARROW_LIMIT`] take the 64-bit spans of [`Triangle`] instead (feature
 //! `large-viewports`): the same inequality, so both still tile.
 //!
