@@ -2,35 +2,40 @@
 //!
 //! ```text
 //! cargo run --release --example bake -- examples/models/teapot.bpt --tolerance 1e-3 --relative \
-//!     --rust out/teapot_hierarchy.rs
+//!     --out out/teapot.hierarchy --rust out/teapot_hierarchy.rs
 //! ```
 //!
 //! MODEL is `.bpt` or NURBS `.json` (decomposed into its rational Bezier pieces). The tolerance
 //! is in object-space units, or with `--relative` a fraction of the model's bounding-box
-//! diagonal. `--rust FILE` writes the hierarchy as statics a firmware compiles in. The summary
-//! line is `patches P triangles N leaves L vertices V bytes B seconds T`.
+//! diagonal. `--out FILE` writes the hierarchy as a file that `tessellate --baked` reads (see
+//! `examples/common/hierarchy_file.rs`); `--rust FILE` writes it, with the model's patches, as
+//! statics a firmware compiles in. The summary line is
+//! `patches P triangles N leaves L vertices V bytes B seconds T`.
 
 mod common;
 
 use std::process::ExitCode;
 use std::time::Instant;
 
+use common::hierarchy_file;
 use common::model_file::{BakedHierarchy, ModelFile};
 use spline_tess::bake::Tolerance;
 use spline_tess::bake::{write_rust_source, BakeSettings};
 
-const USAGE: &str = "usage: bake MODEL(.bpt|.json) --tolerance EPS [--relative] [--rust FILE.rs]";
+const USAGE: &str =
+    "usage: bake MODEL(.bpt|.json) --tolerance EPS [--relative] [--out FILE] [--rust FILE.rs]";
 
 struct Args {
     model: String,
     tolerance: f32,
     relative: bool,
     rust: Option<String>,
+    out: Option<String>,
 }
 
 fn parse_args() -> Result<Args, String> {
     let mut args = std::env::args().skip(1);
-    let (mut model, mut tolerance, mut rust) = (None, None, None);
+    let (mut model, mut tolerance, mut rust, mut out) = (None, None, None, None);
     let mut relative = false;
     fn value<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, String> {
         let v = v.ok_or_else(|| format!("{flag} needs a value\n{USAGE}"))?;
@@ -42,6 +47,7 @@ fn parse_args() -> Result<Args, String> {
             "--tolerance" => tolerance = Some(value::<f32>("--tolerance", args.next())?),
             "--relative" => relative = true,
             "--rust" => rust = Some(value::<String>("--rust", args.next())?),
+            "--out" => out = Some(value::<String>("--out", args.next())?),
             "-h" | "--help" => return Err(USAGE.to_string()),
             _ if model.is_none() && !a.starts_with("--") => model = Some(a),
             _ => return Err(format!("unexpected argument `{a}`\n{USAGE}")),
@@ -52,6 +58,7 @@ fn parse_args() -> Result<Args, String> {
         tolerance: tolerance.ok_or(format!("--tolerance is required\n{USAGE}"))?,
         relative,
         rust,
+        out,
     })
 }
 
@@ -69,6 +76,10 @@ fn run() -> Result<(), String> {
     let start = Instant::now();
     let baked = BakedHierarchy::bake(&file, &settings)?;
     let seconds = start.elapsed().as_secs_f64();
+    if let Some(path) = &args.out {
+        let bytes = hierarchy_file::to_bytes(&file, &settings, &baked);
+        std::fs::write(path, bytes).map_err(|e| format!("{path}: {e}"))?;
+    }
     if let Some(path) = &args.rust {
         let mut src = String::new();
         write_rust_source(&mut src, "MODEL", &baked.tree()).map_err(|e| e.to_string())?;

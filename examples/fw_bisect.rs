@@ -38,6 +38,7 @@ use spline_tess::{PatchSet, Vertex};
 const BITS: usize = spline_tess::tessellator::bit_words_for(
     baked::TEAPOT_NODES.len(),
     baked::TEAPOT_VERTICES.len(),
+    baked::TEAPOT_PATCHES.len(),
 );
 
 /// Bytes of the hierarchy in flash: its nodes, vertices and patch records (the patches' control

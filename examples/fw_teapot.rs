@@ -67,6 +67,7 @@ use spline_tess::PatchSet;
 const BITS: usize = spline_tess::tessellator::bit_words_for(
     baked::TEAPOT_NODES.len(),
     baked::TEAPOT_VERTICES.len(),
+    baked::TEAPOT_PATCHES.len(),
 );
 
 /// One frame's measurements (the instruction counts are printed by the firmware only).

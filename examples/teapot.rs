@@ -14,10 +14,15 @@
 //! to render it (in 16-row bands, with Gouraud shading and the triangles overlaid).
 //!
 //! Options: `--model FILE` (`.bpt` or NURBS `.json`), `--tolerance PX` (default 1),
-//! `--budget N` (fit the tolerance to at most N triangles; unrefined frames), `--frames N`
-//! (default 24: half orbit, half dolly), `--size WxH` (default 320x240), `--out DIR` (default
-//! `out`), `--name NAME` (file prefix, default the model's file stem), `--flat`,
-//! `--no-wireframe`, `--bake-tolerance REL` (default 2.5e-4 of the diagonal).
+//! `--budget N` (fit the tolerance to at most N triangles), `--frames N` (default 24: half
+//! orbit, half dolly), `--size WxH` (default 320x240), `--out DIR` (default `out`), `--name
+//! NAME` (file prefix, default the model's file stem), `--flat`, `--no-wireframe`,
+//! `--bake-tolerance REL` (default 2.5e-4 of the diagonal), `--cache DIR` (default
+//! `target/hierarchies`).
+//!
+//! The model's hierarchy is baked on the first start and kept in the cache folder, keyed by
+//! the model's patches and the bake settings: a second start reads it back and bakes nothing.
+//! A bake that takes more than a second shows its progress.
 
 mod common;
 
@@ -26,19 +31,19 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use common::framebuffer::Framebuffer;
+use common::hierarchy_file::cached;
 use common::image::Image;
-use common::model_file::{BakedHierarchy, ModelFile};
+use common::model_file::ModelFile;
 use common::obj::{frame_faces, write_obj};
 use embedded_graphics::pixelcolor::Rgb888;
-use spline_tess::bake::BakeSettings;
-use spline_tess::bake::Tolerance;
+use spline_tess::bake::{BakeProgress, BakeSettings, Tolerance};
 use spline_tess::render::{ListSlot, Renderer, Shading, Style, Wireframe};
 use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: teapot [--model FILE] [--tolerance PX] [--budget N] [--frames N] \
                      [--size WxH] [--out DIR] [--name NAME] [--flat] [--no-wireframe] \
-                     [--bake-tolerance REL]";
+                     [--bake-tolerance REL] [--cache DIR]";
 
 /// Rows per band (the depth buffer holds `width * BAND` values, as on a small display).
 const BAND: u32 = 16;
@@ -54,6 +59,7 @@ struct Args {
     flat: bool,
     wireframe: bool,
     bake_tolerance: f32,
+    cache: PathBuf,
 }
 
 fn value<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, String> {
@@ -74,6 +80,7 @@ fn parse_args() -> Result<Args, String> {
         flat: false,
         wireframe: true,
         bake_tolerance: 2.5e-4,
+        cache: PathBuf::from("target/hierarchies"),
     };
     let mut args = std::env::args().skip(1);
     while let Some(x) = args.next() {
@@ -94,6 +101,7 @@ fn parse_args() -> Result<Args, String> {
             "--flat" => a.flat = true,
             "--no-wireframe" => a.wireframe = false,
             "--bake-tolerance" => a.bake_tolerance = value(&x, args.next())?,
+            "--cache" => a.cache = PathBuf::from(value::<String>(&x, args.next())?),
             "-h" | "--help" => return Err(USAGE.into()),
             _ => return Err(format!("unexpected argument `{x}`\n{USAGE}")),
         }
@@ -145,7 +153,23 @@ fn run() -> Result<(), String> {
         ..BakeSettings::default()
     };
     let start = Instant::now();
-    let baked = BakedHierarchy::bake(&file, &settings).map_err(|e| format!("bake: {e}"))?;
+    let mut shown = false;
+    let mut progress = |p: BakeProgress| {
+        let seconds = start.elapsed().as_secs_f64();
+        if seconds > 1.0 {
+            eprint!(
+                "\rbaking the hierarchy (once: kept in {}): {} triangles, {seconds:.1} s",
+                args.cache.display(),
+                p.recorded
+            );
+            shown = true;
+        }
+    };
+    let (baked, from_cache) =
+        cached(&file, &settings, &args.cache, &mut progress).map_err(|e| format!("bake: {e}"))?;
+    if shown {
+        eprintln!();
+    }
     let bake_ms = start.elapsed().as_secs_f64() * 1e3;
     let tree = baked.tree();
     let bound = file.patches().aabb().ok_or("the model is empty")?;
@@ -156,9 +180,14 @@ fn run() -> Result<(), String> {
     let mut tess = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)
         .map_err(|e| format!("run time: {e}"))?;
     println!(
-        "# {}: {} patches baked in {bake_ms:.0} ms ({} triangles, {} bytes); {} frames at {}x{}",
+        "# {}: {} patches {} in {bake_ms:.0} ms ({} triangles, {} bytes); {} frames at {}x{}",
         args.model,
         baked.patches.len(),
+        if from_cache {
+            "read from the cache"
+        } else {
+            "baked"
+        },
         baked.nodes.len(),
         baked.bytes(),
         args.frames,

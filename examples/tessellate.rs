@@ -10,7 +10,8 @@
 //! ```
 //!
 //! MODEL is `.bpt` or NURBS `.json`. Its hierarchy is baked on the fly (`--bake-tolerance`,
-//! relative to the bounding-box diagonal, default 1e-3). `--path FILE` holds one camera per
+//! relative to the bounding-box diagonal, default 1e-3), or read from the file `--baked` names
+//! (written by the `bake` example from the same model). `--path FILE` holds one camera per
 //! line, `ex ey ez tx ty tz ux uy uz fov`, applied in order; the OBJ is the last frame.
 //! `--budget N` fits the tolerance to at most N triangles per frame. `--near D` sets the near
 //! plane (default 1% of the model's diagonal). `--split` tessellates the model with every
@@ -30,6 +31,7 @@ mod common;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use common::hierarchy_file;
 use common::model_file::{BakedHierarchy, ModelFile};
 use common::obj::{frame_faces, write_obj};
 use spline_tess::bake::BakeSettings;
@@ -39,8 +41,8 @@ use spline_tess::{Camera, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
                      --eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG --viewport WxH) \
-                     [--budget N] [--path FILE] [--bake-tolerance REL] [--near D] [--split] \
-                     --obj OUT.obj";
+                     [--budget N] [--path FILE] [--bake-tolerance REL | --baked FILE] [--near D] \
+                     [--split] --obj OUT.obj";
 
 #[derive(Default)]
 struct Args {
@@ -55,6 +57,7 @@ struct Args {
     budget: Option<usize>,
     path: Option<String>,
     bake_tolerance: Option<f32>,
+    baked: Option<String>,
     near: Option<f32>,
     split: bool,
     obj: String,
@@ -105,6 +108,7 @@ fn parse_args() -> Result<Args, String> {
             "--budget" => a.budget = Some(value(&x, args.next())?),
             "--path" => a.path = Some(value(&x, args.next())?),
             "--bake-tolerance" => a.bake_tolerance = Some(value(&x, args.next())?),
+            "--baked" => a.baked = Some(value(&x, args.next())?),
             "--split" => a.split = true,
             "--near" => a.near = Some(value(&x, args.next())?),
             "--obj" => obj = Some(value::<String>(&x, args.next())?),
@@ -181,13 +185,21 @@ fn views(a: &Args, diag: f32) -> Result<Vec<View>, String> {
     }
 }
 
-/// Bakes the model's hierarchy and writes the frames.
+/// Bakes the model's hierarchy (or reads the one `--baked` names) and writes the frames.
 fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Result<(), String> {
-    let settings = BakeSettings {
-        tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
-        ..BakeSettings::default()
+    let bake = match &args.baked {
+        Some(path) => {
+            let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+            hierarchy_file::from_bytes(&bytes, file, None).map_err(|e| format!("{path}: {e}"))?
+        }
+        None => {
+            let settings = BakeSettings {
+                tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
+                ..BakeSettings::default()
+            };
+            BakedHierarchy::bake(file, &settings).map_err(|e| format!("bake: {e}"))?
+        }
     };
-    let bake = BakedHierarchy::bake(file, &settings).map_err(|e| format!("bake: {e}"))?;
     let tree = bake.tree();
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack = vec![StackSlot::default(); 4096];
@@ -235,6 +247,9 @@ fn run() -> Result<(), String> {
     let read = ModelFile::read(&args.model)?;
     // The bake tolerance and the default near plane are relative to the model's own diagonal.
     let diag = read.patches().aabb().map_or(1.0, |b| b.diagonal());
+    if args.split && args.baked.is_some() {
+        return Err("--split bakes the split model on the fly: drop --baked".into());
+    }
     let file = if args.split { read.split()?.0 } else { read };
     let nurbs = args.model.ends_with(".json");
     run_frames(&args, &file, &views(&args, diag)?, nurbs)

@@ -139,7 +139,7 @@
 //! let hierarchy = Hierarchy::new(patches, &nodes, &vertices, &records)?;
 //!
 //! // Bits, a stack of 64 and no pool, sized at compile time.
-//! let mut storage = TessellatorStorage::<{ bit_words_for(NODES, VERTICES) }, 64, 0>::new();
+//! let mut storage = TessellatorStorage::<{ bit_words_for(NODES, VERTICES, 1) }, 64, 0>::new();
 //! let mut tessellator = Tessellator::new(hierarchy, &mut storage)?;
 //!
 //! // A frame: 1 px on a 240x240 display, streamed (to a renderer, here a count).

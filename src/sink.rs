@@ -20,8 +20,9 @@ pub struct Vertex {
     pub patch: u32,
 }
 
-/// No corner's key ([`TriangleSink::keyed_triangle`]; a tessellator's tags stop at 4, see
-/// `PatchView::key`): the empty entry of a key-addressed corner cache.
+/// No corner's key ([`TriangleSink::keyed_triangle`]; a tessellator's keys are vertex
+/// numbers, far below it): the empty entry of a key-addressed corner cache.
+#[cfg(feature = "embedded-graphics")]
 pub(crate) const NO_KEY: u64 = u64::MAX;
 
 /// An index type for triangle buffers: `u16` or `u32`.

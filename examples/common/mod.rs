@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod framebuffer;
+pub mod hierarchy_file;
 pub mod image;
 pub mod model_file;
 pub mod obj;

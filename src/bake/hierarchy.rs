@@ -118,11 +118,33 @@ impl fmt::Display for BakeError {
 
 impl core::error::Error for BakeError {}
 
+/// How far a bake has come: handed to [`bake_hierarchy_with_progress`]'s callback.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BakeProgress {
+    /// Triangles whose bound is recorded.
+    pub recorded: usize,
+    /// Triangles made so far (the recorded ones and those waiting): the hierarchy has at
+    /// least this many.
+    pub made: usize,
+}
+
 /// Bakes `model` into `out` (see the [module docs](super)).
 pub fn bake_hierarchy(
     model: &Model<'_>,
     settings: &BakeSettings,
     out: BakeBuffers<'_>,
+) -> Result<BakeSize, BakeError> {
+    bake_hierarchy_with_progress(model, settings, out, &mut |_| {})
+}
+
+/// [`bake_hierarchy`], calling `progress` every 4,096 triangles recorded (a host shows it:
+/// a fine bake of a large model takes seconds).
+pub fn bake_hierarchy_with_progress(
+    model: &Model<'_>,
+    settings: &BakeSettings,
+    out: BakeBuffers<'_>,
+    progress: &mut dyn FnMut(BakeProgress),
 ) -> Result<BakeSize, BakeError> {
     let count = model.patches.len();
     if count == 0 {
@@ -161,6 +183,12 @@ pub fn bake_hierarchy(
     }
     let mut i = 0;
     while i < baker.node_count {
+        if i % 4096 == 4095 {
+            progress(BakeProgress {
+                recorded: i + 1,
+                made: baker.node_count,
+            });
+        }
         baker.record(i);
         if baker.nodes[i].children == 0 && baker.object_bound(i) > tolerance {
             baker.split(i, 0)?;

@@ -6,7 +6,10 @@ mod hierarchy;
 mod orientation;
 mod rust_source;
 
-pub use hierarchy::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings, BakeSize};
+pub use hierarchy::{
+    bake_hierarchy, bake_hierarchy_with_progress, BakeBuffers, BakeError, BakeProgress,
+    BakeScratch, BakeSettings, BakeSize,
+};
 pub use rust_source::write_rust_source;
 
 /// The bake tolerance: the deviation at which halving stops.

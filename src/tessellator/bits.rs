@@ -11,23 +11,22 @@ impl Hierarchy<'_> {
     /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: two bits per vertex,
     /// three per node and one per patch.
     pub fn bit_words(&self) -> usize {
-        bit_words_for(self.nodes.len(), self.vertices.len())
+        bit_words_for(self.nodes.len(), self.vertices.len(), self.patches.len())
     }
 }
 
-/// `u32` words of [`Tessellator`]'s bit storage for a hierarchy of `nodes` nodes and `vertices`
-/// vertices (as [`Hierarchy::bit_words`]), for sizing storage at compile time from the lengths
+/// `u32` words of [`Tessellator`]'s bit storage for a hierarchy of `nodes` nodes, `vertices`
+/// vertices and `patches` patches (as [`Hierarchy::bit_words`]), for sizing storage at compile time from the lengths
 /// of a hierarchy's statics.
 ///
 /// ```
 /// use spline_tess::tessellator::bit_words_for;
-/// const BITS: usize = bit_words_for(7520, 3900);
+/// const BITS: usize = bit_words_for(7520, 3900, 32);
 /// let bits = [0u32; BITS];
-/// assert_eq!(bits.len(), 2 * 122 + 3 * 235 + 118);
+/// assert_eq!(bits.len(), 2 * 122 + 3 * 235 + 1);
 /// ```
-pub const fn bit_words_for(nodes: usize, vertices: usize) -> usize {
-    // (A hierarchy has at least two nodes a patch: a patch's bit fits in half a node's.)
-    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32) + nodes.div_ceil(64)
+pub const fn bit_words_for(nodes: usize, vertices: usize, patches: usize) -> usize {
+    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32) + patches.div_ceil(32)
 }
 
 /// Offsets of the bit sets in [`Tessellator::bits`].

@@ -16,7 +16,7 @@ impl Tessellator<'_, '_> {
     /// vertices, which a frame that is only drawn does not need, are counted by a walk on
     /// demand ([`mesh_size`](Self::mesh_size), [`write_mesh`](Self::write_mesh)).
     pub(super) fn count_leaf(&mut self, h: &Pending) {
-        self.stats.triangles += usize::from(self.written(h).is_some());
+        self.stats.triangles += usize::from(self.is_written(h));
     }
 
     /// Takes leaf `x`, about to be halved, off the frame's figures where
@@ -27,7 +27,7 @@ impl Tessellator<'_, '_> {
         }
         if bit(&self.bits[self.layout.hidden..], x.node) {
             self.stats.hidden = self.stats.hidden.saturating_sub(1);
-        } else if self.written(x).is_some() {
+        } else if self.is_written(x) {
             self.stats.triangles = self.stats.triangles.saturating_sub(1);
         }
     }

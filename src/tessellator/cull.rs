@@ -70,6 +70,7 @@ impl Tessellator<'_, '_> {
     /// Whether patch `p` is culled in the current frame for facing away from the eye (see
     /// the module docs; its triangles are left out as hidden).
     pub fn is_culled(&self, p: u32) -> bool {
-        super::bits::bit(&self.bits[self.layout().culled..], p)
+        // (No bit to read where the model culls nothing.)
+        self.sphere.is_some() && super::bits::bit(&self.bits[self.layout().culled..], p)
     }
 }

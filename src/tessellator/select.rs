@@ -326,14 +326,20 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// The vertices written out for leaf `h`, or `None` where two are one: a triangle with two
     /// corners on a side collapsed to a pole is a segment, which its neighbours' sides
-    /// already draw.
-    /// They come counter-clockwise seen from outside: in the order of `h`'s corners, or in
-    /// the order [`oriented`](Self::oriented) gives for a flipped patch.
+    /// already draw. They come counter-clockwise seen from outside: in the order of `h`'s
+    /// corners, or in the order [`oriented`](Self::oriented) gives for a flipped patch.
     pub(super) fn written(&self, h: &Pending) -> Option<[u32; 3]> {
         let [a, b, c] = self
             .oriented(h, h.corners)
             .map(|v| self.vertex_record(v).output);
         (a != b && b != c && c != a).then_some([a, b, c])
+    }
+
+    /// Whether leaf `h` is written out (what [`written`](Self::written) tells, without the
+    /// order of its corners: a frame's count asks it of every leaf).
+    pub(super) fn is_written(&self, h: &Pending) -> bool {
+        let [a, b, c] = h.corners.map(|v| self.vertex_record(v).output);
+        a != b && b != c && c != a
     }
 
     /// `corners` of leaf `h` (its vertices, or anything per corner) in the order it is

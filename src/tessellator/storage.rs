@@ -6,7 +6,7 @@
 //!
 //! How much of each:
 //!
-//! - bits: [`bit_words_for`](super::bit_words_for) of the hierarchy's node and vertex counts
+//! - bits: [`bit_words_for`](super::bit_words_for) of the hierarchy's node, vertex and patch counts
 //!   ([`Hierarchy::bit_words`](super::Hierarchy::bit_words)), a few hundred words for a model
 //!   of thousands of triangles;
 //! - stack: at least [`Tessellator::MIN_STACK`](super::Tessellator::MIN_STACK). A frame
@@ -31,7 +31,7 @@ impl StackSlot {
 }
 
 /// A tessellator's storage sized at compile time: `BITS` words of bits (at least
-/// [`bit_words_for`](super::bit_words_for) of the hierarchy's node and vertex counts), a
+/// [`bit_words_for`](super::bit_words_for) of the hierarchy's node, vertex and patch counts), a
 /// stack of `STACK` triangles (at least [`Tessellator::MIN_STACK`](super::Tessellator)) and a
 /// pool of `POOL` vertices below the bake (any number, 0 included).
 ///
@@ -41,9 +41,9 @@ impl StackSlot {
 ///
 /// // For a hierarchy of 7,520 nodes and 1,977 vertices, with no pool: the bits and the
 /// // stack, and no more (but alignment).
-/// type Storage = TessellatorStorage<{ bit_words_for(7520, 1977) }, 64, 0>;
+/// type Storage = TessellatorStorage<{ bit_words_for(7520, 1977, 32) }, 64, 0>;
 /// static STORAGE: Storage = Storage::new();
-/// let bytes = 4 * bit_words_for(7520, 1977) + 64 * size_of::<StackSlot>();
+/// let bytes = 4 * bit_words_for(7520, 1977, 32) + 64 * size_of::<StackSlot>();
 /// assert!(size_of::<Storage>() - bytes < 8);
 /// ```
 #[derive(Clone, Debug)]

@@ -149,19 +149,18 @@ pub(super) fn edge_set_up<I: EdgeInt>(x: &[I; 3], y: &[I; 3], i: usize) -> EdgeS
 /// `E_i` is the distance times `16 |edge|`, so the pixel is on the line when `E_i <
 /// half_width · 16 |edge|`, that is `E_i - bias_i < ceil(half_width / inv_length - bias_i)`.
 ///
-/// A pixel inside the triangle has `0 <= E_i - bias_i < 2^30` (see [`NARROW_LIMIT`]; a wide triangle's spans step from `E_i - bias_i - limit` without
-/// overflow either, see [`wire_ramp`]), so the
-/// limit is taken within `[0, 2^30]` first: the same pixels are on the line, and the limit,
-/// its `ceil` and a scan's `E_i - bias_i - limit` stay far inside `i32` for any half width
-/// (infinite: every pixel; NaN or negative: none).
+/// Its `ceil` is taken saturated, and at least 0: a pixel inside the triangle has
+/// `E_i - bias_i >= 0`, so a negative limit puts no pixel on the line, as 0 does, and one past
+/// `i32` every pixel, as `i32::MAX` does. Within `[0, i32::MAX]`, a scan's `E_i - bias_i -
+/// limit` at a pixel inside (`E_i - bias_i` below `2^30`, see [`NARROW_LIMIT`]) stays within
+/// `i32`, for any half width (infinite: every pixel; NaN or negative: none); a wide triangle's
+/// spans take it in 64 bits ([`wire_ramp`]).
 #[inline(always)]
 pub(super) fn wire_limit(half_width: f32, inv_length: f32, bias: i32) -> i32 {
-    const ALL: f32 = (1u32 << 30) as f32;
     let limit = half_width / inv_length - bias as f32;
-    // (A NaN fails the comparison: 0.)
-    let limit = if limit > 0.0 { limit.min(ALL) } else { 0.0 };
+    // `ceil`, saturated (`as` saturates, and takes NaN to 0), and at least 0.
     let t = limit as i32;
-    t + ((t as f32) < limit) as i32
+    t.saturating_add(((t as f32) < limit) as i32).max(0)
 }
 
 /// The wireframe test along a span of `n` pixels, the scan's own ([`wire_limit`]): pixel `j`
@@ -331,7 +330,7 @@ mod tests {
         assert!(on > 1000, "{on}");
     }
 
-    /// The limit is within `[0, 2^30]` for any half width and edge, and its `ceil` is exact.
+    /// The limit is at least 0 for any half width and edge, and its `ceil` is exact.
     #[test]
     fn a_wire_limit_is_in_range() {
         for w in [
@@ -349,13 +348,13 @@ mod tests {
             for inv_length in [1.0 / 16.0, 1e-9, 1e-30, 0.0, 1.0] {
                 for bias in [0, 1] {
                     let limit = wire_limit(w, inv_length, bias);
-                    assert!((0..=1 << 30).contains(&limit), "{w} {inv_length}: {limit}");
+                    assert!(limit >= 0, "{w} {inv_length}: {limit}");
                 }
             }
         }
         assert_eq!(wire_limit(0.5, 1.0 / 160.0, 1), 79);
         assert_eq!(wire_limit(0.5001, 1.0 / 160.0, 0), 81);
-        assert_eq!(wire_limit(f32::INFINITY, 1.0, 0), 1 << 30);
+        assert_eq!(wire_limit(f32::INFINITY, 1.0, 0), i32::MAX);
         assert_eq!(wire_limit(f32::NAN, 1.0, 0), 0);
     }
 }
