@@ -3,7 +3,7 @@
 # the same views in one run on one machine, alternating the two binaries.
 #
 #   scripts/compare_speed.sh REV [RUNS]      # e.g. scripts/compare_speed.sh a21668d 5
-#   NEW_ARGS=--bisect scripts/compare_speed.sh REV [RUNS]   # this checkout with extra arguments
+#   NEW_ARGS="--bake-tolerance 2.5e-4" scripts/compare_speed.sh REV [RUNS]   # extra arguments here
 #
 # REV is built in a git worktree under target/compare (its own target directory, so the first
 # run is a cold build of a few minutes). Each line gives the best of RUNS frame times (the

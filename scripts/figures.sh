@@ -3,9 +3,9 @@
 #
 #   scripts/figures.sh            # writes BENCHMARKS.md and the README blocks between
 #                                 # `<!-- figures:NAME:start -->` and `<!-- figures:NAME:end -->`
-#   scripts/figures.sh --full     # also the bake figures at 1e-4 (about 20 minutes more)
+#   scripts/figures.sh --full     # also the hierarchies' figures at 2.5e-4 (a few minutes more)
 #
-# About 6 minutes on the machine BENCHMARKS.md names, with the build cache warm (a cold build
+# About 8 minutes on the machine BENCHMARKS.md names, with the build cache warm (a cold build
 # of the host examples and the firmware adds about 5). What it leaves out is listed at the
 # end of BENCHMARKS.md.
 set -euo pipefail
@@ -34,43 +34,43 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 today=$(date -u +%Y-%m-%d)
 
 step "builds"
-cargo build -q --release -p host-tests --example eval_speed --example bake_figures --example runtime_figures --example error_figures --example oracle_selection --example oracle_saturated --example bintree_figures --example orbit_changes
+cargo build -q --release -p host-tests --example eval_speed --example error_figures --example oracle_saturated --example bintree_figures --example orbit_changes --example frame_loop
 mkdir -p target/glu
 cc -O2 -o target/glu/glu_peer host-tests/glu/glu_peer.c -lGLU -lGL
 cargo build -q --release --example teapot
-cargo build -q --release --example fw_eval --example fw_bake --example fw_tessellate --example fw_bisect --example fw_teapot --target "$T"
+cargo build -q --release --example fw_eval --example fw_bisect --example fw_teapot --target "$T"
 
 step "evaluation on the host"
 cargo run -q --release -p host-tests --example eval_speed >"$out/eval_speed.md"
 step "firmware under QEMU"
 cargo run -q --release --example fw_eval --target "$T" >"$out/fw_eval.txt"
-cargo run -q --release --example fw_bake --target "$T" >"$out/fw_bake.txt"
-cargo run -q --release --example fw_tessellate --target "$T" >"$out/fw_tessellate.txt"
 cargo run -q --release --example fw_bisect --target "$T" >"$out/fw_bisect.txt"
 arm-none-eabi-size -A "target/$T/release/examples/fw_eval" |
     awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}' >"$out/fw_eval_sizes.md"
 step "footprint of fw_teapot"
 scripts/footprint.sh "$out/text_by_module.md" >"$out/footprint.md"
-step "run time on the host"
-cargo run -q --release -p host-tests --example runtime_figures >"$out/runtime.md"
 step "teapot main job"
-cargo run -q --release --example teapot -- --size 480x360 --out "$out/teapot" >"$out/teapot.txt"
-step "error control, against the uniform grid and GLU"
-ENGINE=bintree GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_bintree_1e-3.md"
-cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 >"$out/bintree_bake.md"
-cargo run -q --release -p host-tests --example orbit_changes >"$out/orbit_changes.md"
+rm -rf "$out/hierarchies"
+cargo run -q --release --example teapot -- --size 480x360 --out "$out/teapot" --cache "$out/hierarchies" >"$out/teapot.txt" 2>/dev/null
+# The second start, timed from start to exit (the binary is built already).
+t0=$EPOCHREALTIME
+target/release/examples/teapot --frames 1 --out "$out/teapot1" --cache "$out/hierarchies" >"$out/teapot_again.txt" 2>/dev/null
+t1=$EPOCHREALTIME
+python3 -c "print($t1 - $t0)" >"$out/teapot_again_s.txt"
+step "error control, against the uniform grids and GLU"
 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_1e-3.md"
 BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example error_figures >"$out/error_2.5e-4.md"
-SPLIT=1 BAKE_REL=2.5e-4 cargo run -q --release -p host-tests --example error_figures >"$out/error_split_2.5e-4.md"
-step "oracle selections"
-cargo run -q --release -p host-tests --example oracle_selection >"$out/oracle.md"
-cargo run -q --release -p host-tests --example oracle_saturated >"$out/oracle_saturated.md"
-step "bake figures"
+SPLIT=1 cargo run -q --release -p host-tests --example error_figures >"$out/error_split_1e-3.md"
+step "hierarchies, orbit steps, frame loop"
 if [ "$full" = 1 ]; then
-    cargo run -q --release -p host-tests --example bake_figures -- 1e-3 1e-4 >"$out/bake.md"
+    cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 2.5e-4 >"$out/hierarchies.md"
 else
-    cargo run -q --release -p host-tests --example bake_figures -- 1e-3 >"$out/bake.md"
+    cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 >"$out/hierarchies.md"
 fi
+cargo run -q --release -p host-tests --example orbit_changes >"$out/orbit_changes.md"
+cargo run -q --release -p host-tests --example frame_loop >"$out/frame_loop.txt"
+step "oracle"
+cargo run -q --release -p host-tests --example oracle_saturated >"$out/oracle_saturated.md"
 cp "$out/teapot/teapot_020.png" docs/teapot_frame.png
 elapsed=$(($(date +%s) - start))
 step "writing BENCHMARKS.md and README.md"
@@ -96,49 +96,13 @@ picture = (
     "*Frame 20 of `cargo run --release --example teapot -- --size 480x360` (copied from "
     f"`out/teapot_020.png`): {tri20} triangles at 1 px tolerance, drawn by the kernel's band "
     f"renderer. {stamp}*")
-
-fw_tess = read("fw_tessellate.txt")
-runtime = f"""{stamp}
-
-Host: `cargo run --release -p host-tests --example runtime_figures`. The teapot and Gumbo baked
-at 2.5e-4 of the diagonal, viewed whole on 1024x768 (40 degree field of view). *Full* is a new
-tessellator, update and indexed write; *step* moves a tessellator 1 degree along an orbit.
-Medians of repeated runs in one process.
-
-{read("runtime.md")}
-
-Cortex-M4F: `cargo run --release --example fw_tessellate --target thumbv7em-none-eabihf`
-(QEMU `-icount shift=0`; the teapot baked at 2e-3 with at most 16 samples per curve and 48 per
-patch interior; four 240x240 frames: a view, a small orbit step, a dolly in, half the
-tolerance; instructions cover update and indexed write):
-
-```text
-{fw_tess}
-```"""
-
-# The bisection run time on the issue's views (the first seven rows of its error table).
-bisect_rows = read("error_bintree_1e-3.md").splitlines()
-bisect_table = "\n".join(bisect_rows[:2] + bisect_rows[2:9])
-fw_bisect = read("fw_bisect.txt")
-bisect_block = f"""`ENGINE=bintree cargo run --release -p host-tests --example error_figures` (the bake at 1e-3
-of the diagonal; BENCHMARKS.md has every model). {stamp}
-
-{bisect_table}
-
-`cargo run --release --example fw_bisect --target thumbv7em-none-eabihf` (the teapot's
-hierarchy at 2e-3 in flash, 240x240, QEMU `-icount shift=0`; instructions cover the frame's
-selection and its indexed write):
-
-```text
-{fw_bisect}
-```"""
+first_start = next(l for l in lines if l.startswith("#"))
+again = read("teapot_again.txt").splitlines()[0]
+again_s = float(read("teapot_again_s.txt"))
 
 blocks = {
-    "bisect": bisect_block,
     "teapot-picture": picture,
     "teapot-table": teapot_table,
-    "footprint": read("footprint.md"),
-    "runtime": runtime,
 }
 readme = open("README.md").read()
 for name, body in blocks.items():
@@ -147,15 +111,14 @@ for name, body in blocks.items():
     readme = readme[:i] + "\n" + body + "\n" + readme[j:]
 open("README.md", "w").write(readme)
 
-bake_scope = "1e-3 and 1e-4" if full == "1" else "1e-3"
+scope = "1e-3 and 2.5e-4" if full == "1" else "1e-3"
 left = []
 if full != "1":
-    left.append("- The bake figures at 1e-4 of the diagonal (`scripts/figures.sh --full`, about "
-                "20 minutes more): their bakes are ten times larger and their uniform grids need "
-                "dense checks of up to 512 x 512 cells per patch.")
+    left.append("- The hierarchies' figures at 2.5e-4 of the diagonal (`scripts/figures.sh "
+                "--full`).")
 left += [
-    "- Run-to-run spread: every host time is one median in one process on a shared machine; "
-    "reruns differ by about 10%.",
+    "- Run-to-run spread: every host time is one median or best in one process on a shared "
+    "machine; reruns differ by about 10%.",
     "- Real hardware: instruction counts come from QEMU's `-icount`, not from a board's cycle "
     "counter (flash wait states, caches and bus stalls are not modelled).",
     "- Speed against an earlier revision: `scripts/compare_speed.sh REV` builds REV's "
@@ -164,12 +127,108 @@ left += [
     "- The GLU peer tessellates the kernel's Bezier patches (NURBS surfaces split at their "
     "knots), not the NURBS surfaces whole, and only in camera cases (`GLU_PARAMETRIC_ERROR` "
     "needs a projection).",
+    "- The prefix run time (per-patch prefixes of baked samples, retired): its figures were "
+    "last measured at commit d151dc0 (BENCHMARKS.md there; CHANGELOG.md has the summary).",
 ]
 left_out = "## What this leaves out\n\n" + "\n".join(left)
 
 bench = f"""# Benchmarks
 
 {stamp} Rerun it to refresh every number here and in README.md.
+
+## Error control
+
+`cargo run --release -p host-tests --example error_figures` (its module docs say exactly what
+is measured), with `GLU_PEER` set to libGLU's NURBS tessellator built from
+`host-tests/glu/glu_peer.c` (`GLU_NURBS_TESSELLATOR`, `GLU_PARAMETRIC_ERROR` at the same pixel
+tolerance, the same camera as OpenGL matrices, culling on). Each model's hierarchy is baked at
+1e-3 of its diagonal; where a view is finer, the tessellator halves below the bake, evaluating
+and bounding the new triangles itself. Every triangle is checked with the `f64` reference: the
+surface against the triangle's linear interpolant at the same (u,v), 12 steps per side,
+projected; only samples on screen count. *Grid* is the smallest uniform n x n grid per patch
+whose error, checked the same way, is within the tolerance (a lower bound for uniform
+tessellation; it has cracks). *Over* counts triangles above the tolerance; *bound / true* is
+each triangle's bound in model units over its measured deviation (at least 1 is the soundness
+claim); *off screen* counts the written triangles with no sample on screen; *full ms* is a
+frame of a new tessellator, update and indexed write, best of three; GLU's time is its
+tessellation alone, best of five.
+
+{read("error_1e-3.md")}
+
+The same with a bake at 2.5e-4 of the diagonal (`BAKE_REL=2.5e-4`), which the teapot main job
+uses:
+
+{read("error_2.5e-4.md")}
+
+The same with every patch split into four before baking (`SPLIT=1`; `PatchSet::split`, or
+`--split` in the `tessellate` example). The grid is still the model's own patches', and every
+triangle is checked against the model's own surface (GLU columns left out: they are the first
+table's):
+
+{read("error_split_1e-3.md")}
+
+## The hierarchies
+
+`cargo run --release -p host-tests --example bintree_figures -- {scope.replace(" and ", " ")}`:
+every model's hierarchy at {scope} of its control-point diagonal (the records as statics in
+flash: nodes, vertices and patch records at their in-memory sizes), and the bake's time on one
+core:
+
+{read("hierarchies.md")}
+
+## The main job
+
+`cargo run --release --example teapot -- --size 480x360`, frames 0, 1, 12, 20 and 23 of 24
+(the first start bakes the hierarchy at 2.5e-4 and keeps it in the cache folder):
+
+{teapot_table}
+
+Its first line, on the first start: `{first_start}`. A second start (`--frames 1`) reads the
+hierarchy back from the cache: `{again}`; from start to exit, {again_s:.2} s.
+
+## Frames on the host
+
+`cargo run --release -p host-tests --example frame_loop`: the teapot baked at 2.5e-4, 1024x768,
+1 px, eye (6,-6,4); 200 frames, each an update and an indexed write (frames depend on the view
+alone, so every frame is a cold one):
+
+```text
+{read("frame_loop.txt")}
+```
+
+What an orbit step changes: `cargo run --release -p host-tests --example orbit_changes` (the
+teapot's hierarchy at `fw_teapot`'s bake, 2e-3 of the diagonal; 240x240 at 1 px; the eye of
+`fw_teapot`'s first frame orbiting the target, 48 steps of each size). *Added* and *removed*
+count the triangles of a frame that the frame before did not have, and the other way round:
+what a frame-to-frame update would have to change, where the top-down search judges every
+triangle of the mesh and the triangles it is cut from each frame (*judged*).
+
+{read("orbit_changes.md")}
+
+## Footprint of the display demo (`fw_teapot`)
+
+`scripts/footprint.sh` (run by this script).
+
+{read("footprint.md")}
+
+The kernel's `.text` at opt-level "s" by module (`scripts/text_by_module.py`, from the same
+builds): each function counted where its name puts it, so what the compiler inlined is counted
+with its caller, and the demo's frame loop holds the parts of the update it inlined.
+
+{read("text_by_module.md")}
+
+## The hierarchy on the Cortex-M4F (`fw_bisect`)
+
+`cargo run --release --example fw_bisect --target thumbv7em-none-eabihf` (QEMU mps2-an386,
+`-icount shift=0`; the teapot's hierarchy at 2e-3 in flash; four 240x240 views: a view, a small
+orbit step, a dolly in, half the tolerance, the last below the bake; instructions cover the
+frame's update and its indexed write; the storage line gives the tessellator's RAM: two bits
+per vertex, three per node and one per patch, a stack of 256 waiting triangles, a pool of 2,048
+vertices below the bake):
+
+```text
+{read("fw_bisect.txt")}
+```
 
 ## Evaluation on the host
 
@@ -191,219 +250,6 @@ on the teapot's bicubic patches.
 {read("fw_eval.txt")}
 ```
 
-## Bake on the Cortex-M4F
-
-`cargo run --release --example fw_bake --target thumbv7em-none-eabihf`: teapot patch 0 at a
-thousandth of its diagonal, scratch on the stack; the bytes are compared with the host's bake
-of the same patch.
-
-```text
-{read("fw_bake.txt")}
-```
-
-## Bake figures
-
-`cargo run --release -p host-tests --example bake_figures -- {bake_scope.replace(" and ", " ")}`:
-every model at relative tolerance {bake_scope} of its control-point bounding-box diagonal, caps
-of 256 samples per curve and 4096 per patch interior. *bake s* is one run of `bake_model` on one
-core. *Verified deviation* is the largest distance between the surface and a triangle's linear
-interpolant at the same (u,v), over every triangle of the baked triangulations (corners, all
-curve samples, all interior samples), sampled at 24 x 24 barycentric points per triangle with
-the `f64` reference. *Grid triangles* gives each patch its own smallest uniform n x n vertex
-grid (2 (n-1)^2 triangles) whose verified deviation is at most the baked one; a patch needing
-more than 512 x 512 counts as 512 (marked `>`).
-
-{read("bake.md")}
-
-## Error control by bisection (`spline_tess::bisect`)
-
-`ENGINE=bintree cargo run --release -p host-tests --example error_figures`: the cases and
-checks of the next section's tables (below), with the bisection run time in place of the
-prefix tessellator. Each model's hierarchy is baked at 1e-3 of its diagonal; where a view is
-finer, the run time halves below the bake, evaluating and bounding the new triangles itself.
-*Bound / true* is each triangle's bound in model units over its measured deviation;
-*off screen* counts the written triangles with no sample on screen.
-
-{read("error_bintree_1e-3.md")}
-
-The hierarchies' size: `cargo run --release -p host-tests --example bintree_figures -- 1e-3`
-(the records as statics in flash, beside the prefix bake of the same tolerance):
-
-{read("bintree_bake.md")}
-
-On the Cortex-M4F: `cargo run --release --example fw_bisect --target thumbv7em-none-eabihf`
-(the teapot's hierarchy at 2e-3 in flash; fw_tessellate's four 240x240 views: a view, a small
-orbit step, a dolly in, half the tolerance, the last below the bake; instructions cover the
-selection and the indexed write; the storage line gives the run time's RAM: two bits per
-vertex and three per node, a stack of 256 waiting triangles, a pool of 2,048 vertices below the
-bake):
-
-```text
-{read("fw_bisect.txt")}
-```
-
-What an orbit step changes: `cargo run --release -p host-tests --example orbit_changes` (the
-teapot's hierarchy at `fw_teapot`'s bake, 2e-3 of the diagonal; 240x240 at 1 px; the eye of
-`fw_teapot`'s first frame orbiting the target, 48 steps of each size). *Added* and *removed*
-count the triangles of a frame that the frame before did not have, and the other way round:
-what a frame-to-frame update would have to change, where the top-down search judges every
-triangle of the mesh and the triangles it is cut from each frame (*judged*).
-
-{read("orbit_changes.md")}
-
-## Error control by prefixes (`spline_tess::tessellator`)
-
-`cargo run --release -p host-tests --example error_figures` (the module docs say exactly what
-is measured), with `GLU_PEER` set to libGLU's NURBS tessellator built from
-`host-tests/glu/glu_peer.c` (`GLU_NURBS_TESSELLATOR`, `GLU_PARAMETRIC_ERROR` at the same pixel
-tolerance, the same camera as OpenGL matrices, culling on). Every triangle of both is checked
-with the `f64` reference: the surface against the triangle's linear interpolant at the same
-(u,v), 12 steps per side, projected; only samples on screen count. *Grid* is the smallest
-uniform n x n grid per patch whose error, checked the same way, is within the tolerance (a
-lower bound for uniform tessellation; it has cracks). *Over* counts triangles above the
-tolerance; *bound / true* is the kernel's per-triangle bound over the measured object-space
-deviation (at least 1 is the soundness claim); *full ms* is a new tessellator, update and
-indexed write, best of three; GLU's time is its tessellation alone, best of five.
-
-Default bake (1e-3 of the diagonal; where the bake runs out the run time refines and bounds
-every new triangle):
-
-{read("error_1e-3.md")}
-
-The same with a bake at 2.5e-4 of the diagonal (`BAKE_REL=2.5e-4`): views at 1 px on
-1024x768 need few or no refinements:
-
-{read("error_2.5e-4.md")}
-
-The same bake with every patch split into four before baking (`SPLIT=1 BAKE_REL=2.5e-4`;
-`PatchSet::split`, or `--split` in the `tessellate` example): each quarter gets its own
-prefix and threshold, so a patch that spans many depths is no longer cut everywhere for its
-nearest part. Finer pieces do not go further: with 16 a patch (`SPLIT=2`), one run gave
-teapot 0.83-0.91 of the grid on the five views of the issue and Gumbo 0.70, since each piece's
-prefix still runs until its worst triangle is within its threshold, and more pieces share more
-curves. The grid is still the model's own patches', and every triangle is checked against the
-model's own surface (GLU columns left out: they are the table's above):
-
-{read("error_split_2.5e-4.md")}
-
-How far a selection of this kind could go: `cargo run --release -p host-tests --example
-oracle_selection` (its module docs say exactly what is measured). Ten oracles triangulate
-each patch apart (cracks allowed, as the grid's), all but one. *Adaptive* inserts (Delaunay, in (u,v)) the
-worst point of the triangle worst on screen, checked as the table above does, until all are
-within the tolerance: each triangle judged by its own projection. *Nested* inserts in the
-order of largest object-space error, as a bake records it, and stops at the shortest prefix
-within the tolerance on screen: the per-patch prefix of Chhugani & Kumar, without a bound's
-margin. *Nested, patch scale* is the same prefix judged as the kernel judges a prefix: each
-triangle's error in model units times one scale for the whole patch (at the nearest part of
-its control net that can show), still without a bound's margin. The kernel's own counts (the
-2.5e-4 table above) are close to this column but for the close-up (where one scale is
-useless for a patch that reaches the near plane), so a prefix loses its triangles mostly to
-the patch's one scale, not to the bound's margin. *Hierarchy* halves triangles at their
-hypotenuse instead of inserting points (longest-edge bisection, kept conforming: the meshes
-of ROAM and of right-triangulated irregular networks), judged by the same sampled error on
-screen. These four are not sound. *Isotropic* and *directional bound* select as *adaptive*
-does but judge each triangle by a computed bound on screen (`host-tests/src/screen_bound.rs`
-derives both): *isotropic*, the bound in model units times the projection's largest scale
-over the triangle (the kernel's form); *directional*, the lattice's deviation vectors
-projected one by one at the view rays of the triangle's corners, plus the remainder, so a
-deviation along the line of sight counts for what it moves on screen. Both are sound; the
-column after them checks the directional one against the deviation sampled at 24 steps per
-side. *Hierarchy, kernel's bound* judges the bintree by the kernel's own sound bound on screen
-(`bake::triangle_screen_bound`). Every triangle a bisection mesh can have is fixed in
-advance, so a bake could hold a bound for each and the run time would evaluate none; with
-the kernel's bound it stays within the issue's ratios on these views (teapot 0.72-0.76,
-Gumbo 0.58). *Hierarchy, bound, shared curves* meshes the whole model at once, a triangle
-across a curve that two patches share conforming too (no crack): shared boundaries cost it
-about 1% (teapot 0.72-0.76, Gumbo 0.59), and the median error of its triangles is about
-half the tolerance (the kernel's: 0.10 to 0.42 at the default bake). Two numbers per triangle are not enough for
-such a bake: judged by its largest deviation along its flat triangle's normal and across it,
-each times the largest screen length of a unit in that direction, the same bintree took
-1.05-1.25 of the grid on the teapot views and 0.82 on Gumbo (one run, with the shared-curve
-bintree; the code is not kept), since the deviation at the same (u,v) has a large part
-across the normal. Six numbers (the sampled deviations' range along the normal and two
-directions across it, the box's corners projected at the corners' rays) took 0.76-0.82 and
-0.62, before any remainder a sound version would add: the directional bound's counts need
-more of the lattice's deviation vectors than that. The next column says how many: judged by
-`host-tests`' own directional bound (sound, in `f64`) on lattices of 2, 3, 4 and 6 steps (3,
-7, 12 and 25 vectors a triangle), the shared-curve bintree meets the teapot's 0.8 from 4
-steps and Gumbo's 0.6 only at 6: 25 vectors, about 75 bytes a triangle quantised. A bake
-need not store them all: the column after it keeps 4, 6 or 8 of the 25, farthest from the
-kept ones' hull first, and widens the remainder by the largest distance of a vector left out
-from that hull (bounded from above by a point of the hull, so the bound stays sound). With 8
-kept (about 25 bytes) it stays within both ratios (teapot 0.72-0.76, Gumbo 0.59); with 4,
-Gumbo is at 0.61. The cost is flash: a
-bake holds a bound for every triangle any view may judge, and the table after the first gives
-how many leaves the shared-curve bintree has when split in model space to the bake's
-tolerance (about as many nodes again lie above them): 8,058 for the teapot at 1e-3 of the
-diagonal, where today's bake holds 3,849 steps in 86,657 bytes (the bake table), so at
-14-33 bytes a node (4 to 8 vectors, with or without the vertex) such a bake is about 2.5 to
-6 times today's. Greedy is not optimal: these show what a sound,
-crack-free tessellator that selects the same way can hope for, before shared boundaries.
-The last four columns are built from the kernel's own parts: its bake of the model (at 1e-3
-and at 2.5e-4 of the diagonal) and its bound on screen (`bake::triangle_screen_bound`). *Per
-sample* keeps each baked step whose deviation at its own
-point, before it went in, shows more than the tolerance; then every triangle whose bound is
-over takes, round by round, the first baked step inside it; what is left over is cut
-uniformly. Tried in the run time (branch `per-sample`, not merged), it reaches these counts
-with the 2.5e-4 bake but must start again from the kept steps each frame to stay
-history-independent: on the teapot at 1024x768, 1 px, a cold frame costs about 4x a prefix
-frame and a frame that follows a moving eye about 27x (`host-tests/examples/frame_loop.rs`,
-cold and `ORBIT=1`, both builds in one run; figures in the branch's commit 6590ad8). On the
-Cortex-M4F it is worse: every triangle needs a bound computed at run time (a prefix triangle
-has the bake's), so `fw_teapot`'s frame 0 update took 49.5M instructions instead of 2.69M
-(`scripts/fw_profile.py update 0` on each build) and a triangle state for each triangle, about
-16 KB more RAM than the 48 KiB budget has. Per-patch prefixes cannot reach the issue's ratios
-even with an exact measure: see *nested*.
-{read("oracle.md")}
-
-Whether a bisection run time could select its mesh without finding neighbours, so without a
-state per triangle: `cargo run --release -p host-tests --example oracle_saturated` (its module
-docs say exactly what is measured). The bintrees above split a triangle when its own bound is
-over and then split the triangle across its hypotenuse too, which a frame can only do with its
-mesh in memory. Lindstrom and Pascucci's terrain meshes need none: each bisection vertex (a
-hypotenuse's midpoint) gets a test that passes wherever a test below it passes, and a frame
-walks down splitting a triangle exactly when its hypotenuse's vertex passes. Here each vertex
-holds what a bake would store, saturated: a box in model space around its triangles' flat
-triangles and surface pieces and its children's boxes, and 4 or 8 deviation vectors with a
-remainder covering its triangles' and its children's (`host_tests::screen_bound::region_bound`
-derives the bound, sound and monotone). The bake is the shared-curve bintree split in model
-space to 2.5e-4 of the diagonal. Every top-down mesh is checked against the mesh that finds
-neighbours with the same test: they are the same (but for triangles at a pole, where the two
-may differ for a reason the module docs give; none did). With 8 vectors a vertex the teapot
-takes 0.73-0.83 of the grid and Gumbo 0.63, so the issue's 0.8 and 0.6 are missed on the
-240x240 view and on Gumbo. Judged each by its own box and vectors, the same triangles take
-0.72-0.78 and 0.60: saturation costs 1 to 6%, and it is what the missing ratios come from.
-That unsaturated mesh needs neighbours, but finding them takes little memory: one bit per
-baked vertex (about 2 KB for the teapot's 16,280 vertices at 2.5e-4, 0.5 KB for its 4,087
-at 1e-3). Rounds of the walk, each splitting where the bit is set and setting the bits of
-the triangles it keeps whose own test fails and of the vertices above them, reach it in 8
-to 11 rounds (checked to have no crack); a cold frame then tests 3.2-4.2 vertices per
-triangle, where the saturated walk tests 1.6-2.0. At about 40 bytes a vertex (six 16-bit
-numbers for the box, eight vectors of three 8-bit numbers, a scale), the teapot's bake at
-1e-3 would be about 163 KB, 1.9 times today's. So a bisection run time can meet the ratios
-with a bit per vertex, paying about twice the tests on a cold frame; a frame that starts
-from the last frame's bits should need far fewer rounds (not measured).
-
-{read("oracle_saturated.md")}
-
-## Run time
-
-{runtime}
-
-## Footprint of the display demo (`fw_teapot`)
-
-`scripts/footprint.sh` (run by this script).
-
-{read("footprint.md")}
-
-The kernel's `.text` at opt-level "s" by module (`scripts/text_by_module.py`, from the same
-builds): each function counted where its name puts it, so what the compiler inlined is counted
-with its caller, and the demo's frame loop holds the parts of the update it inlined.
-
-{read("text_by_module.md")}
-
-## Firmware size of `fw_eval`
-
 Sections of `fw_eval` (release, LTO, `opt-level = 3`), from `arm-none-eabi-size -A`, in bytes.
 `.text` includes cortex-m-rt start-up, the semihosting printing of integers and the panic
 handler besides the kernel; `.rodata` holds the teapot and the expected values.
@@ -412,11 +258,14 @@ handler besides the kernel; `.rodata` holds the teapot and the expected values.
 |---|---|
 {read("fw_eval_sizes.md")}
 
-## The main job
+## A top-down selection without neighbours (oracle)
 
-`cargo run --release --example teapot -- --size 480x360`, frames 0, 1, 12, 20 and 23 of 24:
+Whether a bisection tessellator could select its mesh without finding neighbours, so without a
+state per triangle: `cargo run --release -p host-tests --example oracle_saturated` (its module
+docs say exactly what is measured; Lindstrom and Pascucci's saturated errors over the
+hierarchy's vertices):
 
-{teapot_table}
+{read("oracle_saturated.md")}
 
 {left_out}
 """

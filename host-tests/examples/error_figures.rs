@@ -17,7 +17,10 @@
 //! tolerance: a lower bound for any uniform tessellator (it has cracks; a crack-free one needs
 //! a few more). *Bound / true* compares each triangle's bound from the kernel with its measured
 //! deviation in model units (triangles whose deviation is below 1e-9 of the diagonal left
-//! out). *Off screen* counts the triangles with no sample on screen. *Full ms* is a frame
+//! out). *Cracks* is 0 when the written mesh passes the tests' watertightness check
+//! (`host_tests::frame_checks::check_watertight`: an edge used once lies on an open curve,
+//! beside a patch culled for facing away, or out of sight; no edge is used more than twice;
+//! no two vertices share a position). *Off screen* counts the triangles with no sample on screen. *Full ms* is a frame
 //! from a new run time, its update and the indexed write, best of three; *Mtri/s* its
 //! triangles per second.
 //!
@@ -39,13 +42,14 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
+use host_tests::frame_checks::check_watertight;
 use host_tests::model_file::{within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
-use host_tests::runtime::{streamed, BakedHierarchy, VecStorage};
+use host_tests::runtime::{indexed, streamed, BakedHierarchy, VecStorage};
 use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::{Camera, ParamRect, Projection, Vec3, Vertex, View};
+use spline_tess::{Camera, EdgeLink, ParamRect, Projection, Vec3, Vertex, View};
 
 /// The default bake tolerance, relative to the model's diagonal (`BAKE_REL` sets another).
 const BAKE_REL: f32 = 1e-3;
@@ -169,11 +173,11 @@ fn main() {
         ""
     };
     println!(
-        "| case | triangles | grid | ratio | over | median error / tol | 90% error / tol | \
+        "| case | triangles | grid | ratio | over | cracks | median error / tol | 90% error / tol | \
          bound / true: min, median | off screen | full ms | Mtri/s |{glu_header}"
     );
     println!(
-        "|---|---|---|---|---|---|---|---|---|---|---|{}",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|{}",
         if peer.is_some() {
             "---|---|---|---|"
         } else {
@@ -341,6 +345,48 @@ fn main() {
         let mut s = store.tessellator(tree);
         s.update(&view).unwrap();
         let tris = streamed(&s);
+        // Cracks, as the tests look for them (`frame_checks::check_watertight`): an edge used
+        // once must lie on an open curve, beside a patch culled for facing away, or out of
+        // sight; no edge is used more than twice; no two vertices share a position.
+        let cracks = {
+            let mesh = indexed(&mut s);
+            let (edges, uses) = hierarchy
+                .file
+                .with_model(|m| {
+                    let uses: Vec<u32> = m.topology.curves().iter().map(|c| c.uses).collect();
+                    (m.topology.edges().to_vec(), uses)
+                })
+                .expect("a topology");
+            let links: Vec<_> = tree.patches().iter().map(|p| p.links).collect();
+            let culled: Vec<bool> = (0..links.len() as u32).map(|p| s.is_culled(p)).collect();
+            let open = |p: u32, side: usize| {
+                let curve_open = match edges[p as usize][side] {
+                    EdgeLink::Collapsed => false,
+                    EdgeLink::Curve { curve, .. } => uses[curve as usize] == 1,
+                };
+                curve_open || links[p as usize][side].is_some_and(|l| culled[l.patch as usize])
+            };
+            let kernel_refs: Vec<RefPatch> = hierarchy
+                .file
+                .patches()
+                .iter()
+                .map(|p| RefPatch::from_kernel(&p))
+                .collect();
+            let check = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                check_watertight(
+                    &case.name,
+                    &mesh,
+                    &tris,
+                    &open,
+                    meter.as_ref(),
+                    &kernel_refs,
+                )
+            }));
+            match check {
+                Ok(_) => "0".to_string(),
+                Err(_) => "**crack**".to_string(),
+            }
+        };
         if left_over > 0 {
             eprintln!("{}: {left_over} leaves of the bake left over", case.name);
         }
@@ -424,7 +470,7 @@ fn main() {
             (None, _) => String::new(),
         };
         println!(
-            "| {} | {count} | {grid} | {:.2} | {over} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.1} | {:.2} |{glu}",
+            "| {} | {count} | {grid} | {:.2} | {over} | {cracks} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.1} | {:.2} |{glu}",
             case.name,
             count as f64 / grid as f64,
             quantile(&mut errors, 0.5),
