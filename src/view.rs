@@ -1,32 +1,12 @@
-//! The camera, and how large an object-space deviation one pixel allows near a patch or a
-//! triangle.
+//! The camera and the view: what a frame must achieve, a tolerance in pixels for a camera
+//! ([`View::Screen`]) or in model units ([`View::Object`]).
 //!
-//! A [`View`] turns a region of object space into `c`, the largest object-space deviation that
-//! projects to at most the pixel tolerance anywhere in it. The run time asks it twice: once
-//! per patch, for the convex hull of its control points (which contains the patch), to pick
-//! the prefix of baked samples; and once per triangle that gets its own bound, for the flat
-//! triangle of its corner points widened by that bound (which contains the triangle's piece
-//! of surface), so a large patch spanning many depths is not cut everywhere for its nearest
-//! point. Both are conservative:
-//!
-//! - **Perspective.** A displacement `d` at view depth `z` and screen slope `(a, b) = (x/z, y/z)`
-//!   moves the projection by at most `f * |d| * sqrt(1 + a² + b²) / z` pixels, with
-//!   `f = (height / 2) / tan(fov / 2)` (the largest singular value of the projection's Jacobian).
-//!   Over the region (points in their convex hull, and anything within the margin), `z` is at
-//!   least the smallest depth of its points minus the margin, and the slopes are at most the
-//!   largest of theirs, further capped at the frustum's own widened by the deviation's own
-//!   reach, since a deviation counts only where the surface end lands on screen. So
-//!   `c = tolerance * z_min / (f * sqrt(1 + a_max² + b_max²))`.
-//! - **Near the eye.** A region that reaches in front of the near plane (partly or wholly
-//!   behind the eye, or with the eye inside it) takes `z_min = near`: everything closer is
-//!   clipped, so the bound holds for what is drawn. This is the finest level: it asks for the
-//!   most samples and, once they run out, refinement (which is capped; the frame statistics
-//!   then report a predicted error above the tolerance).
-//! - **Orthographic.** One pixel is `height / viewport height` object units everywhere.
-//!
-//! Regions wholly outside one of the frustum's planes (by more than their margin) are culled.
-//! The same rule over a bounding sphere (its nearest depth and silhouette slopes) is the
-//! fallback where no points are at hand.
+//! A [`Camera`] is a look-at camera with a perspective or orthographic projection, a near
+//! plane and a viewport in pixels; it moves points into view coordinates (x right, y up,
+//! z away from the eye) and projects them to pixels (x right, y down). The tessellator judges
+//! each triangle's bound on screen through it (`deviation`'s `screen` module derives how a
+//! deviation in model space moves pixels), and leaves out what lies beyond one of its planes:
+//! the near plane and the four sides of the viewport.
 
 use core::fmt;
 

@@ -12,7 +12,7 @@ use spline_tess::Vertex;
 #[allow(unused_imports)]
 pub use super::fw_views::{checksum, view, FRAMES};
 
-/// Bake settings of the firmware's teapot: 2e-3 of the diagonal, as `fw_tessellate`'s.
+/// Bake settings of the firmware's teapot: 2e-3 of the diagonal.
 pub const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(2e-3),
     max_depth: 24,

@@ -1,5 +1,4 @@
-// The views of the tessellation firmware (`fw_tessellate`, `fw_bisect`) and the checksum of
-// their meshes, shared (through `#[path]`) by the firmware and the host test that writes the
+// The views of the tessellation firmware (`fw_bisect`) and the checksum of its meshes, shared (through `#[path]`) by the firmware and the host test that writes the
 // expected checksums (host-tests/tests/firmware_data.rs). `no_std`, no allocation.
 // Hand-written.
 

@@ -140,8 +140,7 @@ impl ModelFile {
     }
 }
 
-/// A model's bisection hierarchy (`spline_tess::bisect`) in `Vec`s, with the model it was
-/// baked from.
+/// A model's hierarchy (`spline_tess::bake`) in `Vec`s, with the model it was baked from.
 #[derive(Clone, Debug)]
 pub struct BakedHierarchy {
     /// The model.

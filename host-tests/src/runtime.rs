@@ -1,4 +1,4 @@
-//! Host-side helpers for the run time (`spline_tess::bisect`): a bake in `Vec`s
+//! Host-side helpers for the tessellator (`spline_tess::tessellator`): a bake in `Vec`s
 //! (`model_file::BakedHierarchy`, which the examples share), run-time storage in `Vec`s, and a
 //! frame as an indexed mesh or as streamed triangles, with the checks the tests and figures
 //! share.

@@ -525,9 +525,9 @@ fn evaluation_takes_any_parameter() {
     assert!((e.normal.length() - 1.0).abs() < 1e-6);
 }
 
-/// The bisection bake and run time: typed errors for bad settings, short buffers and records
-/// that do not hold together; a frame finer than the bake with no pool, or with a NaN or
-/// negative tolerance, still gives a mesh.
+/// The bake and the tessellator: typed errors for bad settings, short buffers and records
+/// that do not hold together, and for a tolerance that is not a positive finite number; a
+/// frame finer than the bake with no pool still gives a mesh, and says its pool was full.
 #[test]
 fn bisection_errors_are_typed() {
     use spline_tess::bake::{

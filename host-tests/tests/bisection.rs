@@ -1,5 +1,5 @@
-//! The bisection run time (`spline_tess::bisect`) on every model, along the camera path of
-//! the run-time tests (far, mid, near, grazing, eye inside the model's bound, looking away,
+//! The tessellator (`spline_tess::tessellator`) on every model, along the camera path of the
+//! run-time tests (far, mid, near, grazing, eye inside the model's bound, looking away,
 //! object mode):
 //!
 //! - every triangle's deviation, sampled densely with the f64 reference and projected with the

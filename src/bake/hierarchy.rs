@@ -82,12 +82,17 @@ pub enum BakeError {
         /// Entries needed.
         needed: usize,
     },
-    /// The node (or scratch) buffer filled up; the hierarchy needs more.
+    /// The node (or scratch) buffer filled up: the hierarchy has more than `capacity`
+    /// triangles. How many is known only once a bake completes (a triangle is halved or not
+    /// by its bound, which is computed as the bake goes): bake again into larger buffers, as
+    /// the crate docs' example does, and [`BakeSize`] then gives the exact sizes (for
+    /// statics, say).
     NodesFull {
         /// Entries of the smaller of the two.
         capacity: usize,
     },
-    /// The vertex buffer filled up.
+    /// The vertex buffer filled up: the hierarchy has more than `capacity` vertices (see
+    /// [`NodesFull`](Self::NodesFull)).
     VerticesFull {
         /// Its entries.
         capacity: usize,
@@ -107,10 +112,16 @@ impl fmt::Display for BakeError {
                 write!(f, "patch buffer too small: {needed} entries needed")
             }
             BakeError::NodesFull { capacity } => {
-                write!(f, "node buffer full at {capacity} triangles")
+                write!(
+                    f,
+                    "node buffer full: the hierarchy has more than {capacity} triangles"
+                )
             }
             BakeError::VerticesFull { capacity } => {
-                write!(f, "vertex buffer full at {capacity} vertices")
+                write!(
+                    f,
+                    "vertex buffer full: the hierarchy has more than {capacity} vertices"
+                )
             }
         }
     }

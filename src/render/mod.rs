@@ -19,7 +19,8 @@
 //! triangle, a slot for a flat-shaded one, and one for each corner not shared with a triangle
 //! before it); each band rasterises from the list. Without one (or when the frame does not fit it), each band asks the source for the
 //! triangles that may reach it: a [`Tessellator`](crate::Tessellator) streams them straight
-//! from its domain meshes, evaluating their vertices again, so no mesh buffer is needed. An
+//! from its hierarchy and pool (the patches that cannot reach the band left out), so no mesh
+//! buffer is needed. An
 //! [`IndexedMesh`] draws what [`write_mesh`](crate::Tessellator::write_mesh) wrote. Both ways
 //! give the same pixels: positions snap to 1/16 pixel, depth keys and shades are rounded to
 //! what a list entry holds, before either path rasterises.
@@ -27,7 +28,7 @@
 //! A tessellator names each corner it streams
 //! ([`keyed_triangle`](crate::TriangleSink::keyed_triangle)); the renderer keeps 64 corners it
 //! took to view space (with their shade) by name, in a two-way cache on the stack, so a vertex
-//! shared by neighbouring triangles is evaluated and transformed once for most of them.
+//! shared by neighbouring triangles is transformed once for most of them.
 //! Triangles whose corners are all inside the clip planes skip the clipper, and while the list
 //! is filled, such a corner is also projected and packed once while the cache holds it. A source
 //! that names corners by vertex number (a [`Tessellator`](crate::tessellator::Tessellator)) can be
