@@ -42,7 +42,7 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use host_tests::frame_checks::check_watertight;
+use host_tests::frame_checks::check_watertight_of_parts;
 use host_tests::model_file::{within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
 use host_tests::runtime::{indexed, streamed, BakedHierarchy, VecStorage};
@@ -372,14 +372,27 @@ fn main() {
                 .iter()
                 .map(|p| RefPatch::from_kernel(&p))
                 .collect();
+            // A split model's pieces named by their patch and its parameters.
+            let origin = |p: u32, [u, v]: [f32; 2]| match pieces {
+                Some(pieces) => {
+                    let q = pieces[p as usize];
+                    let at = |a: f32, b: f32, t: f32| a as f64 + t as f64 * (b - a) as f64;
+                    (
+                        p >> (2 * split_levels),
+                        [at(q.u0, q.u1, u), at(q.v0, q.v1, v)],
+                    )
+                }
+                None => (p, [u as f64, v as f64]),
+            };
             let check = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                check_watertight(
+                check_watertight_of_parts(
                     &case.name,
                     &mesh,
                     &tris,
                     &open,
                     meter.as_ref(),
                     &kernel_refs,
+                    &origin,
                 )
             }));
             match check {

@@ -130,6 +130,24 @@ pub fn check_watertight(
     meter: Option<&Meter>,
     refs: &[RefPatch],
 ) -> usize {
+    check_watertight_of_parts(label, mesh, tris, open, meter, refs, &|p, [u, v]| {
+        (p, [u as f64, v as f64])
+    })
+}
+
+/// [`check_watertight`] of a model whose patches are parts of others (`PatchSet::split`):
+/// `origin(patch, uv)` names a triangle corner's patch and parameters in the model the parts
+/// come from, so that a surface passing through one point at two parameters of one patch of
+/// it (two of its parts) is not taken for a crack.
+pub fn check_watertight_of_parts(
+    label: &str,
+    mesh: &crate::runtime::Mesh,
+    tris: &[Streamed],
+    open: &dyn Fn(u32, usize) -> bool,
+    meter: Option<&Meter>,
+    refs: &[RefPatch],
+    origin: &dyn Fn(u32, [f32; 2]) -> (u32, [f64; 2]),
+) -> usize {
     let mut out_of_sight = 0;
     let size = mesh
         .vertices
@@ -248,7 +266,7 @@ pub fn check_watertight(
             // would be one curve point made twice, by two patches.
             let at = |x: u32| {
                 tris.iter().zip(&mesh.triangles).filter_map(move |(t, ti)| {
-                    Some((t.patch, t.uv[ti.iter().position(|&y| y == x)?]))
+                    Some(origin(t.patch, t.uv[ti.iter().position(|&y| y == x)?]))
                 })
             };
             let twice_in_one_patch =
