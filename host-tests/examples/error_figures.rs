@@ -12,10 +12,13 @@
 //! triangle the kernel writes is sampled at 12 barycentric steps per side with the `f64`
 //! reference, as the surface against the triangle's linear interpolant at the same parameters,
 //! projected with an `f64` camera of the tests' own; only samples that land on screen count
-//! (`host_tests::screen`). *Grid* is the sum over patches of the smallest uniform n x n vertex
-//! grid whose error, measured the same way (8 steps per grid triangle), is within the
-//! tolerance: a lower bound for any uniform tessellator (it has cracks; a crack-free one needs
-//! a few more). *Bound / true* compares each triangle's bound from the kernel with its measured
+//! (`host_tests::screen`). *n x n grid* is the sum over patches of the smallest uniform n x n
+//! vertex grid whose error, measured the same way (8 steps per grid triangle), is within the
+//! tolerance: a lower bound for any uniform tessellator with one factor a patch (it has cracks;
+//! a crack-free one needs a few more). *n_u x n_v grid* is the same with a factor per
+//! direction, chosen per patch to minimise triangles (as the Direct3D 11 tessellator may):
+//! the stronger reference. *Ratio* is the kernel's triangles over it; *ratio to n x n* over
+//! the first. *Bound / true* compares each triangle's bound from the kernel with its measured
 //! deviation in model units (triangles whose deviation is below 1e-9 of the diagonal left
 //! out). *Cracks* is 0 when the written mesh passes the tests' watertightness check
 //! (`host_tests::frame_checks::check_watertight`: an edge used once lies on an open curve,
@@ -29,6 +32,9 @@
 //! grid is still counted on the model's own patches, and every triangle is checked against
 //! the model's own surface (a quarter's parameters mapped to its patch's). `SPLIT=2` splits
 //! the quarters again (16 pieces a patch), and so on.
+//!
+//! With `GRID_CACHE` naming a file, the grids of each case are read from it where it has
+//! them and written to it where not (they depend on the case alone, not on the bake).
 //!
 //! With `GLU_PEER` naming the binary built from `host-tests/glu/glu_peer.c` (as
 //! `scripts/figures.sh` does), every camera case also goes through libGLU's NURBS tessellator:
@@ -46,7 +52,7 @@ use host_tests::frame_checks::check_watertight_of_parts;
 use host_tests::model_file::{within, ModelFile};
 use host_tests::reference::{RefPatch, V3};
 use host_tests::runtime::{indexed, streamed, BakedHierarchy, VecStorage};
-use host_tests::screen::{grid_size, triangle_deviation, Measure, Meter, ERROR_VIEWS};
+use host_tests::screen::{grid_triangles, triangle_deviation, Measure, Meter, ERROR_VIEWS};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
 use spline_tess::{Camera, EdgeLink, ParamRect, Projection, Vec3, Vertex, View};
@@ -84,7 +90,7 @@ enum Look {
 struct Baked {
     model: &'static str,
     file: ModelFile,
-    pieces: Option<Vec<ParamRect>>,
+    pieces: Option<Vec<(u32, ParamRect)>>,
     hierarchy: BakedHierarchy,
 }
 
@@ -92,6 +98,52 @@ struct Case {
     name: String,
     model: &'static str,
     look: Look,
+}
+
+/// The grids of each case, kept in the file `GRID_CACHE` names (if set) from one run to the
+/// next: they depend on the case alone (its model, view and tolerance), not on the bake, and
+/// take most of a run (`scripts/figures.sh` runs three tables of the same cases).
+struct GridCache {
+    path: Option<String>,
+    known: Vec<(String, [usize; 2])>,
+}
+
+impl GridCache {
+    fn open() -> GridCache {
+        let path = std::env::var("GRID_CACHE").ok();
+        let text = path
+            .as_ref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .unwrap_or_default();
+        let known = text
+            .lines()
+            .filter_map(|line| {
+                let mut parts = line.split('\t');
+                let name = parts.next()?.to_string();
+                let a = parts.next()?.parse().ok()?;
+                let b = parts.next()?.parse().ok()?;
+                Some((name, [a, b]))
+            })
+            .collect();
+        GridCache { path, known }
+    }
+
+    fn get(&mut self, name: &str, compute: impl FnOnce() -> [usize; 2]) -> [usize; 2] {
+        if let Some((_, g)) = self.known.iter().find(|(n, _)| n == name) {
+            return *g;
+        }
+        let g = compute();
+        self.known.push((name.to_string(), g));
+        if let Some(path) = &self.path {
+            let mut file = std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(path)
+                .expect("the grid cache opens");
+            writeln!(file, "{name}\t{}\t{}", g[0], g[1]).expect("the grid cache is written");
+        }
+        g
+    }
 }
 
 fn cases() -> Vec<Case> {
@@ -173,11 +225,12 @@ fn main() {
         ""
     };
     println!(
-        "| case | triangles | grid | ratio | over | cracks | median error / tol | 90% error / tol | \
-         bound / true: min, median | off screen | full ms | Mtri/s |{glu_header}"
+        "| case | triangles | n x n grid | n_u x n_v grid | ratio | ratio to n x n | over | cracks | \
+         median error / tol | 90% error / tol | bound / true: min, median | off screen | full ms | \
+         Mtri/s |{glu_header}"
     );
     println!(
-        "|---|---|---|---|---|---|---|---|---|---|---|---|{}",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|{}",
         if peer.is_some() {
             "---|---|---|---|"
         } else {
@@ -190,6 +243,7 @@ fn main() {
         .map_or(0, |v| v.parse().unwrap_or(1));
     let split = split_levels > 0;
     let mut baked_cache: Vec<Baked> = Vec::new();
+    let mut grids = GridCache::open();
     for case in cases() {
         if !only.is_empty() && !only.iter().any(|o| case.name.contains(o.as_str())) {
             continue;
@@ -213,13 +267,18 @@ fn main() {
                         .collect();
                     kernel = finer;
                 }
-                (kernel, Some(pieces))
+                let owned = pieces
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &r)| ((k >> (2 * split_levels)) as u32, r))
+                    .collect();
+                (kernel, Some(owned))
             } else {
                 (file.clone(), None)
             };
             // Relative to the model's own diagonal, not the quarters' (a little smaller).
             let diag = file.patches().aabb().expect("patches").diagonal();
-            let tolerance = if split {
+            let tolerance = if pieces.is_some() {
                 Tolerance::Absolute(rel * diag)
             } else {
                 Tolerance::Relative(rel)
@@ -375,12 +434,9 @@ fn main() {
             // A split model's pieces named by their patch and its parameters.
             let origin = |p: u32, [u, v]: [f32; 2]| match pieces {
                 Some(pieces) => {
-                    let q = pieces[p as usize];
+                    let (owner, q) = pieces[p as usize];
                     let at = |a: f32, b: f32, t: f32| a as f64 + t as f64 * (b - a) as f64;
-                    (
-                        p >> (2 * split_levels),
-                        [at(q.u0, q.u1, u), at(q.v0, q.v1, v)],
-                    )
+                    (owner, [at(q.u0, q.u1, u), at(q.v0, q.v1, v)])
                 }
                 None => (p, [u as f64, v as f64]),
             };
@@ -411,14 +467,14 @@ fn main() {
             // A quarter's parameters, as its patch's.
             let (patch, uv) = match pieces {
                 Some(pieces) => {
-                    let q = pieces[t.patch as usize];
+                    let (owner, q) = pieces[t.patch as usize];
                     let map = |[u, v]: [f32; 2]| {
                         [
                             q.u0 as f64 + u as f64 * (q.u1 - q.u0) as f64,
                             q.v0 as f64 + v as f64 * (q.v1 - q.v0) as f64,
                         ]
                     };
-                    (t.patch as usize >> (2 * split_levels), t.uv.map(map))
+                    (owner as usize, t.uv.map(map))
                 }
                 None => (t.patch as usize, t.uv.map(|[u, v]| [u as f64, v as f64])),
             };
@@ -455,13 +511,9 @@ fn main() {
             }
         }
         // The uniform grid per patch.
-        let grid: usize = refs
-            .iter()
-            .map(|r| {
-                grid_size(r, tol, GRID_DENSE, 512, measure)
-                    .map_or(2 * 511 * 511, |n| 2 * (n - 1) * (n - 1))
-            })
-            .sum();
+        let [grid, grid_uv] = grids.get(&case.name, || {
+            grid_triangles(&refs, tol, GRID_DENSE, 512, measure)
+        });
         let glu = match (&peer, placed) {
             (Some(binary), Some((eye, target, viewport))) => {
                 let run = run_glu(binary, &refs, eye, target, viewport, near, tol);
@@ -483,8 +535,9 @@ fn main() {
             (None, _) => String::new(),
         };
         println!(
-            "| {} | {count} | {grid} | {:.2} | {over} | {cracks} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.1} | {:.2} |{glu}",
+            "| {} | {count} | {grid} | {grid_uv} | {:.2} | {:.2} | {over} | {cracks} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.1} | {:.2} |{glu}",
             case.name,
+            count as f64 / grid_uv as f64,
             count as f64 / grid as f64,
             quantile(&mut errors, 0.5),
             quantile(&mut errors, 0.9),

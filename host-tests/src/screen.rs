@@ -221,15 +221,27 @@ pub fn triangle_deviation(
 /// Largest measured deviation of the uniform `n x n` vertex grid of patch `r` (cells split
 /// along one diagonal).
 pub fn grid_deviation(r: &RefPatch, n: usize, dense: usize, measure: Measure<'_>) -> f64 {
-    let s = |k: usize| k as f64 / (n - 1) as f64;
+    grid_deviation_uv(r, [n, n], dense, measure)
+}
+
+/// Largest measured deviation of the uniform `n_u x n_v` vertex grid of patch `r` (`n_u`
+/// vertices along `u`, cells split along one diagonal).
+pub fn grid_deviation_uv(
+    r: &RefPatch,
+    [nu, nv]: [usize; 2],
+    dense: usize,
+    measure: Measure<'_>,
+) -> f64 {
+    let su = |k: usize| k as f64 / (nu - 1) as f64;
+    let sv = |k: usize| k as f64 / (nv - 1) as f64;
     let mut worst = 0.0f64;
-    for i in 0..n - 1 {
-        for j in 0..n - 1 {
+    for i in 0..nu - 1 {
+        for j in 0..nv - 1 {
             let q = [
-                [s(i), s(j)],
-                [s(i + 1), s(j)],
-                [s(i + 1), s(j + 1)],
-                [s(i), s(j + 1)],
+                [su(i), sv(j)],
+                [su(i + 1), sv(j)],
+                [su(i + 1), sv(j + 1)],
+                [su(i), sv(j + 1)],
             ];
             let p = q.map(|[u, v]| r.point(u, v));
             for (a, b, c) in [(0, 1, 2), (0, 2, 3)] {
@@ -275,6 +287,111 @@ pub fn grid_size(
     Some(hi)
 }
 
+/// The `n_u x n_v` vertex grid (`2 (n_u - 1)(n_v - 1)` triangles) with the fewest triangles
+/// whose measured deviation on patch `r` is at most `tolerance`, each of `n_u`, `n_v` from 2 up
+/// to `limit`: the stronger reference of a uniform tessellator with a factor per direction (as
+/// the Direct3D 11 tessellator has). `None` when no grid within `limit` is.
+///
+/// The search walks the staircase of the smallest `n_v` for each `n_u` (the deviation falls
+/// as either grows): from the smallest `n_u` that any `n_v` up to the cap serves, with its
+/// smallest `n_v`, `n_u` grows by one and `n_v` falls while the grid stays within the
+/// tolerance, until `n_v` reaches the smallest any `n_u` up to the cap allows (past there a
+/// larger `n_u` only adds triangles). The cap on each factor is 8 times the smallest `n x n`
+/// grid's `n` (within `limit`): a grid stretched further than 8 to 1 beside the square one is
+/// not looked for (checking a factor of `limit` costs a `limit x limit` grid).
+pub fn grid_size_uv(
+    r: &RefPatch,
+    tolerance: f64,
+    dense: usize,
+    limit: usize,
+    measure: Measure<'_>,
+) -> Option<[usize; 2]> {
+    let square = grid_size(r, tolerance, dense, limit, measure)?;
+    let limit = limit.min(8 * square);
+    let ok = |nu: usize, nv: usize| grid_deviation_uv(r, [nu, nv], dense, measure) <= tolerance;
+    let triangles = |[nu, nv]: [usize; 2]| 2 * (nu - 1) * (nv - 1);
+    // The smallest `n` in `2..=limit` for which `within(n)` holds (it holds for every larger
+    // one), by bisection; `None` when `within(limit)` does not.
+    let smallest = |within: &dyn Fn(usize) -> bool| {
+        if within(2) {
+            return Some(2);
+        }
+        if !within(limit) {
+            return None;
+        }
+        let (mut lo, mut hi) = (2, limit);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if within(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        Some(hi)
+    };
+    let mut nu = smallest(&|nu| ok(nu, limit))?;
+    let nv_least = smallest(&|nv| ok(limit, nv))?;
+    let mut nv = smallest(&|nv| ok(nu, nv))?;
+    let mut best = [nu, nv];
+    while nv > nv_least && nu < limit && 2 * nu * (nv_least - 1) < triangles(best) {
+        nu += 1;
+        // `n_v` for this `n_u` is at most the last one's.
+        while nv > nv_least && ok(nu, nv - 1) {
+            nv -= 1;
+        }
+        if triangles([nu, nv]) < triangles(best) {
+            best = [nu, nv];
+        }
+    }
+    Some(best)
+}
+
+/// The triangles of the two uniform references over every patch of `refs`: the smallest
+/// `n x n` grid per patch ([`grid_size`]) and the smallest `n_u x n_v` one
+/// ([`grid_size_uv`]), summed; a patch that no grid within `limit` serves counts
+/// `2 (limit - 1)^2`. The patches are shared among the machine's cores.
+pub fn grid_triangles(
+    refs: &[RefPatch],
+    tolerance: f64,
+    dense: usize,
+    limit: usize,
+    measure: Measure<'_>,
+) -> [usize; 2] {
+    let worst = 2 * (limit - 1) * (limit - 1);
+    let one = |r: &RefPatch| {
+        [
+            grid_size(r, tolerance, dense, limit, measure).map_or(worst, |n| 2 * (n - 1) * (n - 1)),
+            grid_size_uv(r, tolerance, dense, limit, measure)
+                .map_or(worst, |[nu, nv]| 2 * (nu - 1) * (nv - 1)),
+        ]
+    };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let sums: Vec<[usize; 2]> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut sum = [0, 0];
+                    loop {
+                        let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(r) = refs.get(k) else {
+                            return sum;
+                        };
+                        let [a, b] = one(r);
+                        sum = [sum[0] + a, sum[1] + b];
+                    }
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .map(|w| w.join().expect("a grid worker"))
+            .collect()
+    });
+    sums.iter().fold([0, 0], |a, b| [a[0] + b[0], a[1] + b[1]])
+}
+
 /// A camera view of the error-control figures: a model file (under the models folder), a
 /// name for the table, the eye and the point it looks at (up is `+z`, 40 degree vertical
 /// field of view), the viewport and the tolerance in pixels.
@@ -296,7 +413,7 @@ pub struct ScreenView {
 
 /// The camera views the error-control issue names, which `error_figures` and
 /// `oracle_selection` both measure.
-pub const ERROR_VIEWS: [ScreenView; 7] = [
+pub const ERROR_VIEWS: [ScreenView; 8] = [
     ScreenView {
         model: "teapot.bpt",
         name: "teapot 240x240 1 px, eye (8,-8,5)",
@@ -351,6 +468,14 @@ pub const ERROR_VIEWS: [ScreenView; 7] = [
         eye: [60.0, -50.0, 40.0],
         target: [12.0, 7.0, 9.7],
         viewport: [1024, 768],
+        tol: 1.0,
+    },
+    ScreenView {
+        model: "teaspoon.bpt",
+        name: "teaspoon 128x160 1 px, eye (0.9,-1.3,0.8)",
+        eye: [0.9, -1.3, 0.8],
+        target: [0.0, -0.4, 0.0],
+        viewport: [128, 160],
         tol: 1.0,
     },
 ];
