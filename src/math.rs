@@ -12,6 +12,12 @@ pub(crate) fn sqrt(x: f32) -> f32 {
     libm::sqrtf(x)
 }
 
+/// Base-2 logarithm (`libm`'s, the same bits on every target).
+#[inline]
+pub(crate) fn log2(x: f32) -> f32 {
+    libm::log2f(x)
+}
+
 /// An upper bound of `√x` (for `x >= 0`; NaN for a negative or NaN `x`), above it by at most
 /// a few millionths, from element-wise operations alone: where only a bound is wanted, two
 /// divisions in place of a library square root (software on a Cortex-M4F, about 50

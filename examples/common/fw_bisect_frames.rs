@@ -16,6 +16,7 @@ pub use super::fw_views::{checksum, view, FRAMES};
 pub const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(2e-3),
     max_depth: 24,
+    max_cell_level: spline_tess::tessellator::MAX_CELL_LEVEL,
 };
 
 /// Triangles waiting to be judged: a short stack walks the mesh for those it has no room

@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, checksum of the pixels pushed), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [1070, 6197, 0x309f216c],
-    [1069, 6192, 0x6a97d3a0],
-    [2114, 21251, 0x8fdccf92],
-    [2017, 53289, 0xe39559eb],
+    [1032, 6191, 0x43caab4d],
+    [1031, 6187, 0xc23b1f8a],
+    [2054, 21244, 0x9a5589ce],
+    [1967, 53314, 0xa4725976],
 ];

@@ -25,6 +25,7 @@ use spline_tess::{Camera, Projection, Vec3, View};
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(2e-3),
     max_depth: 24,
+    max_cell_level: spline_tess::tessellator::MAX_CELL_LEVEL,
 };
 
 /// Steps per step size.

@@ -26,6 +26,25 @@ pub fn roots(patches: usize) -> Vec<Bin> {
         .collect()
 }
 
+/// The roots of patches cut into cells as the kernel's hierarchy records them
+/// (`HierarchyPatch::cells`: `2^a x 2^b` cells, counted along `v` first, each cut along its
+/// diagonal from `(u1, v0)` to `(u0, v1)`, the triangle below it first), in the same order.
+pub fn cell_roots(cells: &[[u8; 2]]) -> Vec<Bin> {
+    let m = 1u32 << BINTREE_BITS;
+    let mut out = Vec::new();
+    for (p, &[a, b]) in cells.iter().enumerate() {
+        let (w, h) = (m >> a, m >> b);
+        for i in 0..1u32 << a {
+            for j in 0..1u32 << b {
+                let (u0, v0, u1, v1) = (i * w, j * h, (i + 1) * w, (j + 1) * h);
+                out.push((p, [[u0, v0], [u1, v0], [u0, v1]]));
+                out.push((p, [[u1, v1], [u0, v1], [u1, v0]]));
+            }
+        }
+    }
+    out
+}
+
 /// The two halves of triangle `t`, cut at its hypotenuse's midpoint: each has the midpoint
 /// as its right-angle corner.
 pub fn children((p, [a, b, c]): Bin) -> [Bin; 2] {
@@ -61,12 +80,22 @@ pub fn bintree(
     spot: impl Fn(usize, [u32; 2]) -> Spot,
     error: impl Fn(Bin) -> f64,
 ) -> Vec<Bin> {
+    bintree_from(roots(patches), tol, spot, error)
+}
+
+/// [`bintree`] from the given roots.
+pub fn bintree_from(
+    roots: Vec<Bin>,
+    tol: f64,
+    spot: impl Fn(usize, [u32; 2]) -> Spot,
+    error: impl Fn(Bin) -> f64,
+) -> Vec<Bin> {
     let mut mesh = Bisection {
         leaves: HashSet::new(),
         by_edge: HashMap::new(),
         spot: &spot,
     };
-    for t in roots(patches) {
+    for t in roots {
         mesh.add(t);
     }
     let mut judged: HashMap<Bin, bool> = HashMap::new();

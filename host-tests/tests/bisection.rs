@@ -23,7 +23,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use host_tests::bintree::{bintree, children, model_spot, roots, Bin, BINTREE_BITS};
+use host_tests::bintree::{bintree_from, cell_roots, children, model_spot, Bin, BINTREE_BITS};
 use host_tests::frame_checks::{camera_path, check_watertight, measure_frame, Step};
 use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
@@ -32,11 +32,13 @@ use host_tests::runtime::{triangle_set, Mesh};
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
+use spline_tess::tessellator::BudgetError;
 use spline_tess::{EdgeLink, Vertex, View};
 
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_depth: 24,
+    max_cell_level: spline_tess::tessellator::MAX_CELL_LEVEL,
 };
 
 /// A model file, its hierarchy with [`BAKE`], and its patches in the `f64` reference.
@@ -189,7 +191,21 @@ fn run_model(path: &std::path::Path) {
     let path = camera_path(center, diag, aabb.min.z);
     let mid = path.iter().find(|s| s.label == "mid").unwrap();
     let full = selection.update(&mid.view).unwrap().triangles;
+    // The fewest triangles: the roots of the patches in sight (a patch cut into many cells
+    // has many).
+    let coarsest = selection
+        .update(&mid.view.with_tolerance(f32::MAX))
+        .unwrap()
+        .triangles;
     for budget in [full / 3, full / 2, full + 10] {
+        if budget < coarsest {
+            assert_eq!(
+                selection.update_to_budget(&mid.view, budget),
+                Err(BudgetError::TooSmall { minimum: coarsest }),
+                "{label}: a budget below the roots"
+            );
+            continue;
+        }
         let fit = selection.update_to_budget(&mid.view, budget).unwrap();
         assert!(
             fit.stats.triangles <= budget,
@@ -242,7 +258,8 @@ fn coarsest(path: &std::path::Path) {
     let diag = patches.aabb().unwrap().diagonal() as f64;
     // Every baked triangle's bound, by its corners on the oracles' grid (half the kernel's).
     let mut bounds: HashMap<Bin, f32> = HashMap::new();
-    let mut stack: Vec<(Bin, usize)> = roots(patches.len())
+    let cells: Vec<[u8; 2]> = tree.patches().iter().map(|p| p.cells).collect();
+    let mut stack: Vec<(Bin, usize)> = cell_roots(&cells)
         .into_iter()
         .enumerate()
         .map(|(i, b)| (b, i))
@@ -272,7 +289,7 @@ fn coarsest(path: &std::path::Path) {
                 (t.patch as usize, g)
             })
             .collect();
-        let theirs: HashSet<Bin> = bintree(patches.len(), tolerance as f64, spot, |b| {
+        let theirs: HashSet<Bin> = bintree_from(cell_roots(&cells), tolerance as f64, spot, |b| {
             bounds.get(&b).map_or(0.0, |&x| x as f64)
         })
         .into_iter()

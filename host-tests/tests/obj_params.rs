@@ -22,6 +22,7 @@ use spline_tess::{Camera, Projection, Vec3, View};
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_depth: 24,
+    max_cell_level: spline_tess::tessellator::MAX_CELL_LEVEL,
 };
 
 /// Largest distance between `v` and the surface at `vt`, over the diagonal.

@@ -3,7 +3,9 @@
 //! about the centre of the control points' box is positive where the rule knows the side
 //! (as the bake judges it: the volume is at least 1% of the volume's absolute integral, here
 //! measured on the mesh), and every triangle's (but those where the surface's normal turns
-//! by more than a right angle from corner to corner) normals at the corners its own patch evaluated
+//! by more than a right angle from corner to corner, and those thinner than the tolerance,
+//! whose corners lie within it of a line, so that the side they turn around is not
+//! determined by a mesh within the tolerance) normals at the corners its own patch evaluated
 //! agree with its winding (their sum points to the side its corners turn counter-clockwise
 //! around) (a corner shared with another patch carries that patch's normal,
 //! which points the other way only where two coincident patches face opposite ways, as the
@@ -51,17 +53,15 @@ fn meshes_face_out_with_normals_along_their_winding() {
         let c = aabb.center().to_array().map(f64::from);
         let mut storage = VecStorage::new(&tree, 1024, 1 << 16);
         let mut tess = storage.tessellator(tree);
-        tess.update(&View::Object {
-            tolerance: 2e-3 * diag,
-        })
-        .unwrap();
+        let tolerance = 2e-3 * diag;
+        tess.update(&View::Object { tolerance }).unwrap();
         let mesh = indexed(&mut tess);
         let patch_of: Vec<u32> = streamed(&tess).iter().map(|t| t.patch).collect();
         let p = |i: u32| mesh.vertices[i as usize].position.map(f64::from);
         let n = |i: u32| mesh.vertices[i as usize].normal.map(f64::from);
         let (mut volume, mut size) = (0.0, 0.0);
         let (mut agree, mut against, mut faces) = (0, 0, 0);
-        let mut shared = 0;
+        let (mut shared, mut thin) = (0, 0);
         for (k, &[a, b, d]) in mesh.triangles.iter().enumerate() {
             let tetra = dot(sub(p(a), c), cross(sub(p(b), c), sub(p(d), c))) / 6.0;
             volume += tetra;
@@ -77,6 +77,16 @@ fn meshes_face_out_with_normals_along_their_winding() {
             // has: its normal there is a limit), the flat triangle may turn any way: left out.
             let folded = (0..3).any(|i| dot(n(corners[i]), n(corners[(i + 1) % 3])) < 0.0);
             if folded {
+                continue;
+            }
+            let longest = (0..3)
+                .map(|i| {
+                    let d = sub(p(corners[i]), p(corners[(i + 1) % 3]));
+                    dot(d, d).sqrt()
+                })
+                .fold(0.0, f64::max);
+            if area / longest < tolerance as f64 {
+                thin += 1;
                 continue;
             }
             faces += 1;
@@ -99,7 +109,7 @@ fn meshes_face_out_with_normals_along_their_winding() {
         println!(
             "{label}: {} triangles, signed volume {volume:.4} ({:.1}% of its absolute sum), \
              normals along the winding on {agree} of {faces} triangles ({shared} with a corner \
-             of a patch facing the other way)",
+             of a patch facing the other way; {thin} thinner than the tolerance left out)",
             mesh.triangles.len(),
             100.0 * volume / size
         );

@@ -286,6 +286,7 @@ fn a_tilted_square_in_perspective_has_no_overdraw_or_gap() {
 const BAKE: BakeSettings = BakeSettings {
     tolerance: Tolerance::Relative(1e-3),
     max_depth: 24,
+    max_cell_level: spline_tess::tessellator::MAX_CELL_LEVEL,
 };
 
 /// The teapot and its hierarchy.

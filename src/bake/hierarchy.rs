@@ -1,6 +1,7 @@
-//! The bake: every patch's square halved, and halved again, until each triangle is within
-//! the tolerance of the surface, the mesh kept conforming across hypotenuses and shared
-//! curves; each triangle recorded with its kept deviation vectors, each vertex with its point.
+//! The bake: every patch's square cut into cells (`cells`), their triangles halved, and halved
+//! again, until each triangle is within the tolerance of the surface, the mesh kept conforming
+//! across hypotenuses and shared curves; each triangle recorded with its kept deviation
+//! vectors, each vertex with its point.
 
 use core::fmt;
 
@@ -9,8 +10,11 @@ use crate::deviation::kept::keep;
 use crate::deviation::lattice::{coarse, deviation_vectors, POINTS, STEPS};
 use crate::model::Model;
 use crate::patch::Side;
-use crate::tessellator::address::{unit, SideLink, Tri, ONE};
-use crate::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex, NO_VERTEX};
+use crate::tessellator::address::{point_on, root_count, side_parameter, unit, SideLink, Tri, ONE};
+use crate::tessellator::hierarchy::cell_corner;
+use crate::tessellator::{
+    HierarchyNode, HierarchyPatch, HierarchyVertex, MAX_CELL_LEVEL, NO_VERTEX,
+};
 
 /// What to bake.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -18,8 +22,13 @@ use crate::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex, NO_VERT
 pub struct BakeSettings {
     /// Where halving stops: a triangle within this bound of the surface is not halved.
     pub tolerance: Tolerance,
-    /// Most halvings from a patch's square (two halve a side; at most 30).
+    /// Most halvings from a cell's diagonal (two halve a side; at most 30, and a cell's
+    /// lattice stops halving at 24).
     pub max_depth: u8,
+    /// Most cell levels in a direction (see [`Cells`](crate::tessellator::Cells)): 0 keeps
+    /// every patch one cell, a square halved as it is; at most
+    /// [`MAX_CELL_LEVEL`], the default.
+    pub max_cell_level: u8,
 }
 
 impl Default for BakeSettings {
@@ -27,6 +36,7 @@ impl Default for BakeSettings {
         BakeSettings {
             tolerance: Tolerance::Relative(1e-3),
             max_depth: 24,
+            max_cell_level: MAX_CELL_LEVEL,
         }
     }
 }
@@ -186,11 +196,16 @@ pub fn bake_hierarchy_with_progress(
     };
     baker.link_sides()?;
     baker.corners()?;
-    for p in 0..count as u32 {
-        let c = baker.patches[p as usize].corners;
-        let [r0, r1] = Tri::roots(p);
-        baker.push_node(r0, [c[0], c[1], c[3]])?;
-        baker.push_node(r1, [c[2], c[3], c[1]])?;
+    let max_cell_level = settings.max_cell_level.min(MAX_CELL_LEVEL);
+    super::cells::choose(model, baker.patches, baker.scratch, max_cell_level);
+    baker.cell_vertices()?;
+    for p in 0..count {
+        let rec = baker.patches[p];
+        baker.patches[p].first_root = baker.node_count as u32;
+        for k in 0..root_count(rec.cells) {
+            let tri = Tri::root(p as u32, rec.cells, k);
+            baker.push_node(tri, tri.corners.map(|g| cell_corner(&rec, g)))?;
+        }
     }
     let mut i = 0;
     while i < baker.node_count {
@@ -317,6 +332,89 @@ impl Baker<'_, '_> {
         Ok(())
     }
 
+    /// The vertices at the corners of each patch's cells (with more than one cell): one
+    /// record per corner, in [`HierarchyPatch::cell_vertices`]'s order; a corner of the patch,
+    /// a point of a curve of a patch before it, or a point of a collapsed side is a copy
+    /// written out as that vertex (the pole's, for a collapsed side).
+    fn cell_vertices(&mut self) -> Result<(), BakeError> {
+        for p in 0..self.patches.len() {
+            let rec = self.patches[p];
+            if rec.cells == [0, 0] {
+                continue;
+            }
+            let [a, b] = rec.cells;
+            self.patches[p].cell_vertices = self.vertex_count as u32;
+            for i in 0..=(1u32 << a) {
+                for j in 0..=(1u32 << b) {
+                    let g = [
+                        (i * (ONE as u32 >> a)) as u16,
+                        (j * (ONE as u32 >> b)) as u16,
+                    ];
+                    let same = self.existing_vertex(p, g);
+                    match same {
+                        Some(v) => {
+                            let copy = self.vertices[v as usize];
+                            let n = self.vertex_count;
+                            let slot = self
+                                .vertices
+                                .get_mut(n)
+                                .ok_or(BakeError::VerticesFull { capacity: n })?;
+                            *slot = copy;
+                            self.vertex_count += 1;
+                        }
+                        None => {
+                            self.push_vertex(p as u32, g)?;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The vertex a cell corner `g` of patch `p` is written out as, where one is already
+    /// made: a corner of the patch, a pole, or a point of a curve of a patch before it (the
+    /// records' links and cells set, and the patches before it done).
+    fn existing_vertex(&self, p: usize, g: [u16; 2]) -> Option<u32> {
+        let rec = &self.patches[p];
+        if let Some(k) = [[0, 0], [ONE, 0], [ONE, ONE], [0, ONE]]
+            .iter()
+            .position(|&c| c == g)
+        {
+            return Some(rec.corners[k]);
+        }
+        for side in Side::ALL {
+            let on = match side {
+                Side::V0 => g[1] == 0,
+                Side::U1 => g[0] == ONE,
+                Side::V1 => g[1] == ONE,
+                Side::U0 => g[0] == 0,
+            };
+            if !on {
+                continue;
+            }
+            if let Some(pole) = self.pole_of_side(p, side) {
+                return Some(self.vertices[pole as usize].output);
+            }
+            if let Some(l) = rec.links[side.index()] {
+                let t = side_parameter(side, g);
+                let there = point_on(l.side, if l.flip { ONE - t } else { t });
+                let other = &self.patches[l.patch as usize];
+                // A patch before this one, or this one's own other side where its corner is
+                // already made (corners go along `v` first).
+                let made = match (l.patch as usize).cmp(&p) {
+                    core::cmp::Ordering::Less => true,
+                    core::cmp::Ordering::Equal => cell_corner(rec, there) < cell_corner(rec, g),
+                    core::cmp::Ordering::Greater => false,
+                };
+                if made {
+                    return Some(self.vertices[cell_corner(other, there) as usize].output);
+                }
+            }
+        }
+        None
+    }
+
     fn push_vertex(&mut self, patch: u32, at: [u16; 2]) -> Result<u32, BakeError> {
         let n = self.vertex_count;
         let slot = self
@@ -387,10 +485,12 @@ impl Baker<'_, '_> {
 
     /// The node of the leaf that holds triangle `t` (its own, or a coarser one's).
     fn locate(&self, t: &Tri) -> usize {
-        let mut n = 2 * t.patch as usize + t.root_index();
+        let rec = &self.patches[t.patch as usize];
+        let mut n = rec.first_root as usize + t.root_index(rec.cells);
         let target = t.centroid3();
         while self.scratch[n].tri != *t && self.nodes[n].children != 0 {
-            n = self.nodes[n].children as usize + self.scratch[n].tri.half_toward(target);
+            n = self.nodes[n].children as usize
+                + self.scratch[n].tri.half_toward(target, rec.cells);
         }
         n
     }
@@ -398,16 +498,18 @@ impl Baker<'_, '_> {
     /// Halves leaf `i` and the triangle across its hypotenuse (halving coarser ones first
     /// where needed, so that one of their halves is across), unless it is at the depth
     /// limit or the triangle across cannot be made. `depth` guards the recursion (a coarser
-    /// triangle across is at least one level up, so the guard is never reached by 30 levels).
+    /// triangle across is at least one level up, so the guard is never reached by a cell's 24 levels).
     fn split(&mut self, i: usize, depth: u32) -> Result<(), BakeError> {
         let t = self.scratch[i].tri;
-        if self.nodes[i].children != 0 || !t.can_split() || self.level(&t) >= self.max_depth {
+        let cells = self.patches[t.patch as usize].cells;
+        if self.nodes[i].children != 0 || !t.can_split(cells) || t.level(cells) >= self.max_depth {
             return Ok(());
         }
         let mut across = None;
         let patches = &*self.patches;
         let link = |p: u32, s: Side| patches.get(p as usize).and_then(|r| r.links[s.index()]);
-        if let Some(n) = t.across(link) {
+        let cells = |p: u32| patches.get(p as usize).map_or([0, 0], |r| r.cells);
+        if let Some(n) = t.across(link, cells) {
             loop {
                 let leaf = self.locate(&n);
                 if self.scratch[leaf].tri == n {
@@ -449,28 +551,17 @@ impl Baker<'_, '_> {
     /// The corner vertex of the side `t`'s hypotenuse lies on, if that side is collapsed (as
     /// the run time names it: `Hierarchy::pole`).
     fn pole(&self, t: &Tri) -> Option<u32> {
-        let side = t.hypotenuse_side()?;
-        let collapsed = self
-            .model
-            .patches
-            .patch(t.patch as usize)?
-            .is_collapsed(side);
+        self.pole_of_side(t.patch as usize, t.hypotenuse_side()?)
+    }
+
+    /// The corner vertex of side `side` of patch `p`, if that side is collapsed.
+    fn pole_of_side(&self, p: usize, side: Side) -> Option<u32> {
+        let collapsed = self.model.patches.patch(p)?.is_collapsed(side);
         let corner = match side {
             Side::V0 | Side::U0 => 0,
             Side::U1 => 1,
             Side::V1 => 2,
         };
-        collapsed.then(|| self.patches[t.patch as usize].corners[corner])
-    }
-
-    /// Halvings from the patch's square to `t`.
-    fn level(&self, t: &Tri) -> u8 {
-        let [_, b, c] = t.corners;
-        let span = b[0].abs_diff(c[0]).max(b[1].abs_diff(c[1])) as u32;
-        // Even levels have a diagonal hypotenuse, odd ones one along an axis; two levels
-        // halve its span (level 0: the square's diagonal, span ONE).
-        let diagonal = b[0] != c[0] && b[1] != c[1];
-        let halvings = (ONE as u32 / span.max(1)).trailing_zeros() as u8;
-        2 * halvings + u8::from(!diagonal)
+        collapsed.then(|| self.patches[p].corners[corner])
     }
 }

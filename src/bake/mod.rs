@@ -2,6 +2,7 @@
 //! [`bake_hierarchy`]), and the hierarchy as Rust source for a firmware
 //! ([`write_rust_source`]).
 
+mod cells;
 mod hierarchy;
 mod orientation;
 mod rust_source;

@@ -130,7 +130,11 @@ pub fn write_rust_source(w: &mut impl fmt::Write, name: &str, tree: &Hierarchy<'
         patches.len()
     )?;
     for p in patches {
-        write!(w, "    Patch {{ corners: {:?}, links: [", p.corners)?;
+        write!(
+            w,
+            "    Patch {{ corners: {:?}, cells: {:?}, first_root: {}, cell_vertices: {}, links: [",
+            p.corners, p.cells, p.first_root, p.cell_vertices
+        )?;
         for (i, link) in p.links.iter().enumerate() {
             let sep = if i == 0 { "" } else { ", " };
             match link {

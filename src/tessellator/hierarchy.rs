@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use super::address::Tri;
+use super::address::{root_count, Cells, Tri, MAX_CELL_LEVEL, ONE};
 use super::{HierarchyNode, HierarchyPatch, HierarchyVertex, SideLink};
 use crate::model::PatchSet;
 use crate::patch::{BezierPatch, Side};
@@ -26,7 +26,7 @@ pub struct Hierarchy<'a> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum HierarchyError {
-    /// No patch, or fewer nodes than the patches' squares.
+    /// No patch, or fewer nodes than the patches' roots.
     Empty,
     /// The bake has records for another number of patches than the model has.
     PatchCount {
@@ -45,7 +45,9 @@ pub enum HierarchyError {
         /// The vertex.
         vertex: u32,
     },
-    /// Patch `patch` names a corner vertex or linked patch out of range.
+    /// Patch `patch` names a corner vertex, cell vertex or linked patch out of range, has
+    /// more cells than [`MAX_CELL_LEVEL`] allows, roots out of place, or cuts a shared curve
+    /// into another number of cells than the patch across.
     BadPatch {
         /// The patch.
         patch: u32,
@@ -99,7 +101,7 @@ impl<'a> Hierarchy<'a> {
         vertices: &'a [HierarchyVertex],
         patches: &'a [HierarchyPatch],
     ) -> Result<Self, HierarchyError> {
-        if patches.is_empty() || nodes.len() < 2 * patches.len() {
+        if patches.is_empty() {
             return Err(HierarchyError::Empty);
         }
         if model.len() != patches.len() {
@@ -108,13 +110,29 @@ impl<'a> Hierarchy<'a> {
                 baked: patches.len(),
             });
         }
+        let mut roots = 0usize;
         for (p, rec) in patches.iter().enumerate() {
-            let bad = rec.corners.iter().any(|&v| v as usize >= vertices.len())
-                || rec
-                    .links
-                    .iter()
-                    .flatten()
-                    .any(|l| l.patch as usize >= patches.len());
+            let bad_cells = rec.cells.iter().any(|&c| c > MAX_CELL_LEVEL);
+            let bad_roots = bad_cells || rec.first_root as usize != roots;
+            if !bad_cells {
+                roots += root_count(rec.cells);
+            }
+            let block = match rec.cells {
+                [0, 0] => 0,
+                [a, b] if !bad_cells => ((1usize << a) + 1) * ((1usize << b) + 1),
+                _ => 0,
+            };
+            let bad = bad_roots
+                || rec.corners.iter().any(|&v| v as usize >= vertices.len())
+                || rec.cell_vertices as usize + block > vertices.len()
+                || rec.links.iter().enumerate().any(|(side, l)| {
+                    l.is_some_and(|l| match patches.get(l.patch as usize) {
+                        None => true,
+                        Some(other) => {
+                            along(Side::ALL[side], rec.cells) != along(l.side, other.cells)
+                        }
+                    })
+                });
             // A cone: a unit axis (to rounding) and a sine in [0, 1); a sine of 1 or more is
             // none. Anything else (NaN included) is refused: culling trusts it.
             let [x, y, z, sin] = rec.cone;
@@ -123,6 +141,9 @@ impl<'a> Hierarchy<'a> {
             if bad || !cone_ok {
                 return Err(HierarchyError::BadPatch { patch: p as u32 });
             }
+        }
+        if nodes.len() < roots {
+            return Err(HierarchyError::Empty);
         }
         for (i, n) in nodes.iter().enumerate() {
             let bad = n.children != 0
@@ -183,17 +204,24 @@ impl<'a> Hierarchy<'a> {
         self.patches
     }
 
-    /// Root `k` (0 or 1) of patch `patch`.
+    /// How patch `patch` is cut into cells.
+    pub(super) fn cells(&self, patch: u32) -> Cells {
+        self.patches.get(patch as usize).map_or([0, 0], |p| p.cells)
+    }
+
+    /// The number of roots of patch `patch`.
+    pub(super) fn root_count(&self, patch: u32) -> usize {
+        root_count(self.cells(patch))
+    }
+
+    /// Root `k` of patch `patch` (see [`HierarchyPatch::first_root`]).
     pub(super) fn root(&self, patch: u32, k: usize) -> Pending {
-        let c = self.patches[patch as usize].corners;
+        let rec = &self.patches[patch as usize];
+        let tri = Tri::root(patch, rec.cells, k);
         Pending {
-            node: 2 * patch + k as u32,
-            tri: Tri::roots(patch)[k],
-            corners: if k == 0 {
-                [c[0], c[1], c[3]]
-            } else {
-                [c[2], c[3], c[1]]
-            },
+            node: rec.first_root + k as u32,
+            tri,
+            corners: tri.corners.map(|g| cell_corner(rec, g)),
         }
     }
 
@@ -237,8 +265,8 @@ impl<'a> Hierarchy<'a> {
     }
 }
 
-/// Deepest walk of a mesh (the bake's depth limit, 30, and its roots).
-const WALK: usize = 34;
+/// Deepest walk of a mesh (24 halvings in a cell, and its root, with room to spare).
+const WALK: usize = 28;
 
 /// Walks every patch's triangles top-down, first halves first, calling `visit` on each: it
 /// returns the vertex the triangle is halved at, if it is (the walk then goes into its
@@ -260,18 +288,43 @@ pub(super) fn walk_patches<S: ?Sized>(
         if !wants(state, p) {
             continue;
         }
-        stack[0] = tree.root(p, 1);
-        stack[1] = tree.root(p, 0);
-        let mut n = 2;
-        while n > 0 {
-            n -= 1;
-            let h = stack[n];
-            if let Some(v) = visit(state, &h).filter(|_| n + 2 <= WALK) {
-                let [h0, h1] = tree.halves(&h, v);
-                stack[n] = h1;
-                stack[n + 1] = h0;
-                n += 2;
+        for k in 0..tree.root_count(p) {
+            stack[0] = tree.root(p, k);
+            let mut n = 1;
+            while n > 0 {
+                n -= 1;
+                let h = stack[n];
+                if let Some(v) = visit(state, &h).filter(|_| n + 2 <= WALK) {
+                    let [h0, h1] = tree.halves(&h, v);
+                    stack[n] = h1;
+                    stack[n + 1] = h0;
+                    n += 2;
+                }
             }
+        }
+    }
+}
+
+/// Which direction of a patch's cells runs along `side`: `u` (0) along `V0` and `V1`.
+fn along(side: Side, cells: Cells) -> u8 {
+    match side {
+        Side::V0 | Side::V1 => cells[0],
+        Side::U1 | Side::U0 => cells[1],
+    }
+}
+
+/// The vertex at cell corner `g` (a grid point) of patch record `rec`: its corner's, or its
+/// cell vertex.
+pub(crate) fn cell_corner(rec: &HierarchyPatch, g: [u16; 2]) -> u32 {
+    match g {
+        [0, 0] => rec.corners[0],
+        [ONE, 0] => rec.corners[1],
+        [ONE, ONE] => rec.corners[2],
+        [0, ONE] => rec.corners[3],
+        [u, v] => {
+            let [a, b] = rec.cells;
+            let (i, j) = (u as u32 >> (15 - a), v as u32 >> (15 - b));
+            rec.cell_vertices + i * ((1 << b) + 1) + j
         }
     }
 }

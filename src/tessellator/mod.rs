@@ -1,11 +1,13 @@
 //! The tessellator: a frame's mesh found in a baked [`Hierarchy`] of halvings, where each
-//! patch's square is halved at a hypotenuse, and halved again, wherever a triangle's bound on
+//! patch's cells are halved at a hypotenuse, and halved again, wherever a triangle's bound on
 //! screen is over the tolerance. The hierarchy holds every triangle's bound, so a frame within
 //! the bake evaluates no surface point and no bound of its own.
 //!
 //! # The hierarchy
 //!
-//! Each patch's `(u, v)` square is two right triangles. A triangle is halved from its
+//! Each patch's `(u, v)` square is cut into `2^a x 2^b` cells ([`Cells`], chosen by the bake
+//! from the patch's shape, so that a patch stretched in one direction gets triangles as long
+//! as they are wide), each cell two right triangles. A triangle is halved from its
 //! right-angle corner to its hypotenuse's midpoint, and the halves are right triangles again
 //! (longest-edge bisection, the meshes of ROAM and of right-triangulated irregular networks).
 //! The triangle across a hypotenuse, in the same patch or in the patch across a shared curve,
@@ -59,7 +61,7 @@ mod select;
 mod storage;
 
 pub use crate::deviation::kept::KEPT;
-pub use address::SideLink;
+pub use address::{Cells, SideLink, MAX_CELL_LEVEL};
 pub use bits::bit_words_for;
 pub use budget::{BudgetError, BudgetFit};
 pub use hierarchy::{Hierarchy, HierarchyError};
@@ -118,13 +120,25 @@ pub struct HierarchyVertex {
     pub output: u32,
 }
 
-/// One patch of the baked hierarchy: its corners' vertices, what its sides join, which side
-/// of it is out, and the cone of its outward normals.
+/// One patch of the baked hierarchy: its corners' vertices, its cells and their roots, what its
+/// sides join, which side of it is out, and the cone of its outward normals.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct HierarchyPatch {
     /// Vertices at `(0, 0)`, `(1, 0)`, `(1, 1)`, `(0, 1)`.
     pub corners: [u32; 4],
+    /// How its square is cut into cells: `2^cells[0]` along `u` by `2^cells[1]` along `v`,
+    /// each the two roots of its hierarchy. A patch across a shared curve cuts the curve
+    /// into as many cells.
+    pub cells: Cells,
+    /// The node of its first root: its roots are the `2^(a + b + 1)` nodes from here, cell
+    /// `(i, j)`'s two at `2 (i 2^b + j)` and one more (below and above the cell's diagonal
+    /// from `(u1, v0)` to `(u0, v1)`). The patches' roots come first, in patch order.
+    pub first_root: u32,
+    /// With more than one cell, the first of its cell corners' `(2^a + 1)(2^b + 1)` vertices,
+    /// corner `(i, j)` at `i (2^b + 1) + j` (those on its corners, or on a curve of a patch
+    /// before it, written out as those patches' vertices); unused with one cell.
+    pub cell_vertices: u32,
     /// Per side (`V0, U1, V1, U0`), the other patch's side on the same curve, if shared.
     pub links: [Option<SideLink>; 4],
     /// The patch's outside is on the side of `S_v × S_u` (not `S_u × S_v`): its triangles
@@ -145,6 +159,9 @@ impl Default for HierarchyPatch {
     fn default() -> Self {
         HierarchyPatch {
             corners: [0; 4],
+            cells: [0, 0],
+            first_root: 0,
+            cell_vertices: 0,
             links: [None; 4],
             flip: false,
             cone: NO_CONE,

@@ -1,11 +1,11 @@
-//! The run time: a frame's mesh found top-down from the patches' squares.
+//! The run time: a frame's mesh found top-down from the patches' roots (their cells).
 //!
 //! # The search
 //!
-//! Every triangle is judged once, when it becomes a leaf: the patches' squares first, then
+//! Every triangle is judged once, when it becomes a leaf: the patches' roots first, then
 //! the halves of every triangle that is halved. A leaf whose bound is over the tolerance is
 //! halved with the triangle across its hypotenuse (halving a coarser one there first, which is
-//! found by walking down from its patch's square). Only a leaf over the tolerance, or one a
+//! found by walking down from its patch's root). Only a leaf over the tolerance, or one a
 //! halved triangle needs halved, is ever halved, and every leaf of the result is judged, so
 //! the result is the unique coarsest conforming mesh within the tolerance (see the [module
 //! docs](super)), whatever the order.
@@ -267,7 +267,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             // to the grid, may be another vertex of the pool (found by the bisect fuzz
             // target: a walk took such triangles as halved, and below them every triangle
             // again, down to its depth limit, 2^30 triangles).
-            _ if !h.tri.can_split() => None,
+            _ if !h.tri.can_split(self.tree.cells(h.tri.patch)) => None,
             Some(_) if !bit(&self.bits[self.layout.refined..], h.node) => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
@@ -403,10 +403,10 @@ impl<'t, 's> Tessellator<'t, 's> {
         let (tree, tolerance) = (self.tree, view.tolerance());
         self.cull(view);
         for p in 0..tree.patches.len() as u32 {
-            for k in 0..2 {
+            for k in 0..tree.root_count(p) {
                 self.push(tree.root(p, k));
+                self.drain(view, tolerance);
             }
-            self.drain(view, tolerance);
         }
         while self.full && self.stats.sweeps < MAX_SWEEPS {
             self.full = false;
@@ -518,13 +518,14 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// The leaf of the current mesh that holds `t` (its own, or a coarser one).
     fn locate(&self, t: &Tri) -> Pending {
-        let mut h = self.tree.root(t.patch, t.root_index());
+        let cells = self.tree.cells(t.patch);
+        let mut h = self.tree.root(t.patch, t.root_index(cells));
         let target = t.centroid3();
         while h.tri != *t {
             let Some(v) = self.split_vertex(&h) else {
                 break;
             };
-            h = self.tree.halves(&h, v)[h.tri.half_toward(target)];
+            h = self.tree.halves(&h, v)[h.tri.half_toward(target, cells)];
         }
         h
     }
@@ -533,12 +534,12 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// queues the halves; false when it cannot (below the bake: the pool is full, or the grid's
     /// finest step is reached), and then `h` stays whole. `depth` bounds the recursion (a
     /// coarser triangle across is at least one level up, so 64 is never reached by the
-    /// grid's 30 levels).
+    /// 24 levels of a cell).
     fn split(&mut self, h: &Pending, depth: u32) -> bool {
         if self.is_split(h) {
             return true;
         }
-        if !h.tri.can_split() || depth > 64 {
+        if !h.tri.can_split(self.tree.cells(h.tri.patch)) || depth > 64 {
             return false;
         }
         let baked = self.tree.node(h).is_some_and(|n| n.children != 0);
@@ -549,7 +550,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
         let tree = self.tree;
         let mut across = None;
-        if let Some(n) = h.tri.across(|p, s| tree.link(p, s)) {
+        if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
             loop {
                 let leaf = self.locate(&n);
                 if leaf.tri == n {
