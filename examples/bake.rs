@@ -82,7 +82,8 @@ fn run() -> Result<(), String> {
     }
     if let Some(path) = &args.rust {
         let mut src = String::new();
-        write_rust_source(&mut src, "MODEL", &baked.tree()).map_err(|e| e.to_string())?;
+        write_rust_source(&mut src, "MODEL", &file.patches(), &baked.encoded())
+            .map_err(|e| e.to_string())?;
         std::fs::write(path, src).map_err(|e| format!("{path}: {e}"))?;
     }
     println!(

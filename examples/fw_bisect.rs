@@ -36,16 +36,14 @@ use spline_tess::{PatchSet, Vertex};
 
 /// Words of bits the hierarchy takes.
 const BITS: usize = spline_tess::tessellator::bit_words_for(
-    baked::TEAPOT_NODES.len(),
-    baked::TEAPOT_VERTICES.len(),
-    baked::TEAPOT_PATCHES.len(),
+    baked::TEAPOT_NODE_COUNT,
+    baked::TEAPOT_VERTEX_COUNT,
+    baked::TEAPOT_HEADERS.len(),
 );
 
 /// Bytes of the hierarchy in flash: its nodes, vertices and patch records (the patches' control
 /// points and headers besides).
-const FLASH_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_NODES)
-    + core::mem::size_of_val(&baked::TEAPOT_VERTICES)
-    + core::mem::size_of_val(&baked::TEAPOT_PATCHES);
+const FLASH_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_HIERARCHY);
 
 /// Bytes of the run time's storage: its bits, its stack and its pool.
 const STORAGE_BYTES: usize = 4 * BITS
@@ -60,19 +58,14 @@ fn run(
     let Ok(patches) = PatchSet::new(&baked::TEAPOT_HEADERS, &baked::TEAPOT_POINTS, None) else {
         return false;
     };
-    let Ok(tree) = Hierarchy::new(
-        patches,
-        &baked::TEAPOT_NODES,
-        &baked::TEAPOT_VERTICES,
-        &baked::TEAPOT_PATCHES,
-    ) else {
+    let Ok(tree) = Hierarchy::from_bytes(patches, &baked::TEAPOT_HIERARCHY) else {
         return false;
     };
     let mut storage = TessellatorStorage::<BITS, { frames::STACK }, { frames::POOL }>::new();
     let Ok(mut selection) = Tessellator::new(tree, &mut storage) else {
         return false;
     };
-    let mut remap = [0u32; baked::TEAPOT_VERTICES.len() + frames::POOL];
+    let mut remap = [0u32; baked::TEAPOT_VERTEX_COUNT + frames::POOL];
     let mut vertices = [Vertex::default(); frames::OUT_VERTICES];
     let mut triangles = [[0u16; 3]; frames::OUT_TRIANGLES];
     let mut all = true;
@@ -132,8 +125,8 @@ mod device {
         hprintln!(
             "fw_bisect: hierarchy {} bytes in flash ({} nodes, {} vertices)",
             super::FLASH_BYTES,
-            super::baked::TEAPOT_NODES.len(),
-            super::baked::TEAPOT_VERTICES.len()
+            super::baked::TEAPOT_NODE_COUNT,
+            super::baked::TEAPOT_VERTEX_COUNT
         );
         hprintln!(
             "fw_bisect: storage {} bytes (bits {}, stack {}, pool {})",

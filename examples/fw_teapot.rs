@@ -65,9 +65,9 @@ use spline_tess::PatchSet;
 
 /// Words of bits the hierarchy takes.
 const BITS: usize = spline_tess::tessellator::bit_words_for(
-    baked::TEAPOT_NODES.len(),
-    baked::TEAPOT_VERTICES.len(),
-    baked::TEAPOT_PATCHES.len(),
+    baked::TEAPOT_NODE_COUNT,
+    baked::TEAPOT_VERTEX_COUNT,
+    baked::TEAPOT_HEADERS.len(),
 );
 
 /// One frame's measurements (the instruction counts are printed by the firmware only).
@@ -108,7 +108,7 @@ const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ListSlot>() + 2 * 
 const MAP: usize = if teapot::LIST == 0 {
     0
 } else {
-    baked::TEAPOT_VERTICES.len() + teapot::POOL
+    baked::TEAPOT_VERTEX_COUNT + teapot::POOL
 };
 
 /// The caller buffers of the renderer.
@@ -180,12 +180,7 @@ fn run(
     let Ok(patches) = PatchSet::new(&baked::TEAPOT_HEADERS, &baked::TEAPOT_POINTS, None) else {
         return false;
     };
-    let Ok(tree) = Hierarchy::new(
-        patches,
-        &baked::TEAPOT_NODES,
-        &baked::TEAPOT_VERTICES,
-        &baked::TEAPOT_PATCHES,
-    ) else {
+    let Ok(tree) = Hierarchy::from_bytes(patches, &baked::TEAPOT_HIERARCHY) else {
         return false;
     };
     let mut storage = TessellatorStorage::<BITS, { teapot::STACK }, { teapot::POOL }>::new();
@@ -324,9 +319,7 @@ fn main() -> std::process::ExitCode {
     println!(
         "fw_teapot (host): storage {STORAGE_BYTES} bands {BAND_BYTES} list {LIST_BYTES} \
          baked {} control_points {} bytes",
-        core::mem::size_of_val(&baked::TEAPOT_NODES)
-            + core::mem::size_of_val(&baked::TEAPOT_VERTICES)
-            + core::mem::size_of_val(&baked::TEAPOT_PATCHES),
+        core::mem::size_of_val(&baked::TEAPOT_HIERARCHY),
         core::mem::size_of_val(&baked::TEAPOT_POINTS)
             + core::mem::size_of_val(&baked::TEAPOT_HEADERS)
     );
@@ -339,8 +332,8 @@ fn main() -> std::process::ExitCode {
         core::mem::size_of::<StackSlot>(),
         teapot::POOL,
         core::mem::size_of::<PoolSlot>(),
-        baked::TEAPOT_NODES.len(),
-        baked::TEAPOT_VERTICES.len(),
+        baked::TEAPOT_NODE_COUNT,
+        baked::TEAPOT_VERTEX_COUNT,
         teapot::LIST,
         core::mem::size_of::<ListSlot>(),
         MAP,

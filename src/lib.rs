@@ -98,20 +98,23 @@
 //!
 //! ## On a microcontroller
 //!
-//! The hierarchy is baked on the host and written as statics ([`bake::write_rust_source`])
-//! that the firmware includes and reads in place from flash. The tessellator's storage is sized
+//! The hierarchy is baked on the host, written as compact bytes
+//! ([`bake::encode_hierarchy`]) and kept as a static ([`bake::write_rust_source`], or
+//! `include_bytes!`) that the firmware reads in place from flash
+//! ([`Hierarchy::from_bytes`]). The tessellator's storage is sized
 //! at compile time ([`tessellator::TessellatorStorage`]): bits for the hierarchy, a stack of
 //! waiting triangles, and a pool of vertices below the bake, which may be empty (a view finer
 //! than the bake then leaves its triangles whole, and the frame reports the bound it keeps).
 //!
 //! ```
 //! # use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeScratch, BakeSettings};
+//! # use spline_tess::bake::{encode_hierarchy, encode_scratch_len};
 //! # use spline_tess::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
 //! # use spline_tess::{BoundaryCurve, EdgeLink, Model, PatchHeader, PatchSet};
 //! use spline_tess::tessellator::{bit_words_for, TessellatorStorage};
 //! use spline_tess::{Camera, Hierarchy, Projection, Tessellator, Vec3, View};
 //!
-//! // The statics `write_rust_source` writes (here baked in place): their lengths size the
+//! // The counts `write_rust_source` writes beside the bytes (here baked in place) size the
 //! // storage.
 //! const NODES: usize = 2048;
 //! const VERTICES: usize = 1024;
@@ -135,8 +138,14 @@
 //! #     patches: &mut records,
 //! #     scratch: &mut scratch,
 //! # };
-//! # bake_hierarchy(&model, &BakeSettings::default(), buffers)?;
-//! let hierarchy = Hierarchy::new(patches, &nodes, &vertices, &records)?;
+//! # let size = bake_hierarchy(&model, &BakeSettings::default(), buffers)?;
+//! # let baked = Hierarchy::new(patches, &nodes[..size.nodes], &vertices[..size.vertices], &records)?;
+//! # let mut work = vec![0u32; encode_scratch_len(size.nodes, size.vertices)];
+//! # let mut bytes = vec![0u8; 1 << 16];
+//! # let len = encode_hierarchy(&baked, &mut work, &mut bytes)?;
+//! # let hierarchy_bytes: &[u8] = &bytes[..len];
+//! // The bytes, read in place (a `static` in flash).
+//! let hierarchy = Hierarchy::from_bytes(patches, hierarchy_bytes)?;
 //!
 //! // Bits, a stack of 64 and no pool, sized at compile time.
 //! let mut storage = TessellatorStorage::<{ bit_words_for(NODES, VERTICES, 1) }, 64, 0>::new();

@@ -5,8 +5,9 @@ use core::fmt;
 /// One output vertex.
 ///
 /// A vertex on a boundary curve is shared by every patch along the curve; it carries the
-/// parameters and index of the patch that owns the curve (the one whose edge defines it), and
-/// a vertex at a patch corner those of the first patch that has the corner.
+/// parameters and index of the patch of lower index along the curve, and a vertex at a patch
+/// corner (or a pole) those of the first patch that has it at a corner: the same from every
+/// triangle that has it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Vertex {

@@ -228,6 +228,27 @@ impl BakedHierarchy {
         .expect("a fresh bake checks")
     }
 
+    /// The hierarchy's compact bytes ([`encode_hierarchy`](spline_tess::bake::encode_hierarchy)).
+    pub fn encoded(&self) -> Vec<u8> {
+        let tree = self.tree();
+        let mut scratch =
+            vec![
+                0u32;
+                spline_tess::bake::encode_scratch_len(self.nodes.len(), self.vertices.len())
+            ];
+        let mut out =
+            vec![0u8; 64 + 64 * (self.nodes.len() + self.vertices.len() + self.patches.len())];
+        let len = spline_tess::bake::encode_hierarchy(&tree, &mut scratch, &mut out)
+            .expect("a fresh bake encodes");
+        out.truncate(len);
+        out
+    }
+
+    /// The hierarchy read from its compact bytes `bytes` ([`encoded`](Self::encoded)).
+    pub fn tree_from<'a>(&'a self, bytes: &'a [u8]) -> Hierarchy<'a> {
+        Hierarchy::from_bytes(self.file.patches(), bytes).expect("fresh bytes read")
+    }
+
     /// Bytes the records take in memory (nodes, vertices, patches).
     pub fn bytes(&self) -> usize {
         std::mem::size_of_val(self.nodes.as_slice())

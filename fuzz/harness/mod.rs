@@ -9,6 +9,7 @@
 
 pub mod bisect;
 pub mod bytes;
+pub mod hierarchy_bytes;
 pub mod inputs;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
@@ -24,6 +25,7 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("evaluate", inputs::evaluate),
     ("render", render::render),
     ("bisect", bisect::bisect),
+    ("hierarchy_bytes", hierarchy_bytes::hierarchy_bytes),
 ];
 
 /// Targets whose work per input is bounded, with their bodies with the bounds lifted: the

@@ -390,7 +390,7 @@ fn main() {
         let mut left_over = 0;
         let tree = hierarchy.tree();
         let mut store = VecStorage::new(&tree, 1 << 12, 1 << 16);
-        let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
+        let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
         for _ in 0..3 {
             let start = Instant::now();
             let mut s = store.tessellator(tree);
@@ -416,7 +416,9 @@ fn main() {
                     (m.topology.edges().to_vec(), uses)
                 })
                 .expect("a topology");
-            let links: Vec<_> = tree.patches().iter().map(|p| p.links).collect();
+            let links: Vec<_> = (0..tree.patch_count())
+                .map(|p| tree.patch(p).expect("patch").links)
+                .collect();
             let culled: Vec<bool> = (0..links.len() as u32).map(|p| s.is_culled(p)).collect();
             let open = |p: u32, side: usize| {
                 let curve_open = match edges[p as usize][side] {

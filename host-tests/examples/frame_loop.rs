@@ -67,7 +67,7 @@ fn main() {
         let tree = bake.tree();
         let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let mut selection = storage.tessellator(tree);
-        let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
+        let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);

@@ -68,15 +68,16 @@ fn run_model(path: &std::path::Path) {
             )
         })
         .unwrap();
-    let links: Vec<_> = tree.patches().iter().map(|p| p.links).collect();
+    let links: Vec<_> = (0..tree.patch_count())
+        .map(|p| tree.patch(p).expect("patch").links)
+        .collect();
     let open_curve = |p: u32, side: usize| match edges[p as usize][side] {
         EdgeLink::Collapsed => false,
         EdgeLink::Curve { curve, .. } => uses[curve as usize] == 1,
     };
     // Outward: `S_u x S_v`, or its opposite where the bake flipped the patch.
-    let outward: Vec<f64> = tree
-        .patches()
-        .iter()
+    let outward: Vec<f64> = (0..tree.patch_count())
+        .map(|p| tree.patch(p).expect("patch"))
         .map(|p| if p.flip { -1.0 } else { 1.0 })
         .collect();
     let mut storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
@@ -84,7 +85,7 @@ fn run_model(path: &std::path::Path) {
     // A stack of 8: leaves it has no room for are found by walks, to the same mesh.
     let mut short_storage = VecStorage::new(&tree, 8, 1 << 16);
     let mut sweeps = 0;
-    let mut remap = vec![0u32; tree.vertices().len() + (1 << 16)];
+    let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
     let mut selection = storage.tessellator(tree);
     let mut left_over_frames = 0;
     // The path, then views finer than the bake (1e-3 of the diagonal): the run time goes on
@@ -258,14 +259,16 @@ fn coarsest(path: &std::path::Path) {
     let diag = patches.aabb().unwrap().diagonal() as f64;
     // Every baked triangle's bound, by its corners on the oracles' grid (half the kernel's).
     let mut bounds: HashMap<Bin, f32> = HashMap::new();
-    let cells: Vec<[u8; 2]> = tree.patches().iter().map(|p| p.cells).collect();
+    let cells: Vec<[u8; 2]> = (0..tree.patch_count())
+        .map(|p| tree.patch(p).expect("patch").cells)
+        .collect();
     let mut stack: Vec<(Bin, usize)> = cell_roots(&cells)
         .into_iter()
         .enumerate()
         .map(|(i, b)| (b, i))
         .collect();
     while let Some((b, i)) = stack.pop() {
-        let node = &tree.nodes()[i];
+        let node = tree.node(i).expect("node");
         bounds.insert(b, node.object_bound());
         if node.children != 0 {
             for (k, c) in children(b).into_iter().enumerate() {

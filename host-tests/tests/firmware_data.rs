@@ -166,14 +166,16 @@ fn fw_bisect_baked_source(bake: &host_tests::runtime::BakedHierarchy) -> String 
          // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`."
     )
     .unwrap();
-    spline_tess::bake::write_rust_source(&mut s, "TEAPOT", &bake.tree()).unwrap();
+    spline_tess::bake::write_rust_source(&mut s, "TEAPOT", &bake.file.patches(), &bake.encoded())
+        .unwrap();
     s
 }
 
 /// Every frame of fw_bisect computed on the host with the same code: triangles, vertices,
 /// triangles judged, checksum.
 fn fw_bisect_frames(bake: &host_tests::runtime::BakedHierarchy) -> Vec<[u32; 4]> {
-    let tree = bake.tree();
+    let bytes = bake.encoded();
+    let tree = bake.tree_from(&bytes);
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack = vec![spline_tess::tessellator::StackSlot::default(); fw_bisect::STACK];
     let mut pool = vec![spline_tess::tessellator::PoolSlot::default(); fw_bisect::POOL];
@@ -234,7 +236,8 @@ mod spi_display;
 fn with_fw_teapot_tessellator<R>(
     f: impl FnOnce(&mut spline_tess::tessellator::Tessellator<'_, '_>) -> R,
 ) -> R {
-    let tree = fw_bisect_bake().tree();
+    let bytes = fw_bisect_bake().encoded();
+    let tree = fw_bisect_bake().tree_from(&bytes);
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack = vec![spline_tess::tessellator::StackSlot::default(); fw_teapot::STACK];
     let mut pool = vec![spline_tess::tessellator::PoolSlot::default(); fw_teapot::POOL];

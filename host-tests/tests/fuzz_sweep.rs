@@ -28,6 +28,7 @@ const SWEEP: &[(&str, usize)] = &[
     ("evaluate", 20_000),
     ("render", 30_000),
     ("bisect", 6_000),
+    ("hierarchy_bytes", 20_000),
 ];
 
 /// xorshift64*: small, fast and the same everywhere.
@@ -147,4 +148,11 @@ macro_rules! sweeps {
     };
 }
 
-sweeps!(parse_bpt, parse_nurbs_json, evaluate, render, bisect,);
+sweeps!(
+    parse_bpt,
+    parse_nurbs_json,
+    evaluate,
+    render,
+    bisect,
+    hierarchy_bytes,
+);

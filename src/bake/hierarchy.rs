@@ -290,6 +290,7 @@ impl Baker<'_, '_> {
                 }
             }
             self.patches[p].links = links;
+            self.patches[p].poles = crate::tessellator::hierarchy::poles_of(&self.model.patches, p);
         }
         Ok(())
     }

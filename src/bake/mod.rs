@@ -3,10 +3,12 @@
 //! ([`write_rust_source`]).
 
 mod cells;
+mod encode;
 mod hierarchy;
 mod orientation;
 mod rust_source;
 
+pub use encode::{encode_hierarchy, encode_scratch_len, EncodeError};
 pub use hierarchy::{
     bake_hierarchy, bake_hierarchy_with_progress, BakeBuffers, BakeError, BakeProgress,
     BakeScratch, BakeSettings, BakeSize,

@@ -300,6 +300,16 @@ pub(crate) fn point_on(side: Side, t: u16) -> Point {
     }
 }
 
+/// Whether grid point `p` lies on side `side` of the square.
+pub(crate) fn on_side(side: Side, p: Point) -> bool {
+    match side {
+        Side::V0 => p[1] == 0,
+        Side::U1 => p[0] == ONE,
+        Side::V1 => p[1] == ONE,
+        Side::U0 => p[0] == 0,
+    }
+}
+
 /// Unit parameters of a grid point.
 pub(crate) fn unit(p: Point) -> (f32, f32) {
     let s = 1.0 / ONE as f32;

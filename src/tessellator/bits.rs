@@ -11,7 +11,7 @@ impl Hierarchy<'_> {
     /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: two bits per vertex,
     /// three per node and one per patch.
     pub fn bit_words(&self) -> usize {
-        bit_words_for(self.nodes.len(), self.vertices.len(), self.patches.len())
+        bit_words_for(self.node_count(), self.vertex_count(), self.patch_count())
     }
 }
 
@@ -43,8 +43,8 @@ pub(super) struct Layout {
 impl Layout {
     pub fn of(tree: &Hierarchy<'_>) -> Layout {
         let (v, n) = (
-            tree.vertices.len().div_ceil(32),
-            tree.nodes.len().div_ceil(32),
+            tree.vertex_count().div_ceil(32),
+            tree.node_count().div_ceil(32),
         );
         Layout {
             seen: v,

@@ -42,7 +42,7 @@ impl Tessellator<'_, '_> {
         for e in self.pool.entries.iter_mut() {
             e.seen = false;
         }
-        let baked = tree.vertices.len() as u32;
+        let baked = tree.vertex_count() as u32;
         let mut bounds = None;
         walk(tree, |h| {
             if let Some(v) = self.split_vertex(h) {

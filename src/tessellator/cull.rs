@@ -25,14 +25,14 @@ use crate::view::{Projection, View};
 impl Hierarchy<'_> {
     /// Patch `p`'s outward normal cone, if the bake recorded one.
     pub(super) fn cone(&self, p: usize) -> Option<NormalCone> {
-        let [x, y, z, sin] = self.patches.get(p)?.cone;
+        let [x, y, z, sin] = self.patch(p)?.cone;
         (sin < 1.0).then(|| NormalCone::from_parts([x, y, z], sin))
     }
 
     /// The sphere around the model's control points, where some patch has a cone (culling
     /// needs it every frame).
     pub(super) fn culling_sphere(&self) -> Option<BoundingSphere> {
-        let any = (0..self.patches.len()).any(|p| self.cone(p).is_some());
+        let any = (0..self.patch_count()).any(|p| self.cone(p).is_some());
         any.then(|| BoundingSphere::of_points(self.model.points()))
             .flatten()
     }
@@ -50,7 +50,7 @@ impl Tessellator<'_, '_> {
             return;
         }
         let culled = self.layout().culled;
-        for p in 0..self.tree.patches.len() {
+        for p in 0..self.tree.patch_count() {
             let (Some(cone), Some(patch)) = (self.tree.cone(p), self.tree.patch_of(p as u32))
             else {
                 continue;

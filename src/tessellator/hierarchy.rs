@@ -3,6 +3,7 @@
 use core::fmt;
 
 use super::address::{root_count, Cells, Tri, MAX_CELL_LEVEL, ONE};
+use super::format::{FormatError, HierarchyBytes};
 use super::{HierarchyNode, HierarchyPatch, HierarchyVertex, SideLink};
 use crate::model::PatchSet;
 use crate::patch::{BezierPatch, Side};
@@ -13,13 +14,29 @@ pub(super) const RUN_TIME: u32 = u32::MAX;
 /// A baked hierarchy and the patches it was baked from, checked: every index in it is in
 /// range, so no frame reads out of bounds. Where a view is finer than the bake, the run time
 /// goes on from the patches.
+///
+/// It reads either the bake's records in RAM ([`new`](Self::new)) or their compact bytes in
+/// place, in flash say ([`from_bytes`](Self::from_bytes)): the same hierarchy gives the same
+/// meshes either way.
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Hierarchy<'a> {
     pub(super) model: PatchSet<'a>,
-    pub(super) nodes: &'a [HierarchyNode],
-    pub(super) vertices: &'a [HierarchyVertex],
-    pub(super) patches: &'a [HierarchyPatch],
+    pub(super) store: Store<'a>,
+}
+
+/// Where a hierarchy's records are.
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(super) enum Store<'a> {
+    /// The bake's records.
+    Records {
+        nodes: &'a [HierarchyNode],
+        vertices: &'a [HierarchyVertex],
+        patches: &'a [HierarchyPatch],
+    },
+    /// The compact bytes.
+    Bytes(HierarchyBytes<'a>),
 }
 
 /// Why a baked hierarchy was refused.
@@ -93,8 +110,8 @@ impl Pending {
 }
 
 impl<'a> Hierarchy<'a> {
-    /// Checks and wraps a bake's records (as [`bake_hierarchy`](crate::bake::bake_hierarchy) wrote them,
-    /// cut to the sizes it returned) and the patches they were baked from.
+    /// Checks and wraps a bake's records (as [`bake_hierarchy`](crate::bake::bake_hierarchy)
+    /// wrote them, cut to the sizes it returned) and the patches they were baked from.
     pub fn new(
         model: PatchSet<'a>,
         nodes: &'a [HierarchyNode],
@@ -125,20 +142,11 @@ impl<'a> Hierarchy<'a> {
             let bad = bad_roots
                 || rec.corners.iter().any(|&v| v as usize >= vertices.len())
                 || rec.cell_vertices as usize + block > vertices.len()
-                || rec.links.iter().enumerate().any(|(side, l)| {
-                    l.is_some_and(|l| match patches.get(l.patch as usize) {
-                        None => true,
-                        Some(other) => {
-                            along(Side::ALL[side], rec.cells) != along(l.side, other.cells)
-                        }
-                    })
-                });
-            // A cone: a unit axis (to rounding) and a sine in [0, 1); a sine of 1 or more is
-            // none. Anything else (NaN included) is refused: culling trusts it.
-            let [x, y, z, sin] = rec.cone;
-            let length2 = x * x + y * y + z * z;
-            let cone_ok = sin >= 1.0 || (sin >= 0.0 && (length2 - 1.0).abs() < 1e-3);
-            if bad || !cone_ok {
+                || !links_agree(patches.len(), p, |q| {
+                    patches.get(q).map(|r| (r.cells, r.links))
+                })
+                || rec.poles != poles_of(&model, p);
+            if bad || !cone_ok(rec.cone) {
                 return Err(HierarchyError::BadPatch { patch: p as u32 });
             }
         }
@@ -161,10 +169,54 @@ impl<'a> Hierarchy<'a> {
         }
         Ok(Hierarchy {
             model,
-            nodes,
-            vertices,
-            patches,
+            store: Store::Records {
+                nodes,
+                vertices,
+                patches,
+            },
         })
+    }
+
+    /// Checks and wraps a hierarchy's compact bytes (as
+    /// [`encode_hierarchy`](crate::bake::encode_hierarchy) wrote them) and the patches they
+    /// were baked from, reading the bytes in place: they can be a `static` in flash
+    /// (`include_bytes!`), at any alignment. Bad bytes are refused with what is wrong
+    /// ([`FormatError`]); none makes a later frame read out of bounds or panic.
+    pub fn from_bytes(model: PatchSet<'a>, bytes: &'a [u8]) -> Result<Self, FormatError> {
+        let store = HierarchyBytes::parse(bytes)?;
+        store.check(&model)?;
+        Ok(Hierarchy {
+            model,
+            store: Store::Bytes(store),
+        })
+    }
+
+    /// The bake's records this hierarchy reads, if it reads records ([`new`](Self::new)).
+    #[allow(clippy::type_complexity)]
+    pub fn records(
+        &self,
+    ) -> Option<(
+        &'a [HierarchyNode],
+        &'a [HierarchyVertex],
+        &'a [HierarchyPatch],
+    )> {
+        match self.store {
+            Store::Records {
+                nodes,
+                vertices,
+                patches,
+            } => Some((nodes, vertices, patches)),
+            Store::Bytes(_) => None,
+        }
+    }
+
+    /// The compact bytes this hierarchy reads, if it reads bytes
+    /// ([`from_bytes`](Self::from_bytes)).
+    pub fn bytes(&self) -> Option<&'a [u8]> {
+        match self.store {
+            Store::Bytes(b) => Some(b.as_bytes()),
+            Store::Records { .. } => None,
+        }
     }
 
     /// The patches.
@@ -177,36 +229,124 @@ impl<'a> Hierarchy<'a> {
         self.model.patch(p as usize)
     }
 
-    /// The corner vertex of side `side` of patch `patch`, if that side is collapsed to a pole
-    /// (as the bake names it).
+    /// Triangles of the hierarchy.
+    pub fn node_count(&self) -> usize {
+        match self.store {
+            Store::Records { nodes, .. } => nodes.len(),
+            Store::Bytes(b) => b.node_count(),
+        }
+    }
+
+    /// Vertices of the hierarchy.
+    pub fn vertex_count(&self) -> usize {
+        match self.store {
+            Store::Records { vertices, .. } => vertices.len(),
+            Store::Bytes(b) => b.vertex_count(),
+        }
+    }
+
+    /// Patches of the hierarchy (as many as the model has).
+    pub fn patch_count(&self) -> usize {
+        self.model.len()
+    }
+
+    /// Triangle `i` of the hierarchy: where it is halved and its bound, as the bake recorded
+    /// them (`None` past the last). Node numbers are the hierarchy's own: the bytes number
+    /// the triangles of the records level by level.
+    pub fn node(&self, i: usize) -> Option<HierarchyNode> {
+        match self.store {
+            Store::Records { nodes, .. } => nodes.get(i).copied(),
+            Store::Bytes(b) => b.node(i),
+        }
+    }
+
+    /// Node `i`'s bound: its kept vectors, scale and remainder (its halving left out).
+    pub(super) fn node_bound(&self, i: usize) -> Option<HierarchyNode> {
+        match self.store {
+            Store::Records { nodes, .. } => nodes.get(i).copied(),
+            Store::Bytes(b) => b.bound(i),
+        }
+    }
+
+    /// The point of vertex `v` in model space (`None` past the last).
+    pub fn position(&self, v: usize) -> Option<[f32; 3]> {
+        match self.store {
+            Store::Records { vertices, .. } => vertices.get(v).map(|x| x.position),
+            Store::Bytes(b) => b.position(v),
+        }
+    }
+
+    /// The unit normal of vertex `v` (`None` past the last).
+    pub fn normal(&self, v: usize) -> Option<[f32; 3]> {
+        match self.store {
+            Store::Records { vertices, .. } => vertices.get(v).map(|x| x.normal),
+            Store::Bytes(b) => b.normal(v),
+        }
+    }
+
+    /// How patch `p` is cut into cells, what its sides join, whether it is flipped, and its
+    /// normal cone: its record, without the vertex numbers the bytes leave implied.
+    pub fn patch(&self, p: usize) -> Option<PatchInfo> {
+        match self.store {
+            Store::Records { patches, .. } => patches.get(p).map(|r| PatchInfo {
+                cells: r.cells,
+                links: r.links,
+                flip: r.flip,
+                poles: r.poles,
+                cone: r.cone,
+            }),
+            Store::Bytes(b) => b.patch(p),
+        }
+    }
+
+    /// The vertex at corner `k` (`(0, 0)`, `(1, 0)`, `(1, 1)`, `(0, 1)`) of patch `p`.
+    pub(super) fn corner_vertex(&self, p: u32, k: usize) -> u32 {
+        self.corner(p, k)
+    }
+
+    fn corner(&self, p: u32, k: usize) -> u32 {
+        match self.store {
+            Store::Records { patches, .. } => patches.get(p as usize).map_or(0, |r| r.corners[k]),
+            Store::Bytes(b) => b.corner(p as usize, k),
+        }
+    }
+
+    /// The pole of side `side` of patch `patch`: the corner vertex it is collapsed to, if it
+    /// is (as the bake names it).
     pub(super) fn pole(&self, patch: u32, side: Side) -> Option<u32> {
-        let collapsed = self.patch_of(patch)?.is_collapsed(side);
+        let collapsed = self.poles(patch) & (1 << side.index()) != 0;
         let corner = match side {
             Side::V0 | Side::U0 => 0,
             Side::U1 => 1,
             Side::V1 => 2,
         };
-        collapsed.then(|| self.patches[patch as usize].corners[corner])
+        collapsed.then(|| self.corner(patch, corner))
     }
 
-    /// The nodes.
-    pub fn nodes(&self) -> &'a [HierarchyNode] {
-        self.nodes
-    }
-
-    /// The vertices.
-    pub fn vertices(&self) -> &'a [HierarchyVertex] {
-        self.vertices
-    }
-
-    /// The patch records.
-    pub fn patches(&self) -> &'a [HierarchyPatch] {
-        self.patches
+    /// The sides of patch `patch` collapsed to a point, a bit per side (`V0, U1, V1, U0`).
+    pub(super) fn poles(&self, patch: u32) -> u8 {
+        match self.store {
+            Store::Records { patches, .. } => patches.get(patch as usize).map_or(0, |r| r.poles),
+            Store::Bytes(b) => b.poles(patch as usize),
+        }
     }
 
     /// How patch `patch` is cut into cells.
     pub(super) fn cells(&self, patch: u32) -> Cells {
-        self.patches.get(patch as usize).map_or([0, 0], |p| p.cells)
+        match self.store {
+            Store::Records { patches, .. } => {
+                patches.get(patch as usize).map_or([0, 0], |p| p.cells)
+            }
+            Store::Bytes(b) => b.cells(patch as usize),
+        }
+    }
+
+    /// Whether the bake flipped patch `patch` (see [`HierarchyPatch::flip`]).
+    pub(super) fn flip(&self, patch: u32) -> bool {
+        match self.store {
+            Store::Records { patches, .. } => patches.get(patch as usize).is_some_and(|p| p.flip),
+            Store::Bytes(b) => b.flip(patch as usize),
+        }
     }
 
     /// The number of roots of patch `patch`.
@@ -216,36 +356,77 @@ impl<'a> Hierarchy<'a> {
 
     /// Root `k` of patch `patch` (see [`HierarchyPatch::first_root`]).
     pub(super) fn root(&self, patch: u32, k: usize) -> Pending {
-        let rec = &self.patches[patch as usize];
-        let tri = Tri::root(patch, rec.cells, k);
+        let cells = self.cells(patch);
+        let tri = Tri::root(patch, cells, k);
+        let first = match self.store {
+            Store::Records { patches, .. } => {
+                patches.get(patch as usize).map_or(0, |r| r.first_root)
+            }
+            Store::Bytes(b) => b.first_root(patch as usize),
+        };
         Pending {
-            node: rec.first_root + k as u32,
+            node: first + k as u32,
             tri,
-            corners: tri.corners.map(|g| cell_corner(rec, g)),
+            corners: tri.corners.map(|g| self.grid_vertex(patch, cells, g)),
         }
+    }
+
+    /// The vertex at cell corner `g` (a grid point) of patch `patch`: its corner's, or its
+    /// cell corner's (the vertex written out there, where the records hold a copy).
+    fn grid_vertex(&self, patch: u32, cells: Cells, g: [u16; 2]) -> u32 {
+        let k = match g {
+            [0, 0] => 0,
+            [ONE, 0] => 1,
+            [ONE, ONE] => 2,
+            [0, ONE] => 3,
+            [u, v] => {
+                let (i, j) = (u as u32 >> (15 - cells[0]), v as u32 >> (15 - cells[1]));
+                return match self.store {
+                    Store::Records {
+                        vertices, patches, ..
+                    } => patches
+                        .get(patch as usize)
+                        .map(|rec| rec.cell_vertices + i * ((1 << cells[1]) + 1) + j)
+                        .and_then(|x| vertices.get(x as usize))
+                        .map_or(0, |x| x.output),
+                    Store::Bytes(b) => b.cell_vertex(patch as usize, i, j),
+                };
+            }
+        };
+        self.corner(patch, k)
     }
 
     /// What side `side` of patch `patch` joins.
     pub(super) fn link(&self, patch: u32, side: Side) -> Option<SideLink> {
-        self.patches
-            .get(patch as usize)
-            .and_then(|p| p.links[side.index()])
+        match self.store {
+            Store::Records { patches, .. } => patches
+                .get(patch as usize)
+                .and_then(|p| p.links[side.index()]),
+            Store::Bytes(b) => b.link(patch as usize, side),
+        }
     }
 
-    /// The node of `h`, if it is a triangle of the bake.
-    pub(super) fn node(&self, h: &Pending) -> Option<&'a HierarchyNode> {
-        self.nodes.get(h.node as usize)
+    /// Where the bake halves `h` (its first half's node and its hypotenuse's midpoint), if it
+    /// is a triangle of the bake and the bake halves it.
+    pub(super) fn baked_halving(&self, h: &Pending) -> Option<(u32, u32)> {
+        match self.store {
+            Store::Records { nodes, .. } => nodes
+                .get(h.node as usize)
+                .filter(|n| n.children != 0)
+                .map(|n| (n.children, n.vertex)),
+            Store::Bytes(b) => b.halving(h.node as usize),
+        }
     }
 
-    /// The bake's halves of `h`, if the bake halves it.
-    pub(super) fn baked_halves(&self, h: &Pending) -> Option<u32> {
-        self.node(h).map(|n| n.children).filter(|&c| c != 0)
+    /// Whether `h` is a triangle of the bake (not one the run time made below it).
+    pub(super) fn is_baked(&self, h: &Pending) -> bool {
+        (h.node as usize) < self.node_count()
     }
 
     /// The halves of `h`, split at vertex `v`: the bake's nodes, or the run time's.
     pub(super) fn halves(&self, h: &Pending, v: u32) -> [Pending; 2] {
-        let [n0, n1] = match self.baked_halves(h) {
-            Some(first) => [first, first + 1],
+        let [n0, n1] = match self.baked_halving(h) {
+            Some((first, _)) => [first, first + 1],
             None => [RUN_TIME; 2],
         };
         let [a, b, c] = h.corners;
@@ -263,6 +444,67 @@ impl<'a> Hierarchy<'a> {
             },
         ]
     }
+}
+
+/// A patch's part of a hierarchy: how its square is cut into cells, what its sides join,
+/// whether it is flipped, which sides are poles and its normal cone (see [`HierarchyPatch`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PatchInfo {
+    /// See [`HierarchyPatch::cells`].
+    pub cells: Cells,
+    /// See [`HierarchyPatch::links`].
+    pub links: [Option<SideLink>; 4],
+    /// See [`HierarchyPatch::flip`].
+    pub flip: bool,
+    /// See [`HierarchyPatch::poles`].
+    pub poles: u8,
+    /// See [`HierarchyPatch::cone`].
+    pub cone: [f32; 4],
+}
+
+/// A cone as culling trusts it: a unit axis (to rounding) and a sine in `[0, 1)`, or a sine
+/// of 1 or more for none. Anything else (NaN included) is refused.
+pub(super) fn cone_ok([x, y, z, sin]: [f32; 4]) -> bool {
+    let length2 = x * x + y * y + z * z;
+    sin >= 1.0 || (sin >= 0.0 && (length2 - 1.0).abs() < 1e-3)
+}
+
+/// Whether patch `p`'s links name patches in range (of `count`) that link back to the same
+/// side, cutting the shared curve into as many cells (`record` gives a patch's cells and
+/// links).
+pub(super) fn links_agree(
+    count: usize,
+    p: usize,
+    record: impl Fn(usize) -> Option<(Cells, [Option<SideLink>; 4])>,
+) -> bool {
+    let Some((cells, links)) = record(p) else {
+        return false;
+    };
+    links.iter().enumerate().all(|(side, l)| {
+        let Some(l) = l else { return true };
+        let q = l.patch as usize;
+        match record(q).filter(|_| q < count) {
+            None => false,
+            Some((theirs, back)) => {
+                along(Side::ALL[side], cells) == along(l.side, theirs)
+                    && back[l.side.index()].is_some_and(|b| {
+                        b.patch as usize == p && b.side == Side::ALL[side] && b.flip == l.flip
+                    })
+            }
+        }
+    })
+}
+
+/// The sides of patch `p` of `model` collapsed to a point, a bit per side.
+pub(crate) fn poles_of(model: &PatchSet<'_>, p: usize) -> u8 {
+    let Some(patch) = model.patch(p) else {
+        return 0;
+    };
+    Side::ALL
+        .iter()
+        .filter(|&&s| patch.is_collapsed(s))
+        .fold(0, |m, s| m | 1 << s.index())
 }
 
 /// Deepest walk of a mesh (24 halvings in a cell, and its root, with room to spare).
@@ -284,7 +526,7 @@ pub(super) fn walk_patches<S: ?Sized>(
     mut visit: impl FnMut(&mut S, &Pending) -> Option<u32>,
 ) {
     let mut stack = [Pending::default(); WALK];
-    for p in 0..tree.patches.len() as u32 {
+    for p in 0..tree.patch_count() as u32 {
         if !wants(state, p) {
             continue;
         }

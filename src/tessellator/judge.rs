@@ -56,11 +56,9 @@ pub(super) fn judge(
     } else {
         view.tolerance()
     };
-    let corners = h
-        .corners
-        .map(|v| Vec3::from_array(selection.vertex_record(v).position));
+    let corners = h.corners.map(|v| Vec3::from_array(selection.position(v)));
     let tree = &selection.tree;
-    if let Some(node) = tree.node(h) {
+    if let Some(node) = tree.node_bound(h.node as usize) {
         // In model units, the bake's own bound (the oracles' too); on screen, one from the
         // quantised vectors, and the vectors only when the isotropic bound is not enough.
         let big = match view {
@@ -158,7 +156,7 @@ pub(super) fn hidden_below_the_bake(
     let margin = bounds.curvature_term(uv) * (1.0 + 1.0 / 1024.0) + 3.0 * bounds.slack;
     let viewed = h
         .corners
-        .map(|v| camera.to_view(Vec3::from_array(selection.vertex_record(v).position)));
+        .map(|v| camera.to_view(Vec3::from_array(selection.position(v))));
     margin.is_finite() && beyond_one_plane(camera, viewed, margin)
 }
 

@@ -53,6 +53,7 @@ mod bits;
 mod budget;
 mod count;
 mod cull;
+pub(crate) mod format;
 pub(crate) mod hierarchy;
 mod judge;
 mod output;
@@ -64,7 +65,8 @@ pub use crate::deviation::kept::KEPT;
 pub use address::{Cells, SideLink, MAX_CELL_LEVEL};
 pub use bits::bit_words_for;
 pub use budget::{BudgetError, BudgetFit};
-pub use hierarchy::{Hierarchy, HierarchyError};
+pub use format::{model_fingerprint, FormatError, Part, FORMAT_VERSION, MAGIC};
+pub use hierarchy::{Hierarchy, HierarchyError, PatchInfo};
 pub use refine::PoolSlot;
 pub use select::{FrameStats, Tessellator, TessellatorError, UpdateError};
 pub use storage::{StackSlot, TessellatorStorage};
@@ -141,6 +143,10 @@ pub struct HierarchyPatch {
     pub cell_vertices: u32,
     /// Per side (`V0, U1, V1, U0`), the other patch's side on the same curve, if shared.
     pub links: [Option<SideLink>; 4],
+    /// The sides collapsed to a point (a pole), a bit per side (`1 << side.index()`), as the
+    /// model's patch has them: a vertex on such a side is written out as the corner vertex
+    /// there, and a triangle with two corners on it (a segment) is not written.
+    pub poles: u8,
     /// The patch's outside is on the side of `S_v × S_u` (not `S_u × S_v`): its triangles
     /// are written clockwise in `(u, v)` and its vertices' normals are `S_v × S_u` (see the
     /// bake's orientation rule, [`bake_hierarchy`](crate::bake::bake_hierarchy)).
@@ -163,6 +169,7 @@ impl Default for HierarchyPatch {
             first_root: 0,
             cell_vertices: 0,
             links: [None; 4],
+            poles: 0,
             flip: false,
             cone: NO_CONE,
         }

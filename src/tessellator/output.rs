@@ -1,7 +1,7 @@
 //! A frame's mesh written out: streamed to a sink, or into caller buffers with shared
 //! vertices shared by index.
 
-use super::address::unit;
+use super::address::{unit, Point};
 use super::hierarchy::{walk_patches, Pending};
 use super::select::Tessellator;
 use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
@@ -35,16 +35,49 @@ impl Tessellator<'_, '_> {
         });
     }
 
-    /// The output vertex of vertex `v`.
-    fn vertex(&self, v: u32) -> Vertex {
-        let b = self.vertex_record(v);
-        let (u, w) = unit(b.uv);
+    /// The output vertex of vertex `v`, written at grid point `at` of patch `patch` (a
+    /// written triangle's corner), with the parameters every triangle gives it (see
+    /// [`params`](Self::params)).
+    fn vertex(&self, v: u32, patch: u32, at: Point) -> Vertex {
+        let (q, g) = self.params(v, patch, at);
+        let (u, w) = unit(g);
         Vertex {
-            position: b.position,
-            normal: b.normal,
+            position: self.position(v),
+            normal: self.normal(v),
             uv: [u, w],
-            patch: b.patch,
+            patch: q,
         }
+    }
+
+    /// The patch and parameters of vertex `v` written at grid point `at` of patch `patch`,
+    /// the same from every triangle that has it: at a patch corner (or on a side collapsed to
+    /// a pole, written as the corner there) those of the first patch with the vertex at a
+    /// corner; on a shared curve those of the patch of lower index; else its own.
+    fn params(&self, v: u32, patch: u32, at: Point) -> (u32, Point) {
+        let tree = &self.tree;
+        let corner = at.iter().all(|&x| x == 0 || x == super::address::ONE);
+        let pole = tree.poles(patch) != 0
+            && crate::patch::Side::ALL.iter().any(|&s| {
+                tree.poles(patch) & (1 << s.index()) != 0 && super::address::on_side(s, at)
+            });
+        if corner || pole {
+            let m = super::address::ONE;
+            for q in 0..tree.patch_count() as u32 {
+                for (k, g) in [[0, 0], [m, 0], [m, m], [0, m]].into_iter().enumerate() {
+                    if tree.corner_vertex(q, k) == v {
+                        return (q, g);
+                    }
+                }
+            }
+        }
+        super::refine::key(tree, patch, at)
+    }
+
+    /// The output vertices of leaf `h`, written at `corners` (in [`written`](Self::written)'s
+    /// order).
+    fn vertices_of(&self, h: &Pending, corners: [u32; 3]) -> [Vertex; 3] {
+        let grid = self.oriented(h, h.tri.corners);
+        [0, 1, 2].map(|i| self.vertex(corners[i], h.tri.patch, grid[i]))
     }
 
     /// Streams the current mesh to `sink`, patch by patch (patches the sink does not want
@@ -53,7 +86,7 @@ impl Tessellator<'_, '_> {
     pub fn stream(&self, sink: &mut impl TriangleSink) {
         self.each_written(|h, corners| {
             if sink.wants_patch(h.tri.patch) {
-                let [a, b, c] = corners.map(|v| self.vertex(v));
+                let [a, b, c] = self.vertices_of(h, corners);
                 sink.triangle(h.tri.patch, [&a, &b, &c]);
             }
         });
@@ -72,7 +105,8 @@ impl Tessellator<'_, '_> {
             sink,
             |sink, p| wants(sink, p),
             |sink, h, corners| {
-                let mut corner = |i: usize| self.vertex(corners[i % 3]);
+                let grid = self.oriented(h, h.tri.corners);
+                let mut corner = |i: usize| self.vertex(corners[i % 3], h.tri.patch, grid[i % 3]);
                 sink.keyed_triangle(h.tri.patch, corners.map(u64::from), &mut corner);
             },
         );
@@ -90,7 +124,7 @@ impl Tessellator<'_, '_> {
                 }),
                 bound: self.object_bound(h),
             };
-            let [a, b, c] = corners.map(|v| self.vertex(v));
+            let [a, b, c] = self.vertices_of(h, corners);
             f(&info, [&a, &b, &c]);
         });
     }
@@ -98,7 +132,7 @@ impl Tessellator<'_, '_> {
     /// Entries of [`write_mesh`](Self::write_mesh)'s `remap`: one per vertex of the bake and
     /// of the pool.
     pub fn remap_len(&self) -> usize {
-        self.tree.vertices.len() + self.pool.entries.len()
+        self.tree.vertex_count() + self.pool.entries.len()
     }
 
     /// The bound of leaf `h` in model units: its node's, or below the bake its own lattice's.
@@ -169,14 +203,15 @@ impl Tessellator<'_, '_> {
         }
         remap.fill(u32::MAX);
         let (mut nv, mut nt) = (0usize, 0usize);
-        self.each_written(|_, corners| {
+        self.each_written(|h, corners| {
             let mut out = [I::default(); 3];
-            for (o, v) in out.iter_mut().zip(corners) {
+            let grid = self.oriented(h, h.tri.corners);
+            for ((o, v), at) in out.iter_mut().zip(corners).zip(grid) {
                 let slot = &mut remap[v as usize];
                 if *slot == u32::MAX {
                     *slot = nv as u32;
                     if let Some(x) = vertices.get_mut(nv) {
-                        *x = self.vertex(v);
+                        *x = self.vertex(v, h.tri.patch, at);
                     }
                     nv += 1;
                 }

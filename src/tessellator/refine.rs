@@ -18,7 +18,7 @@
 //! Without the crate feature `refine` the selection makes no vertex here (as with a full
 //! pool), and this code and the surface evaluation it calls are left out of a build.
 
-use super::address::{point_on, side_parameter, unit, Point, Tri};
+use super::address::{on_side, point_on, side_parameter, unit, Point, Tri};
 use super::hierarchy::Hierarchy;
 use super::HierarchyVertex;
 use crate::patch::Side;
@@ -63,13 +63,7 @@ impl Default for PoolSlot {
 pub(super) fn key(tree: &Hierarchy<'_>, patch: u32, g: Point) -> (u32, Point) {
     let mut best = (patch, g);
     for side in Side::ALL {
-        let on = match side {
-            Side::V0 => g[1] == 0,
-            Side::U1 => g[0] == super::address::ONE,
-            Side::V1 => g[1] == super::address::ONE,
-            Side::U0 => g[0] == 0,
-        };
-        if !on {
+        if !on_side(side, g) {
             continue;
         }
         if let Some(l) = tree.link(patch, side) {
@@ -150,15 +144,18 @@ impl Pool<'_> {
             .and_then(|side| tree.pole(t.patch, side));
         let vertex = match pole {
             Some(corner) => HierarchyVertex {
+                position: tree.position(corner as usize).unwrap_or_default(),
+                normal: tree.normal(corner as usize).unwrap_or_default(),
+                uv: at.1,
+                patch: at.0,
                 output: corner,
-                ..tree.vertices[corner as usize]
             },
             None => HierarchyVertex {
                 position: s.map_or([0.0; 3], |s| s.position.to_array()),
                 // The outward normal: negated where the bake flipped the patch.
-                normal: s.map_or([0.0; 3], |s| match tree.patches.get(at.0 as usize) {
-                    Some(p) if p.flip => (-s.normal).to_array(),
-                    _ => s.normal.to_array(),
+                normal: s.map_or([0.0; 3], |s| match tree.flip(at.0) {
+                    true => (-s.normal).to_array(),
+                    false => s.normal.to_array(),
                 }),
                 uv: at.1,
                 patch: at.0,

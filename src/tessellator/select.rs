@@ -30,15 +30,15 @@
 
 use core::fmt;
 
-use super::address::Tri;
+use super::address::{on_side, Tri};
 use super::bits::{bit, set, Layout};
 use super::hierarchy::{walk, walk_patches, Hierarchy, Pending, RUN_TIME};
 use super::judge::judge;
 use super::refine::{key, Pool, PoolSlot};
 use super::storage::{StackSlot, TessellatorStorage};
-use super::HierarchyVertex;
 use crate::deviation::PatchBounds;
 use crate::math::max;
+use crate::patch::Side;
 use crate::view::View;
 
 /// What a frame did.
@@ -258,8 +258,8 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// The vertex `h` is halved at in the current mesh, if it is.
     pub(super) fn split_vertex(&self, h: &Pending) -> Option<u32> {
-        match self.tree.node(h) {
-            Some(n) if n.children != 0 => bit(self.active(), n.vertex).then_some(n.vertex),
+        match self.tree.baked_halving(h) {
+            Some((_, v)) => bit(self.active(), v).then_some(v),
             // Below the bake: in the pool, if anything is (most frames make nothing there, and
             // most leaves of the bake are not halved).
             _ if self.pool.used == 0 || !cfg!(feature = "refine") => None,
@@ -268,10 +268,10 @@ impl<'t, 's> Tessellator<'t, 's> {
             // target: a walk took such triangles as halved, and below them every triangle
             // again, down to its depth limit, 2^30 triangles).
             _ if !h.tri.can_split(self.tree.cells(h.tri.patch)) => None,
-            Some(_) if !bit(&self.bits[self.layout.refined..], h.node) => None,
+            _ if self.tree.is_baked(h) && !bit(&self.bits[self.layout.refined..], h.node) => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
-                let base = self.tree.vertices.len() as u32;
+                let base = self.tree.vertex_count() as u32;
                 self.pool.find(at).map(|slot| base + slot as u32)
             }
         }
@@ -315,13 +315,49 @@ impl<'t, 's> Tessellator<'t, 's> {
         h.node != RUN_TIME && bit(&self.bits[self.layout().judged..], h.node)
     }
 
-    /// Vertex `v`: the bake's, or one below it.
-    pub(super) fn vertex_record(&self, v: u32) -> &HierarchyVertex {
-        let baked = self.tree.vertices.len();
+    /// The point of vertex `v`: the bake's, or one below it.
+    pub(super) fn position(&self, v: u32) -> [f32; 3] {
+        let baked = self.tree.vertex_count();
         match (v as usize).checked_sub(baked) {
-            None => &self.tree.vertices[v as usize],
-            Some(slot) => &self.pool.entries[slot].vertex,
+            None => self.tree.position(v as usize).unwrap_or_default(),
+            Some(slot) => self
+                .pool
+                .entries
+                .get(slot)
+                .map_or([0.0; 3], |e| e.vertex.position),
         }
+    }
+
+    /// The unit normal of vertex `v`: the bake's, or one below it.
+    pub(super) fn normal(&self, v: u32) -> [f32; 3] {
+        let baked = self.tree.vertex_count();
+        match (v as usize).checked_sub(baked) {
+            None => self.tree.normal(v as usize).unwrap_or_default(),
+            Some(slot) => self
+                .pool
+                .entries
+                .get(slot)
+                .map_or([0.0; 3], |e| e.vertex.normal),
+        }
+    }
+
+    /// The vertices written out at the corners of leaf `h`: their own, or where a corner lies
+    /// on a side collapsed to a pole, the pole's corner vertex.
+    fn written_corners(&self, h: &Pending) -> [u32; 3] {
+        let poles = self.tree.poles(h.tri.patch);
+        if poles == 0 {
+            return h.corners;
+        }
+        let mut out = h.corners;
+        for (o, g) in out.iter_mut().zip(h.tri.corners) {
+            for side in Side::ALL {
+                if poles & (1 << side.index()) != 0 && on_side(side, g) {
+                    *o = self.tree.pole(h.tri.patch, side).unwrap_or(*o);
+                    break;
+                }
+            }
+        }
+        out
     }
 
     /// The vertices written out for leaf `h`, or `None` where two are one: a triangle with two
@@ -329,16 +365,14 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// already draw. They come counter-clockwise seen from outside: in the order of `h`'s
     /// corners, or in the order [`oriented`](Self::oriented) gives for a flipped patch.
     pub(super) fn written(&self, h: &Pending) -> Option<[u32; 3]> {
-        let [a, b, c] = self
-            .oriented(h, h.corners)
-            .map(|v| self.vertex_record(v).output);
+        let [a, b, c] = self.oriented(h, self.written_corners(h));
         (a != b && b != c && c != a).then_some([a, b, c])
     }
 
     /// Whether leaf `h` is written out (what [`written`](Self::written) tells, without the
     /// order of its corners: a frame's count asks it of every leaf).
     pub(super) fn is_written(&self, h: &Pending) -> bool {
-        let [a, b, c] = h.corners.map(|v| self.vertex_record(v).output);
+        let [a, b, c] = self.written_corners(h);
         a != b && b != c && c != a
     }
 
@@ -347,9 +381,9 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// a patch the bake flipped (see `bake`'s orientation rule).
     pub(super) fn oriented<T: Copy>(&self, h: &Pending, corners: [T; 3]) -> [T; 3] {
         let [a, b, c] = corners;
-        match self.tree.patches.get(h.tri.patch as usize) {
-            Some(p) if p.flip => [a, c, b],
-            _ => [a, b, c],
+        match self.tree.flip(h.tri.patch) {
+            true => [a, c, b],
+            false => [a, b, c],
         }
     }
 
@@ -402,7 +436,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.dropped_patches = 0;
         let (tree, tolerance) = (self.tree, view.tolerance());
         self.cull(view);
-        for p in 0..tree.patches.len() as u32 {
+        for p in 0..tree.patch_count() as u32 {
             for k in 0..tree.root_count(p) {
                 self.push(tree.root(p, k));
                 self.drain(view, tolerance);
@@ -489,7 +523,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.stats.judged += 1;
         // A triangle that cannot be halved is judged in full: its bound is the frame's when
         // over. (One that can stops once over.)
-        let baked = self.tree.node(&h).is_some_and(|n| n.children != 0);
+        let baked = self.tree.baked_halving(&h).is_some();
         let halvable = baked || (cfg!(feature = "refine") && !self.pool.is_full());
         let j = judge(self, view, &h, !halvable);
         if j.hidden {
@@ -542,8 +576,8 @@ impl<'t, 's> Tessellator<'t, 's> {
         if !h.tri.can_split(self.tree.cells(h.tri.patch)) || depth > 64 {
             return false;
         }
-        let baked = self.tree.node(h).is_some_and(|n| n.children != 0);
-        if !baked && self.pool.is_full() {
+        let halving = self.tree.baked_halving(h);
+        if halving.is_none() && self.pool.is_full() {
             // No room below the bake: no need to look across.
             self.stats.pool_full |= cfg!(feature = "refine");
             return false;
@@ -562,14 +596,14 @@ impl<'t, 's> Tessellator<'t, 's> {
                 }
             }
         }
-        let v = match self.tree.node(h) {
-            Some(n) if n.children != 0 => {
-                set(self.bits, n.vertex);
-                n.vertex
+        let v = match halving {
+            Some((_, v)) => {
+                set(self.bits, v);
+                v
             }
             // Below the bake (the code is left out of builds without refinement).
             _ if !cfg!(feature = "refine") => return false,
-            _ => match self.pool.make(&tree, &h.tri, tree.vertices.len() as u32) {
+            _ => match self.pool.make(&tree, &h.tri, tree.vertex_count() as u32) {
                 Some(v) => {
                     self.stats.refined += 1;
                     let refined = self.layout().refined;

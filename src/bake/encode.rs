@@ -1,0 +1,347 @@
+//! A bake's records as a hierarchy's compact bytes (the layout is the run time's:
+//! `tessellator/format.rs`), which [`Hierarchy::from_bytes`] reads in place.
+//!
+//! The records are renumbered on the way: nodes level by level (so no node stores where its
+//! halves are), vertices with the patches' and cells' corners first and then the halvings'
+//! in node order (so the first triangle halved at a vertex does not store it), and the
+//! copies the records keep of cell corners on other patches' curves left out.
+
+use core::fmt;
+
+use crate::tessellator::format::{
+    fnv1a, link_code, model_fingerprint, Layout, BOUND_LEN, CHECKSUM_AT, FNV_OFFSET, HEADER_LEN,
+    MAGIC, PATCH_LEN, VERTEX_LEN, WIDE,
+};
+use crate::tessellator::{
+    Hierarchy, HierarchyError, HierarchyNode, HierarchyPatch, HierarchyVertex, FORMAT_VERSION,
+};
+
+/// Why records could not be written as bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum EncodeError {
+    /// The records are not a hierarchy of the model.
+    Records(HierarchyError),
+    /// The records halve a node more than once, or name a node twice as a half.
+    Malformed,
+    /// `scratch` has fewer entries than needed ([`encode_scratch_len`]).
+    ScratchTooSmall {
+        /// Entries needed.
+        needed: usize,
+    },
+    /// `out` has fewer bytes than the hierarchy takes.
+    OutputTooSmall {
+        /// Bytes needed.
+        needed: usize,
+    },
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EncodeError::Records(e) => write!(f, "the records are not a hierarchy: {e}"),
+            EncodeError::Malformed => f.write_str("the records halve a node twice"),
+            EncodeError::ScratchTooSmall { needed } => {
+                write!(f, "scratch too small: {needed} entries needed")
+            }
+            EncodeError::OutputTooSmall { needed } => {
+                write!(f, "output too small: {needed} bytes needed")
+            }
+        }
+    }
+}
+
+impl core::error::Error for EncodeError {}
+
+impl From<HierarchyError> for EncodeError {
+    fn from(e: HierarchyError) -> Self {
+        EncodeError::Records(e)
+    }
+}
+
+/// Entries of `scratch` [`encode_hierarchy`] takes for records of `nodes` nodes and
+/// `vertices` vertices.
+pub const fn encode_scratch_len(nodes: usize, vertices: usize) -> usize {
+    nodes + vertices
+}
+
+const NONE: u32 = u32::MAX;
+
+/// The records renumbered: `scratch[..nodes]` holds the records' node of each node in the
+/// bytes' order, `scratch[nodes..]` each record vertex's number in the bytes (or `NONE`).
+struct Renumbered {
+    fixed: usize,
+    owners: usize,
+    cell_corners: usize,
+}
+
+fn renumber(
+    nodes: &[HierarchyNode],
+    vertices: &[HierarchyVertex],
+    patches: &[HierarchyPatch],
+    scratch: &mut [u32],
+) -> Result<Renumbered, EncodeError> {
+    let (order, vmap) = scratch.split_at_mut(nodes.len());
+    let vmap = &mut vmap[..vertices.len()];
+    // Nodes level by level: the roots in patch order, then each halved node's halves.
+    let mut len = 0;
+    for p in patches {
+        for k in 0..crate::tessellator::address::root_count(p.cells) {
+            *order.get_mut(len).ok_or(EncodeError::Malformed)? = p.first_root + k as u32;
+            len += 1;
+        }
+    }
+    let mut i = 0;
+    while i < len {
+        let n = nodes[order[i] as usize];
+        if n.children != 0 {
+            if len + 2 > order.len() {
+                return Err(EncodeError::Malformed);
+            }
+            order[len] = n.children;
+            order[len + 1] = n.children + 1;
+            len += 2;
+        }
+        i += 1;
+    }
+    if len != nodes.len() {
+        return Err(EncodeError::Malformed);
+    }
+    // Vertices: the patches' corners, their cells' corners, then the halvings'.
+    vmap.fill(NONE);
+    let mut next = 0u32;
+    let mut take = |vmap: &mut [u32], v: u32| {
+        let out = vertices[v as usize].output as usize;
+        if vmap[out] == NONE {
+            vmap[out] = next;
+            next += 1;
+        }
+    };
+    let mut cell_corners = 0;
+    for p in patches {
+        for &c in &p.corners {
+            take(vmap, c);
+        }
+    }
+    for p in patches {
+        let [a, b] = p.cells;
+        if [a, b] != [0, 0] {
+            let n = ((1u32 << a) + 1) * ((1u32 << b) + 1);
+            for k in 0..n {
+                take(vmap, p.cell_vertices + k);
+            }
+            cell_corners += n as usize;
+        }
+    }
+    let fixed = next as usize;
+    let mut owners = 0;
+    for &old in order.iter() {
+        let n = nodes[old as usize];
+        if n.children != 0 && vmap[n.vertex as usize] == NONE {
+            vmap[n.vertex as usize] = next;
+            next += 1;
+            owners += 1;
+        }
+    }
+    Ok(Renumbered {
+        fixed,
+        owners,
+        cell_corners,
+    })
+}
+
+/// Writes `tree`'s records (it must read records: [`Hierarchy::new`]) as compact bytes into
+/// `out`, with `scratch` of at least [`encode_scratch_len`] entries; returns the bytes
+/// written. A hierarchy of the same model read from them ([`Hierarchy::from_bytes`]) gives
+/// the same meshes.
+///
+/// ```
+/// # use spline_tess::bake::{bake_hierarchy, encode_hierarchy, encode_scratch_len};
+/// # use spline_tess::bake::{BakeBuffers, BakeScratch, BakeSettings};
+/// # use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
+/// # use spline_tess::{Model, PatchHeader, PatchSet, EdgeLink, BoundaryCurve};
+/// let headers = [PatchHeader { degree_u: 1, degree_v: 1, first_point: 0 }];
+/// let points = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.2], [1.0, 1.0, 0.0]];
+/// let patches = PatchSet::new(&headers, &points, None).unwrap();
+/// let (mut edges, mut curves) = ([[EdgeLink::Collapsed; 4]], [BoundaryCurve::default(); 4]);
+/// let model = Model::build(patches, &mut edges, &mut curves).unwrap();
+/// let (mut nodes, mut vertices) = (vec![HierarchyNode::default(); 256], vec![HierarchyVertex::default(); 256]);
+/// let (mut records, mut scratch) = ([HierarchyPatch::default()], vec![BakeScratch::default(); 256]);
+/// let buffers = BakeBuffers { nodes: &mut nodes, vertices: &mut vertices, patches: &mut records, scratch: &mut scratch };
+/// let size = bake_hierarchy(&model, &BakeSettings::default(), buffers).unwrap();
+/// let tree = Hierarchy::new(patches, &nodes[..size.nodes], &vertices[..size.vertices], &records).unwrap();
+///
+/// let mut work = vec![0u32; encode_scratch_len(size.nodes, size.vertices)];
+/// let mut bytes = vec![0u8; 4096];
+/// let len = encode_hierarchy(&tree, &mut work, &mut bytes).unwrap();
+/// let read = Hierarchy::from_bytes(patches, &bytes[..len]).unwrap();
+/// assert_eq!(read.node_count(), tree.node_count());
+/// ```
+pub fn encode_hierarchy(
+    tree: &Hierarchy<'_>,
+    scratch: &mut [u32],
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    let Some((nodes, vertices, patches)) = tree.records() else {
+        return Err(EncodeError::Malformed);
+    };
+    let model = tree.model();
+    let needed = encode_scratch_len(nodes.len(), vertices.len());
+    let Some(scratch) = scratch.get_mut(..needed) else {
+        return Err(EncodeError::ScratchTooSmall { needed });
+    };
+    let r = renumber(nodes, vertices, patches, scratch)?;
+    let roots: usize = patches
+        .iter()
+        .map(|p| crate::tessellator::address::root_count(p.cells))
+        .sum();
+    let l = Layout::of(
+        patches.len(),
+        nodes.len(),
+        roots,
+        r.fixed + r.owners,
+        r.fixed,
+        r.owners,
+        r.cell_corners,
+    )
+    .ok_or(EncodeError::Malformed)?;
+    let Some(out) = out.get_mut(..l.len) else {
+        return Err(EncodeError::OutputTooSmall { needed: l.len });
+    };
+    out.fill(0);
+    let (order, vmap) = scratch.split_at(nodes.len());
+    let vnum = |v: u32| vmap[vertices[v as usize].output as usize];
+    let mut w = Writer { out };
+    // Header.
+    w.bytes(0, &MAGIC);
+    w.u16(4, FORMAT_VERSION);
+    w.u16(6, if l.index == 4 { WIDE } else { 0 });
+    w.u32(12, model_fingerprint(&model));
+    for (k, c) in [
+        l.patches,
+        l.nodes,
+        l.roots,
+        l.vertices,
+        l.fixed,
+        l.owners,
+        l.cell_corners,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        w.u32(16 + 4 * k, c as u32);
+    }
+    // Patches and cell corners. A node's number in the bytes: its place in `order`.
+    let mut first_root = 0u32;
+    let mut cell = 0usize;
+    for (p, rec) in patches.iter().enumerate() {
+        let at = HEADER_LEN + p * PATCH_LEN;
+        w.out[at] = rec.cells[0] | rec.cells[1] << 4;
+        w.out[at + 1] = u8::from(rec.flip) | rec.poles << 4;
+        for (k, link) in rec.links.iter().enumerate() {
+            w.u32(at + 2 + 4 * k, link_code(*link));
+        }
+        for (k, &c) in rec.corners.iter().enumerate() {
+            w.u32(at + 18 + 4 * k, vnum(c));
+        }
+        w.u32(at + 34, first_root);
+        first_root += crate::tessellator::address::root_count(rec.cells) as u32;
+        w.u32(at + 38, cell as u32);
+        for (k, &c) in rec.cone.iter().enumerate() {
+            w.u32(at + 42 + 4 * k, c.to_bits());
+        }
+        let [a, b] = rec.cells;
+        if [a, b] != [0, 0] {
+            for k in 0..((1u32 << a) + 1) * ((1u32 << b) + 1) {
+                w.index(
+                    l.cell_at + cell * l.index,
+                    l.index,
+                    vnum(rec.cell_vertices + k),
+                );
+                cell += 1;
+            }
+        }
+    }
+    // Halvings, owners, partners and bounds, in node order. A halving's vertex was
+    // numbered in this order: the next owner's number where it is the first at it.
+    let (mut s, mut owners, mut partners) = (0usize, 0usize, 0usize);
+    for (i, &old) in order.iter().enumerate() {
+        let n = &nodes[old as usize];
+        if n.children != 0 {
+            w.set_bit(l.split_at, i);
+            let v = vmap[n.vertex as usize];
+            if v == (l.fixed + owners) as u32 {
+                w.set_bit(l.owner_at, s);
+                owners += 1;
+            } else {
+                w.index(l.partner_at + partners * l.index, l.index, v);
+                partners += 1;
+            }
+            s += 1;
+        }
+        let at = l.bound_at + i * BOUND_LEN;
+        for (k, v) in n.vectors.iter().enumerate() {
+            for (c, x) in v.iter().enumerate() {
+                w.out[at + 3 * k + c] = *x as u8;
+            }
+        }
+        w.u32(at + 3 * n.vectors.len(), n.scale.to_bits());
+        w.u32(at + 3 * n.vectors.len() + 4, n.remainder.to_bits());
+    }
+    w.counts(l.split_at, l.split_count_at, l.nodes);
+    w.counts(l.owner_at, l.owner_count_at, l.splits());
+    // Vertices, in their new order.
+    for (old, &new) in vmap.iter().enumerate() {
+        if new == NONE {
+            continue;
+        }
+        let at = l.vertex_at + new as usize * VERTEX_LEN;
+        let v = &vertices[old];
+        for (k, x) in v.position.iter().chain(&v.normal).enumerate() {
+            w.u32(at + 4 * k, x.to_bits());
+        }
+    }
+    let sum = fnv1a(FNV_OFFSET, &w.out[CHECKSUM_AT + 4..]);
+    w.u32(CHECKSUM_AT, sum);
+    Ok(l.len)
+}
+
+struct Writer<'o> {
+    out: &'o mut [u8],
+}
+
+impl Writer<'_> {
+    fn bytes(&mut self, at: usize, b: &[u8]) {
+        self.out[at..at + b.len()].copy_from_slice(b);
+    }
+    fn u16(&mut self, at: usize, x: u16) {
+        self.bytes(at, &x.to_le_bytes());
+    }
+    fn u32(&mut self, at: usize, x: u32) {
+        self.bytes(at, &x.to_le_bytes());
+    }
+    fn index(&mut self, at: usize, width: usize, x: u32) {
+        match width {
+            2 => self.u16(at, x as u16),
+            _ => self.u32(at, x),
+        }
+    }
+    fn set_bit(&mut self, bits_at: usize, i: usize) {
+        self.out[bits_at + 4 * (i / 32) + (i % 32) / 8] |= 1 << (i % 8);
+    }
+    /// Writes each word's count of set bits before it.
+    fn counts(&mut self, bits_at: usize, counts_at: usize, len: usize) {
+        let mut total = 0u32;
+        for w in 0..len.div_ceil(32) {
+            self.u32(counts_at + 4 * w, total);
+            let at = bits_at + 4 * w;
+            let word = u32::from_le_bytes([
+                self.out[at],
+                self.out[at + 1],
+                self.out[at + 2],
+                self.out[at + 3],
+            ]);
+            total += word.count_ones();
+        }
+    }
+}

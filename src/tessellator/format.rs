@@ -1,0 +1,627 @@
+//! A hierarchy's compact bytes, read in place ([`Hierarchy::from_bytes`]): what a firmware
+//! keeps in flash (`include_bytes!`), at any alignment.
+//!
+//! # Layout (version 1)
+//!
+//! Every number is little-endian; nothing is aligned. A header of [`HEADER_LEN`] bytes:
+//!
+//! | at | what |
+//! |---|---|
+//! | 0 | [`MAGIC`] |
+//! | 4 | version (`u16`, [`FORMAT_VERSION`]) |
+//! | 6 | flags (`u16`): bit 0, vertex numbers are `u32` (else `u16`) |
+//! | 8 | checksum (`u32`): FNV-1a of every byte from 12 on |
+//! | 12 | fingerprint of the model's patches (`u32`, FNV-1a of headers, points, weights) |
+//! | 16 | patches, nodes, roots, vertices, fixed vertices, owners, cell corners (`u32` each) |
+//!
+//! then these sections, one after the other:
+//!
+//! 1. **Patches**, [`PATCH_LEN`] bytes each: cells (`a | b << 4`), flags (bit 0 flipped,
+//!    bits 4-7 the poles), four links (`u32`: `patch << 3 | side << 1 | flip`, or
+//!    `u32::MAX`), four corner vertices, the first root's node, the first cell corner
+//!    (`u32` each), the cone (four `f32`).
+//! 2. **Cell corners**: the vertex at each cell corner of the patches with more than one
+//!    cell, `(2^a + 1)(2^b + 1)` a patch, corner `(i, j)` at `i (2^b + 1) + j`.
+//! 3. **Halvings**: a bit per node, set where the bake halves it, in `u32` words, then per
+//!    word the halved nodes before it (`u32`). Nodes are numbered level by level: the
+//!    patches' roots first, then the halves of each halved node in the order of the nodes,
+//!    so the halves of the `s`-th halved node are nodes `roots + 2 s` and `roots + 2 s + 1`:
+//!    no node stores where its halves are.
+//! 4. **Owners**: a bit per halved node, set where it is the first (in node order) of the
+//!    triangles halved at its vertex, in words and counts as above. The `o`-th owner's
+//!    vertex is vertex `fixed + o`: no owner stores its vertex.
+//! 5. **Partners**: for each halved node that is not an owner (the second triangle of a
+//!    diamond, across its hypotenuse), in order, its vertex.
+//! 6. **Bounds**, [`BOUND_LEN`] bytes a node: its kept vectors (`i8`), scale and remainder
+//!    (`f32`), as [`HierarchyNode`] holds them.
+//! 7. **Vertices**, [`VERTEX_LEN`] bytes each: position and normal (`f32` each). The fixed
+//!    vertices (patch and cell corners) come first, then the owners'.
+//!
+//! Vertex numbers are `u16` where the hierarchy has at most 65,535 vertices.
+//!
+//! # Checks
+//!
+//! [`HierarchyBytes::parse`] checks the length, magic, version and checksum;
+//! [`HierarchyBytes::check`] that the bytes belong to the model and that every number in
+//! them is in range (the same checks as [`Hierarchy::new`]'s, and the bit counts), so that no
+//! later read is out of bounds and no walk loops. Every read still goes through `get`: bad
+//! bytes give an error or a wrong mesh, never a panic.
+
+use core::fmt;
+
+use super::address::{root_count, Cells, SideLink, MAX_CELL_LEVEL};
+use super::hierarchy::{cone_ok, links_agree, poles_of, PatchInfo};
+use super::{HierarchyNode, KEPT, NO_VERTEX};
+use crate::model::PatchSet;
+use crate::patch::Side;
+
+#[cfg(doc)]
+use super::Hierarchy;
+
+/// The first bytes of a hierarchy's bytes.
+pub const MAGIC: [u8; 4] = *b"STHY";
+
+/// The format version this crate reads and writes.
+pub const FORMAT_VERSION: u16 = 1;
+
+/// Bytes of the header.
+pub const HEADER_LEN: usize = 44;
+
+/// Bytes of a patch record.
+pub const PATCH_LEN: usize = 58;
+
+/// Bytes of a node's bound.
+pub const BOUND_LEN: usize = 3 * KEPT + 8;
+
+/// Bytes of a vertex.
+pub const VERTEX_LEN: usize = 24;
+
+/// Flag: vertex numbers are `u32`.
+pub(crate) const WIDE: u16 = 1;
+
+/// Where the checksum is; it covers the bytes after it.
+pub(crate) const CHECKSUM_AT: usize = 8;
+
+/// A part of a hierarchy's bytes that breaks the format's rules.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Part {
+    /// The header's counts.
+    Header,
+    /// This patch's record.
+    Patch(u32),
+    /// This node.
+    Node(u32),
+    /// The halving or owner bits, or their counts.
+    Bits,
+    /// This partner entry.
+    Partner(u32),
+}
+
+/// Why bytes are not a hierarchy of a model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FormatError {
+    /// Fewer bytes than the header, or than the header's counts take.
+    Truncated {
+        /// Bytes needed.
+        needed: usize,
+        /// Bytes given.
+        found: usize,
+    },
+    /// More bytes than the header's counts take.
+    TrailingBytes {
+        /// Bytes the hierarchy takes.
+        expected: usize,
+        /// Bytes given.
+        found: usize,
+    },
+    /// The bytes do not start with [`MAGIC`].
+    BadMagic,
+    /// A version this crate does not read.
+    UnsupportedVersion {
+        /// The version in the bytes.
+        found: u16,
+    },
+    /// The checksum does not match: the bytes were changed.
+    ChecksumMismatch {
+        /// The header's.
+        stored: u32,
+        /// The bytes'.
+        computed: u32,
+    },
+    /// The bytes were baked from other patches than the model's.
+    ModelMismatch {
+        /// The header's fingerprint.
+        stored: u32,
+        /// The model's.
+        model: u32,
+    },
+    /// The checksum matches, but a part breaks the format's rules.
+    Malformed(Part),
+}
+
+impl fmt::Display for FormatError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FormatError::Truncated { needed, found } => {
+                write!(f, "hierarchy truncated: {found} of {needed} bytes")
+            }
+            FormatError::TrailingBytes { expected, found } => {
+                write!(f, "hierarchy has {found} bytes, its header says {expected}")
+            }
+            FormatError::BadMagic => f.write_str("not a hierarchy (bad magic)"),
+            FormatError::UnsupportedVersion { found } => write!(
+                f,
+                "hierarchy format version {found}, this crate reads {FORMAT_VERSION}"
+            ),
+            FormatError::ChecksumMismatch { stored, computed } => write!(
+                f,
+                "hierarchy corrupted: checksum {computed:#010x}, header says {stored:#010x}"
+            ),
+            FormatError::ModelMismatch { stored, model } => write!(
+                f,
+                "hierarchy baked from other patches: fingerprint {stored:#010x}, model {model:#010x}"
+            ),
+            FormatError::Malformed(part) => write!(f, "hierarchy malformed at {part:?}"),
+        }
+    }
+}
+
+impl core::error::Error for FormatError {}
+
+/// FNV-1a of `bytes`, continuing from `hash`.
+pub(crate) fn fnv1a(mut hash: u32, bytes: &[u8]) -> u32 {
+    for &b in bytes {
+        hash ^= b as u32;
+        hash = hash.wrapping_mul(0x0100_0193);
+    }
+    hash
+}
+
+/// FNV-1a's starting value.
+pub(crate) const FNV_OFFSET: u32 = 0x811c_9dc5;
+
+/// The fingerprint of a model's patches: FNV-1a of their headers, points and weights.
+pub fn model_fingerprint(model: &PatchSet<'_>) -> u32 {
+    let mut h = FNV_OFFSET;
+    for header in model.headers() {
+        h = fnv1a(h, &[header.degree_u, header.degree_v]);
+        h = fnv1a(h, &header.first_point.to_le_bytes());
+    }
+    for p in model.points() {
+        for c in p {
+            h = fnv1a(h, &c.to_bits().to_le_bytes());
+        }
+    }
+    if let Some(w) = model.weights() {
+        for x in w {
+            h = fnv1a(h, &x.to_bits().to_le_bytes());
+        }
+    }
+    h
+}
+
+pub(crate) fn u16_at(b: &[u8], at: usize) -> u16 {
+    match b.get(at..at + 2) {
+        Some(&[x, y]) => u16::from_le_bytes([x, y]),
+        _ => 0,
+    }
+}
+
+pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
+    match b.get(at..at + 4) {
+        Some(&[x, y, z, w]) => u32::from_le_bytes([x, y, z, w]),
+        _ => 0,
+    }
+}
+
+pub(crate) fn f32_at(b: &[u8], at: usize) -> f32 {
+    f32::from_bits(u32_at(b, at))
+}
+
+/// A link as the bytes hold it.
+pub(crate) fn link_code(link: Option<SideLink>) -> u32 {
+    match link {
+        None => u32::MAX,
+        Some(l) => (l.patch << 3) | ((l.side.index() as u32) << 1) | u32::from(l.flip),
+    }
+}
+
+fn link_from(code: u32) -> Option<SideLink> {
+    (code != u32::MAX).then(|| SideLink {
+        patch: code >> 3,
+        side: Side::ALL[((code >> 1) & 3) as usize],
+        flip: code & 1 != 0,
+    })
+}
+
+/// The header's counts, and where each section starts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(crate) struct Layout {
+    pub patches: usize,
+    pub nodes: usize,
+    pub roots: usize,
+    pub vertices: usize,
+    pub fixed: usize,
+    pub owners: usize,
+    pub cell_corners: usize,
+    /// Bytes of a vertex number.
+    pub index: usize,
+    pub cell_at: usize,
+    pub split_at: usize,
+    pub split_count_at: usize,
+    pub owner_at: usize,
+    pub owner_count_at: usize,
+    pub partner_at: usize,
+    pub bound_at: usize,
+    pub vertex_at: usize,
+    pub len: usize,
+}
+
+impl Layout {
+    /// Halved nodes.
+    pub fn splits(&self) -> usize {
+        (self.nodes - self.roots) / 2
+    }
+
+    /// The layout of a hierarchy of these counts (`None` where the counts are not those of
+    /// one, or its length overflows).
+    #[allow(clippy::too_many_arguments)]
+    pub fn of(
+        patches: usize,
+        nodes: usize,
+        roots: usize,
+        vertices: usize,
+        fixed: usize,
+        owners: usize,
+        cell_corners: usize,
+    ) -> Option<Layout> {
+        let splits = nodes.checked_sub(roots)? / 2;
+        if roots + 2 * splits != nodes
+            || owners > splits
+            || fixed + owners != vertices
+            || vertices > u32::MAX as usize - 1
+        {
+            return None;
+        }
+        let index = if vertices > u16::MAX as usize { 4 } else { 2 };
+        let words = |bits: usize| bits.div_ceil(32).checked_mul(4);
+        let mut at = HEADER_LEN;
+        let mut take = |bytes: Option<usize>| -> Option<usize> {
+            let start = at;
+            at = at.checked_add(bytes?)?;
+            Some(start)
+        };
+        take(patches.checked_mul(PATCH_LEN))?;
+        let cell_at = take(cell_corners.checked_mul(index))?;
+        let split_at = take(words(nodes))?;
+        let split_count_at = take(words(nodes))?;
+        let owner_at = take(words(splits))?;
+        let owner_count_at = take(words(splits))?;
+        let partner_at = take((splits - owners).checked_mul(index))?;
+        let bound_at = take(nodes.checked_mul(BOUND_LEN))?;
+        let vertex_at = take(vertices.checked_mul(VERTEX_LEN))?;
+        Some(Layout {
+            patches,
+            nodes,
+            roots,
+            vertices,
+            fixed,
+            owners,
+            cell_corners,
+            index,
+            cell_at,
+            split_at,
+            split_count_at,
+            owner_at,
+            owner_count_at,
+            partner_at,
+            bound_at,
+            vertex_at,
+            len: at,
+        })
+    }
+}
+
+/// A hierarchy's bytes, their header read: see the [module docs](self).
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(crate) struct HierarchyBytes<'a> {
+    bytes: &'a [u8],
+    layout: Layout,
+}
+
+impl<'a> HierarchyBytes<'a> {
+    /// Reads the header: the length, magic, version and checksum.
+    pub(crate) fn parse(bytes: &'a [u8]) -> Result<Self, FormatError> {
+        if bytes.len() >= 4 && bytes[..4] != MAGIC {
+            return Err(FormatError::BadMagic);
+        }
+        if bytes.len() < HEADER_LEN {
+            return Err(FormatError::Truncated {
+                needed: HEADER_LEN,
+                found: bytes.len(),
+            });
+        }
+        let version = u16_at(bytes, 4);
+        if version != FORMAT_VERSION {
+            return Err(FormatError::UnsupportedVersion { found: version });
+        }
+        let count = |k: usize| u32_at(bytes, 16 + 4 * k) as usize;
+        let layout = Layout::of(
+            count(0),
+            count(1),
+            count(2),
+            count(3),
+            count(4),
+            count(5),
+            count(6),
+        )
+        .ok_or(FormatError::Malformed(Part::Header))?;
+        let wide = u16_at(bytes, 6) & WIDE != 0;
+        if wide != (layout.index == 4) || u16_at(bytes, 6) & !WIDE != 0 {
+            return Err(FormatError::Malformed(Part::Header));
+        }
+        if bytes.len() < layout.len {
+            return Err(FormatError::Truncated {
+                needed: layout.len,
+                found: bytes.len(),
+            });
+        }
+        if bytes.len() > layout.len {
+            return Err(FormatError::TrailingBytes {
+                expected: layout.len,
+                found: bytes.len(),
+            });
+        }
+        let stored = u32_at(bytes, CHECKSUM_AT);
+        let computed = fnv1a(FNV_OFFSET, &bytes[CHECKSUM_AT + 4..]);
+        if stored != computed {
+            return Err(FormatError::ChecksumMismatch { stored, computed });
+        }
+        Ok(HierarchyBytes { bytes, layout })
+    }
+
+    /// Checks that the bytes are a hierarchy of `model` whose every number is in range.
+    pub(crate) fn check(&self, model: &PatchSet<'_>) -> Result<(), FormatError> {
+        let l = &self.layout;
+        let (stored, fingerprint) = (u32_at(self.bytes, 12), model_fingerprint(model));
+        if stored != fingerprint {
+            return Err(FormatError::ModelMismatch {
+                stored,
+                model: fingerprint,
+            });
+        }
+        if l.patches != model.len() || l.patches == 0 {
+            return Err(FormatError::Malformed(Part::Header));
+        }
+        let (mut roots, mut cell_corners) = (0usize, 0usize);
+        for p in 0..l.patches {
+            let at = self.patch_at(p);
+            let cells = self.cells(p);
+            let bad_cells = cells.iter().any(|&c| c > MAX_CELL_LEVEL) || self.byte(at) & 0x88 != 0;
+            let bad = bad_cells
+                || self.first_root(p) as usize != roots
+                || u32_at(self.bytes, at + 38) as usize != cell_corners
+                || self.byte(at + 1) & 0x0e != 0
+                || (0..4).any(|k| self.corner(p, k) as usize >= l.vertices)
+                || !links_agree(l.patches, p, |q| {
+                    (q < l.patches).then(|| (self.cells(q), self.links(q)))
+                })
+                || self.poles(p) != poles_of(model, p)
+                || !cone_ok(self.cone(p));
+            if bad {
+                return Err(FormatError::Malformed(Part::Patch(p as u32)));
+            }
+            roots += root_count(cells);
+            if cells != [0, 0] {
+                cell_corners += ((1 << cells[0]) + 1) * ((1 << cells[1]) + 1);
+            }
+        }
+        if roots != l.roots || cell_corners != l.cell_corners {
+            return Err(FormatError::Malformed(Part::Header));
+        }
+        for k in 0..l.cell_corners {
+            if self.index(l.cell_at + k * l.index) as usize >= l.vertices {
+                return Err(FormatError::Malformed(Part::Patch(l.patches as u32)));
+            }
+        }
+        // The bits: counts that add up, nothing past the last, as many halved nodes as the
+        // header's counts say, owners too, and every halving after its node.
+        let splits = l.splits();
+        let counted = |bits_at: usize, counts_at: usize, len: usize| {
+            let mut total = 0u32;
+            for w in 0..len.div_ceil(32) {
+                let word = u32_at(self.bytes, bits_at + 4 * w);
+                let used = len - 32 * w;
+                if used < 32 && word >> used != 0 {
+                    return None;
+                }
+                if u32_at(self.bytes, counts_at + 4 * w) != total {
+                    return None;
+                }
+                total += word.count_ones();
+            }
+            Some(total as usize)
+        };
+        if counted(l.split_at, l.split_count_at, l.nodes) != Some(splits)
+            || counted(l.owner_at, l.owner_count_at, splits) != Some(l.owners)
+        {
+            return Err(FormatError::Malformed(Part::Bits));
+        }
+        for i in 0..l.nodes {
+            if let Some(s) = self.split_rank(i) {
+                if l.roots + 2 * s <= i {
+                    return Err(FormatError::Malformed(Part::Node(i as u32)));
+                }
+            }
+        }
+        for k in 0..splits - l.owners {
+            if self.index(l.partner_at + k * l.index) as usize >= l.vertices {
+                return Err(FormatError::Malformed(Part::Partner(k as u32)));
+            }
+        }
+        Ok(())
+    }
+
+    /// The bytes.
+    pub(crate) fn as_bytes(&self) -> &'a [u8] {
+        self.bytes
+    }
+
+    pub(crate) fn node_count(&self) -> usize {
+        self.layout.nodes
+    }
+
+    pub(crate) fn vertex_count(&self) -> usize {
+        self.layout.vertices
+    }
+
+    fn index(&self, at: usize) -> u32 {
+        match self.layout.index {
+            2 => u16_at(self.bytes, at) as u32,
+            _ => u32_at(self.bytes, at),
+        }
+    }
+
+    fn patch_at(&self, p: usize) -> usize {
+        HEADER_LEN + p * PATCH_LEN
+    }
+
+    fn byte(&self, at: usize) -> u8 {
+        self.bytes.get(at).copied().unwrap_or(0)
+    }
+
+    pub(crate) fn cells(&self, p: usize) -> Cells {
+        let c = self.byte(self.patch_at(p));
+        [c & 0x0f, c >> 4]
+    }
+
+    pub(crate) fn flip(&self, p: usize) -> bool {
+        self.byte(self.patch_at(p) + 1) & 1 != 0
+    }
+
+    pub(crate) fn poles(&self, p: usize) -> u8 {
+        self.byte(self.patch_at(p) + 1) >> 4
+    }
+
+    pub(crate) fn link(&self, p: usize, side: Side) -> Option<SideLink> {
+        link_from(u32_at(self.bytes, self.patch_at(p) + 2 + 4 * side.index()))
+    }
+
+    fn links(&self, p: usize) -> [Option<SideLink>; 4] {
+        Side::ALL.map(|s| self.link(p, s))
+    }
+
+    pub(crate) fn corner(&self, p: usize, k: usize) -> u32 {
+        u32_at(self.bytes, self.patch_at(p) + 18 + 4 * k)
+    }
+
+    pub(crate) fn first_root(&self, p: usize) -> u32 {
+        u32_at(self.bytes, self.patch_at(p) + 34)
+    }
+
+    fn cone(&self, p: usize) -> [f32; 4] {
+        let at = self.patch_at(p) + 42;
+        [0, 1, 2, 3].map(|k| f32_at(self.bytes, at + 4 * k))
+    }
+
+    pub(crate) fn patch(&self, p: usize) -> Option<PatchInfo> {
+        (p < self.layout.patches).then(|| PatchInfo {
+            cells: self.cells(p),
+            links: self.links(p),
+            flip: self.flip(p),
+            poles: self.poles(p),
+            cone: self.cone(p),
+        })
+    }
+
+    /// The vertex at cell corner `(i, j)` of patch `p`.
+    pub(crate) fn cell_vertex(&self, p: usize, i: u32, j: u32) -> u32 {
+        let first = u32_at(self.bytes, self.patch_at(p) + 38) as usize;
+        let rows = (1usize << self.cells(p)[1].min(MAX_CELL_LEVEL)) + 1;
+        let k = first + i as usize * rows + j as usize;
+        self.index(self.layout.cell_at + k * self.layout.index)
+    }
+
+    /// The rank of bit `i` among the set bits of the words at `bits_at` (with their counts
+    /// at `counts_at`), if it is set.
+    fn rank(&self, bits_at: usize, counts_at: usize, i: usize) -> Option<usize> {
+        let w = i / 32;
+        let word = u32_at(self.bytes, bits_at + 4 * w);
+        let bit = 1u32 << (i % 32);
+        (word & bit != 0).then(|| {
+            u32_at(self.bytes, counts_at + 4 * w) as usize
+                + (word & (bit - 1)).count_ones() as usize
+        })
+    }
+
+    /// The rank of node `i` among the halved nodes, if it is halved.
+    fn split_rank(&self, i: usize) -> Option<usize> {
+        if i >= self.layout.nodes {
+            return None;
+        }
+        self.rank(self.layout.split_at, self.layout.split_count_at, i)
+    }
+
+    /// Where node `i` is halved: its first half's node and its vertex, if it is.
+    pub(crate) fn halving(&self, i: usize) -> Option<(u32, u32)> {
+        let l = &self.layout;
+        let s = self.split_rank(i)?;
+        let first = (l.roots + 2 * s) as u32;
+        let vertex = match self.rank(l.owner_at, l.owner_count_at, s) {
+            Some(o) => (l.fixed + o) as u32,
+            None => {
+                // Not an owner: its rank among those, the halved nodes before it less the
+                // owners before it.
+                let w = s / 32;
+                let word = u32_at(self.bytes, l.owner_at + 4 * w);
+                let owners = u32_at(self.bytes, l.owner_count_at + 4 * w) as usize
+                    + (word & ((1u32 << (s % 32)) - 1)).count_ones() as usize;
+                self.index(l.partner_at + (s - owners) * l.index)
+            }
+        };
+        Some((first, vertex))
+    }
+
+    /// Node `i`: where it is halved, and its bound.
+    pub(crate) fn node(&self, i: usize) -> Option<HierarchyNode> {
+        let (children, vertex) = self.halving(i).unwrap_or((0, NO_VERTEX));
+        self.bound(i).map(|b| HierarchyNode {
+            children,
+            vertex,
+            ..b
+        })
+    }
+
+    /// Node `i`'s bound (its halving left out: a leaf's fields).
+    pub(crate) fn bound(&self, i: usize) -> Option<HierarchyNode> {
+        if i >= self.layout.nodes {
+            return None;
+        }
+        let at = self.layout.bound_at + i * BOUND_LEN;
+        let mut vectors = [[0i8; 3]; KEPT];
+        for (k, v) in vectors.iter_mut().enumerate() {
+            *v = [0, 1, 2].map(|c| self.byte(at + 3 * k + c) as i8);
+        }
+        Some(HierarchyNode {
+            children: 0,
+            vertex: NO_VERTEX,
+            vectors,
+            scale: f32_at(self.bytes, at + 3 * KEPT),
+            remainder: f32_at(self.bytes, at + 3 * KEPT + 4),
+        })
+    }
+
+    pub(crate) fn position(&self, v: usize) -> Option<[f32; 3]> {
+        let at = self.layout.vertex_at + v * VERTEX_LEN;
+        (v < self.layout.vertices).then(|| [0, 1, 2].map(|k| f32_at(self.bytes, at + 4 * k)))
+    }
+
+    pub(crate) fn normal(&self, v: usize) -> Option<[f32; 3]> {
+        let at = self.layout.vertex_at + v * VERTEX_LEN + 12;
+        (v < self.layout.vertices).then(|| [0, 1, 2].map(|k| f32_at(self.bytes, at + 4 * k)))
+    }
+}
