@@ -2,8 +2,8 @@
 // (triangles, vertices, triangles judged, checksum), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 4]; 4] = [
-    [1032, 545, 1322, 0x17c46acb],
-    [1031, 545, 1322, 0x39e20e72],
-    [2054, 1075, 2692, 0x4f8c64ee],
-    [3679, 1904, 4906, 0xbbfa24e8],
+    [1050, 554, 1335, 0x6cbbc52b],
+    [1055, 557, 1341, 0x69166eaf],
+    [2094, 1097, 2717, 0x0e0782e6],
+    [3710, 1920, 4929, 0xa6fee9e5],
 ];

@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, checksum of the pixels pushed), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [1032, 6191, 0x43caab4d],
-    [1031, 6187, 0xc23b1f8a],
-    [2054, 21244, 0x9a5589ce],
-    [1967, 53314, 0xa4725976],
+    [1050, 6196, 0xd7a05b43],
+    [1055, 6196, 0xe7c5921d],
+    [2094, 21254, 0xe649d9c0],
+    [1992, 53314, 0xa96241bd],
 ];

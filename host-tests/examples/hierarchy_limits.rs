@@ -29,7 +29,7 @@ use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
 use host_tests::runtime::BakedHierarchy;
 use host_tests::screen::{grid_triangles, triangle_deviation, Measure, Meter, ERROR_VIEWS};
-use host_tests::screen_bound::screen_bound_kept;
+use host_tests::screen_bound::{screen_bound_kept, SEGMENT};
 use spline_tess::bake::BakeSettings;
 
 const GRID_DENSE: usize = 8;
@@ -49,9 +49,9 @@ fn cached_grid(name: &str) -> Option<usize> {
 fn main() {
     println!(
         "| view | n_u x n_v grid | one cell, measured | cells, measured | cells, bound, lattice | \
-         cells, bound, 4 kept |"
+         cells, bound, 4 kept | cells, bound, 3 kept | cells, bound, 2 kept |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     for view in ERROR_VIEWS {
         let path = host_tests::models_dir().join(view.model);
         let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
@@ -89,6 +89,10 @@ fn main() {
                     .map_or(f64::INFINITY, |b| b.hull)
             }
         };
+        let isotropic = |(p, c): Bin| {
+            screen_bound_kept(&refs[p], c.map(unit), &meter, 12, usize::MAX)
+                .map_or(f64::INFINITY, |b| b.isotropic)
+        };
         let spot = |p, g| model_spot(&refs, diag, p, g);
         let count = |cells: &[[u8; 2]], error: &dyn Fn(Bin) -> f64| {
             bintree_from(cell_roots(cells), tol, spot, error).len()
@@ -102,15 +106,19 @@ fn main() {
             count(&cells, &measured),
             count(&cells, &bound(usize::MAX)),
             count(&cells, &bound(4)),
+            count(&cells, &bound(3)),
+            count(&cells, &bound(2)),
         ];
         let cell = |n: usize| format!("{n} ({:.2})", n as f64 / grid as f64);
         println!(
-            "| {} | {grid} | {} | {} | {} | {} |",
+            "| {} | {grid} | {} | {} | {} | {} | {} | {} |",
             view.name,
             cell(row[0]),
             cell(row[1]),
             cell(row[2]),
-            cell(row[3])
+            cell(row[3]),
+            cell(row[4]),
+            cell(row[5])
         );
     }
 }

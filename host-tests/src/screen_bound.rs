@@ -269,7 +269,10 @@ pub fn screen_bound_kept(
     let flat = lattice.corners.map(|p| meter.view(p));
     let deviations: Vec<V3> = lattice.vectors.iter().map(|&e| meter.rotate(e)).collect();
     let object = lattice.object;
-    let (deviations, remainder) = keep_vectors(deviations, keep, remainder);
+    let (deviations, remainder) = match keep {
+        SEGMENT => segment_vectors(deviations, &flat, remainder),
+        _ => keep_vectors(deviations, keep, remainder),
+    };
     // Where a sample counts, `l` is in front of the near plane and within `m` of the screen.
     let front = meter.clip(&flat, object);
     if front.is_empty() {
@@ -302,6 +305,40 @@ pub fn screen_bound_kept(
         object,
         at,
     })
+}
+
+/// [`screen_bound_kept`]'s `keep` for the segment along the flat triangle's normal
+/// ([`segment_vectors`]).
+pub const SEGMENT: usize = usize::MAX - 1;
+
+/// In place of `vectors`: the segment along the unit normal of the flat triangle `flat` from
+/// the lowest to the highest of their heights over it (zero included), with the remainder
+/// widened by the longest of their parts across the normal, so that every vector lies in the
+/// segment widened by it (the whole tangential part where the triangle has no normal).
+pub fn segment_vectors(vectors: Vec<V3>, flat: &[V3; 3], remainder: f64) -> (Vec<V3>, f64) {
+    let sub = |a: V3, b: V3| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let n = crate::reference::cross(sub(flat[1], flat[0]), sub(flat[2], flat[0]));
+    let length = dot(n, n).sqrt();
+    if length == 0.0 || !length.is_finite() {
+        let longest = vectors
+            .iter()
+            .map(|e| dot(*e, *e).sqrt())
+            .fold(0.0, f64::max);
+        return (vec![[0.0; 3]], remainder + longest);
+    }
+    let n = n.map(|x| x / length);
+    let (mut low, mut high, mut across) = (0.0f64, 0.0f64, 0.0f64);
+    for e in &vectors {
+        let h = dot(*e, n);
+        low = low.min(h);
+        high = high.max(h);
+        let t = sub(*e, n.map(|x| x * h));
+        across = across.max(dot(t, t).sqrt());
+    }
+    (
+        vec![n.map(|x| x * low), n.map(|x| x * high)],
+        remainder + across,
+    )
 }
 
 /// The directional bound over a *region*: a box in model space that holds a triangle's flat

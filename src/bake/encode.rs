@@ -12,8 +12,9 @@ use crate::tessellator::format::{
     fnv1a, link_code, model_fingerprint, Layout, BOUND_LEN, CHECKSUM_AT, FNV_OFFSET, HEADER_LEN,
     MAGIC, PATCH_LEN, VERTEX_LEN, WIDE,
 };
+use crate::tessellator::quantize::{normal_code, normal_of, LogGrid, PositionGrid};
 use crate::tessellator::{
-    Hierarchy, HierarchyError, HierarchyNode, HierarchyPatch, HierarchyVertex, FORMAT_VERSION,
+    Hierarchy, HierarchyError, HierarchyNode, HierarchyPatch, HierarchyVertex, FORMAT_VERSION, KEPT,
 };
 
 /// Why records could not be written as bytes.
@@ -24,6 +25,19 @@ pub enum EncodeError {
     Records(HierarchyError),
     /// The records halve a node more than once, or name a node twice as a half.
     Malformed,
+    /// The two triangles of a diamond (halved at one vertex) have different bounds: the
+    /// bytes keep one (node `node`, in the bytes' order, is the second).
+    DiamondsDiffer {
+        /// The node.
+        node: u32,
+    },
+    /// A record holds a value the bytes cannot (records not rounded as
+    /// [`bake_hierarchy`](super::bake_hierarchy) rounds them): node `node`'s bound, or with
+    /// `node` `u32::MAX`, a vertex's point or normal.
+    NotOnGrid {
+        /// The node (in the bytes' order).
+        node: u32,
+    },
     /// `scratch` has fewer entries than needed ([`encode_scratch_len`]).
     ScratchTooSmall {
         /// Entries needed.
@@ -41,6 +55,12 @@ impl fmt::Display for EncodeError {
         match self {
             EncodeError::Records(e) => write!(f, "the records are not a hierarchy: {e}"),
             EncodeError::Malformed => f.write_str("the records halve a node twice"),
+            EncodeError::DiamondsDiffer { node } => {
+                write!(f, "node {node}'s bound is not its diamond's")
+            }
+            EncodeError::NotOnGrid { node } => {
+                write!(f, "record {node} holds a value the bytes cannot hold")
+            }
             EncodeError::ScratchTooSmall { needed } => {
                 write!(f, "scratch too small: {needed} entries needed")
             }
@@ -66,6 +86,9 @@ pub const fn encode_scratch_len(nodes: usize, vertices: usize) -> usize {
 }
 
 const NONE: u32 = u32::MAX;
+
+/// [`EncodeError::NotOnGrid`]'s node for a vertex.
+const NO_NODE: u32 = u32::MAX;
 
 /// The records renumbered: `scratch[..nodes]` holds the records' node of each node in the
 /// bytes' order, `scratch[nodes..]` each record vertex's number in the bytes (or `NONE`).
@@ -262,15 +285,27 @@ pub fn encode_hierarchy(
             }
         }
     }
+    let grid = PositionGrid::of(&model);
+    let (scales, bounds) = (LogGrid::scales(&model), LogGrid::bounds(&model));
+    // A record's value as its code, if it is on the grid.
+    let code = |g: &LogGrid, x: f32, i: usize| {
+        let b = g.up(x);
+        match g.value(b).to_bits() == x.to_bits() {
+            true => Ok(b),
+            false => Err(EncodeError::NotOnGrid { node: i as u32 }),
+        }
+    };
     // Halvings, owners, partners and bounds, in node order. A halving's vertex was
     // numbered in this order: the next owner's number where it is the first at it.
     let (mut s, mut owners, mut partners) = (0usize, 0usize, 0usize);
     for (i, &old) in order.iter().enumerate() {
         let n = &nodes[old as usize];
+        let mut owner = false;
         if n.children != 0 {
             w.set_bit(l.split_at, i);
             let v = vmap[n.vertex as usize];
-            if v == (l.fixed + owners) as u32 {
+            owner = v == (l.fixed + owners) as u32;
+            if owner {
                 w.set_bit(l.owner_at, s);
                 owners += 1;
             } else {
@@ -279,17 +314,33 @@ pub fn encode_hierarchy(
             }
             s += 1;
         }
-        let at = l.bound_at + i * BOUND_LEN;
-        for (k, v) in n.vectors.iter().enumerate() {
-            for (c, x) in v.iter().enumerate() {
-                w.out[at + 3 * k + c] = *x as u8;
+        let remainder = code(&bounds, n.remainder, i)?;
+        if n.children != 0 {
+            let mut record = [0u8; BOUND_LEN];
+            for (k, v) in n.vectors.iter().enumerate() {
+                for (c, x) in v.iter().enumerate() {
+                    record[3 * k + c] = *x as u8;
+                }
             }
+            record[3 * KEPT] = code(&scales, n.scale, i)?;
+            record[3 * KEPT + 1] = remainder;
+            // One bound a diamond, at its owner's place: a partner's must be the owner's.
+            let o = vmap[n.vertex as usize] as usize - l.fixed;
+            let at = l.bound_at + o * BOUND_LEN;
+            if owner {
+                w.out[at..at + BOUND_LEN].copy_from_slice(&record);
+            } else if w.out[at..at + BOUND_LEN] != record {
+                return Err(EncodeError::DiamondsDiffer { node: i as u32 });
+            }
+        } else {
+            if n.scale != 0.0 || n.vectors != [[0; 3]; KEPT] {
+                return Err(EncodeError::NotOnGrid { node: i as u32 });
+            }
+            w.out[l.leaf_at + i - s] = remainder;
         }
-        w.u32(at + 3 * n.vectors.len(), n.scale.to_bits());
-        w.u32(at + 3 * n.vectors.len() + 4, n.remainder.to_bits());
     }
-    w.counts(l.split_at, l.split_count_at, l.nodes);
-    w.counts(l.owner_at, l.owner_count_at, l.splits());
+    w.counts(l.split_at, l.split_count_at, l.nodes, l.count);
+    w.counts(l.owner_at, l.owner_count_at, l.splits(), l.count);
     // Vertices, in their new order.
     for (old, &new) in vmap.iter().enumerate() {
         if new == NONE {
@@ -297,8 +348,27 @@ pub fn encode_hierarchy(
         }
         let at = l.vertex_at + new as usize * VERTEX_LEN;
         let v = &vertices[old];
-        for (k, x) in v.position.iter().chain(&v.normal).enumerate() {
-            w.u32(at + 4 * k, x.to_bits());
+        let q = grid.encode(v.position);
+        let bits = |p: [f32; 3]| p.map(f32::to_bits);
+        // The normal's code, or a neighbour of it whose normal is the record's.
+        let base = normal_code(v.normal);
+        let n = (0..10i8)
+            .map(|k| match k {
+                0 => base,
+                _ => [
+                    base[0].saturating_add((k - 1) / 3 - 1),
+                    base[1].saturating_add((k - 1) % 3 - 1),
+                ],
+            })
+            .find(|&c| bits(normal_of(c)) == bits(v.normal));
+        let (true, Some(n)) = (bits(grid.decode(q)) == bits(v.position), n) else {
+            return Err(EncodeError::NotOnGrid { node: NO_NODE });
+        };
+        for (k, x) in q.iter().enumerate() {
+            w.u16(at + 2 * k, *x);
+        }
+        for (k, x) in n.iter().enumerate() {
+            w.out[at + 6 + k] = *x as u8;
         }
     }
     let sum = fnv1a(FNV_OFFSET, &w.out[CHECKSUM_AT + 4..]);
@@ -330,10 +400,10 @@ impl Writer<'_> {
         self.out[bits_at + 4 * (i / 32) + (i % 32) / 8] |= 1 << (i % 8);
     }
     /// Writes each word's count of set bits before it.
-    fn counts(&mut self, bits_at: usize, counts_at: usize, len: usize) {
+    fn counts(&mut self, bits_at: usize, counts_at: usize, len: usize, width: usize) {
         let mut total = 0u32;
         for w in 0..len.div_ceil(32) {
-            self.u32(counts_at + 4 * w, total);
+            self.index(counts_at + width * w, width, total);
             let at = bits_at + 4 * w;
             let word = u32::from_le_bytes([
                 self.out[at],

@@ -8,10 +8,15 @@ use core::fmt;
 use super::Tolerance;
 use crate::deviation::kept::keep;
 use crate::deviation::lattice::{coarse, deviation_vectors, POINTS, STEPS};
+use glam::Vec3;
+
+/// Vectors of a coarse lattice ([`coarse`]).
+const COARSE: usize = (STEPS / 2 + 1) * (STEPS / 2 + 2) / 2;
 use crate::model::Model;
 use crate::patch::Side;
 use crate::tessellator::address::{point_on, root_count, side_parameter, unit, SideLink, Tri, ONE};
 use crate::tessellator::hierarchy::cell_corner;
+use crate::tessellator::quantize::{round_normal, LogGrid, PositionGrid};
 use crate::tessellator::{
     HierarchyNode, HierarchyPatch, HierarchyVertex, MAX_CELL_LEVEL, NO_VERTEX,
 };
@@ -185,6 +190,9 @@ pub fn bake_hierarchy_with_progress(
     let capacity = out.nodes.len().min(out.scratch.len());
     let mut baker = Baker {
         model,
+        grid: PositionGrid::of(&model.patches),
+        scales: LogGrid::scales(&model.patches),
+        bounds: LogGrid::bounds(&model.patches),
         nodes: out.nodes,
         vertices: out.vertices,
         patches: &mut out.patches[..count],
@@ -221,13 +229,25 @@ pub fn bake_hierarchy_with_progress(
         }
         i += 1;
     }
+    baker.share_diamonds();
     let (n, v) = (baker.node_count, baker.vertex_count);
+    // A leaf keeps one bound, its model-units one rounded up: the bytes give it a byte.
+    for node in baker.nodes[..n].iter_mut().filter(|x| x.children == 0) {
+        *node = HierarchyNode {
+            remainder: baker.bounds.round_up(node.object_bound()),
+            ..HierarchyNode::default()
+        };
+    }
     super::orientation::orient(
         model,
         baker.patches,
         &mut baker.vertices[..v],
         &mut baker.scratch[..n],
     );
+    // Normals rounded to the bytes' octahedral codes, once they point out.
+    for x in baker.vertices[..v].iter_mut() {
+        x.normal = round_normal(x.normal);
+    }
     Ok(BakeSize {
         nodes: baker.node_count,
         vertices: baker.vertex_count,
@@ -236,6 +256,10 @@ pub fn bake_hierarchy_with_progress(
 
 struct Baker<'m, 'o> {
     model: &'o Model<'m>,
+    /// The grids the records are rounded to (the bytes' own).
+    grid: PositionGrid,
+    scales: LogGrid,
+    bounds: LogGrid,
     nodes: &'o mut [HierarchyNode],
     vertices: &'o mut [HierarchyVertex],
     patches: &'o mut [HierarchyPatch],
@@ -428,8 +452,11 @@ impl Baker<'_, '_> {
             .patches
             .patch(patch as usize)
             .map(|bp| bp.evaluate(u, v));
+        // The point rounded to the bytes' grid: every bound is measured against it.
         *slot = HierarchyVertex {
-            position: s.map_or([0.0; 3], |s| s.position.to_array()),
+            position: self
+                .grid
+                .round(s.map_or([0.0; 3], |s| s.position.to_array())),
             normal: s.map_or([0.0; 3], |s| s.normal.to_array()),
             uv: at,
             patch,
@@ -456,27 +483,91 @@ impl Baker<'_, '_> {
         Ok(n)
     }
 
-    /// Records node `i`'s kept deviation vectors.
-    fn record(&mut self, i: usize) {
+    /// Node `i`'s lattice: its deviation vectors and remainder (`None` where not finite).
+    fn lattice(&self, i: usize) -> Option<([Vec3; POINTS], f32)> {
         let BakeScratch { tri, corners } = self.scratch[i];
-        let Some(patch) = self.model.patches.patch(tri.patch as usize) else {
-            return;
-        };
+        let patch = self.model.patches.patch(tri.patch as usize)?;
         let points = corners.map(|v| self.vertices[v as usize].position);
         let grid = tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
         let (vectors, remainder) =
             deviation_vectors::<STEPS, POINTS>(&patch, grid, ONE as u32, points);
         let finite = remainder.is_finite() && vectors.iter().all(|v| v.is_finite());
-        let node = &mut self.nodes[i];
-        if !finite {
-            node.scale = 0.0;
-            node.remainder = f32::INFINITY;
-            return;
+        finite.then_some((vectors, remainder))
+    }
+
+    /// The record of a bound from `vectors` (keeping a few of `candidates`) and `remainder`.
+    fn bound_of(&self, vectors: &[Vec3], candidates: &[Vec3], remainder: f32) -> HierarchyNode {
+        let scales = self.scales;
+        let k = keep(vectors, candidates, |s| scales.round_up(s));
+        HierarchyNode {
+            vectors: k.vectors,
+            scale: k.scale,
+            remainder: self
+                .bounds
+                .round_up((remainder + k.widening) * (1.0 + 1.0 / 1024.0)),
+            ..HierarchyNode::default()
         }
-        let k = keep(&vectors, &coarse(&vectors));
-        node.vectors = k.vectors;
-        node.scale = k.scale;
-        node.remainder = (remainder + k.widening) * (1.0 + 1.0 / 1024.0);
+    }
+
+    /// Records node `i`'s kept deviation vectors.
+    fn record(&mut self, i: usize) {
+        let bound = match self.lattice(i) {
+            Some((vectors, remainder)) => self.bound_of(&vectors, &coarse(&vectors), remainder),
+            None => HierarchyNode {
+                remainder: f32::INFINITY,
+                ..HierarchyNode::default()
+            },
+        };
+        let node = &mut self.nodes[i];
+        (node.vectors, node.scale, node.remainder) = (bound.vectors, bound.scale, bound.remainder);
+    }
+
+    /// Gives the two halved triangles of each diamond (halved at one vertex, across their
+    /// hypotenuse) one bound, which holds for both: the vectors kept from both lattices, the
+    /// widening covering both, the larger remainder. Where either is split the other is too,
+    /// so little changes; the bytes keep one bound a diamond.
+    fn share_diamonds(&mut self) {
+        for i in 0..self.node_count {
+            if self.nodes[i].children == 0 {
+                continue;
+            }
+            let t = self.scratch[i].tri;
+            let patches = &*self.patches;
+            let link = |p: u32, s: Side| patches.get(p as usize).and_then(|r| r.links[s.index()]);
+            let cells = |p: u32| patches.get(p as usize).map_or([0, 0], |r| r.cells);
+            let Some(n) = t.across(link, cells) else {
+                continue;
+            };
+            let j = self.locate(&n);
+            let partner = j > i
+                && self.scratch[j].tri == n
+                && self.nodes[j].children != 0
+                && self.nodes[j].vertex == self.nodes[i].vertex;
+            if !partner {
+                continue;
+            }
+            let bound = match (self.lattice(i), self.lattice(j)) {
+                (Some((a, ra)), Some((b, rb))) => {
+                    let mut vectors = [Vec3::ZERO; 2 * POINTS];
+                    vectors[..POINTS].copy_from_slice(&a);
+                    vectors[POINTS..].copy_from_slice(&b);
+                    let (ca, cb) = (coarse(&a), coarse(&b));
+                    let mut candidates = [Vec3::ZERO; 2 * COARSE];
+                    candidates[..COARSE].copy_from_slice(&ca);
+                    candidates[COARSE..].copy_from_slice(&cb);
+                    self.bound_of(&vectors, &candidates, ra.max(rb))
+                }
+                _ => HierarchyNode {
+                    remainder: f32::INFINITY,
+                    ..HierarchyNode::default()
+                },
+            };
+            for k in [i, j] {
+                let node = &mut self.nodes[k];
+                (node.vectors, node.scale, node.remainder) =
+                    (bound.vectors, bound.scale, bound.remainder);
+            }
+        }
     }
 
     /// Node `i`'s bound in model units.

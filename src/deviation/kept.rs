@@ -164,12 +164,18 @@ impl Farthest {
 }
 
 /// Most vectors [`keep`] looks at.
-const MAX_VECTORS: usize = 128;
+const MAX_VECTORS: usize = 192;
 
-/// Keeps at most [`KEPT`] of `candidates` in place of `vectors` (at most 128 of each are
-/// looked at; see the module docs): the candidates are chosen from, the widening covers
-/// every one of `vectors`. All must be finite.
-pub(crate) fn keep(vectors: &[Vec3], candidates: &[Vec3]) -> Kept {
+/// Keeps at most [`KEPT`] of `candidates` in place of `vectors` (at most 192 of each are
+/// looked at: two lattices of the bake; see the module docs): the candidates are chosen from, the widening covers
+/// every one of `vectors`. All must be finite. The scale is `round_scale` of the smallest
+/// that fits (at least that: a coarser one only widens the remainder; one that is not gives no
+/// vectors).
+pub(crate) fn keep(
+    vectors: &[Vec3],
+    candidates: &[Vec3],
+    round_scale: impl Fn(f32) -> f32,
+) -> Kept {
     let vectors = &vectors[..vectors.len().min(MAX_VECTORS)];
     let candidates = &candidates[..candidates.len().min(MAX_VECTORS)];
     let mut far = Farthest {
@@ -196,7 +202,13 @@ pub(crate) fn keep(vectors: &[Vec3], candidates: &[Vec3]) -> Kept {
     for c in &chosen[..n] {
         big = max(big, max(max(c.x.abs(), c.y.abs()), c.z.abs()));
     }
-    let scale = if big > 0.0 { big / Q } else { 0.0 };
+    // The scale rounded (up) to the grid the bytes hold it on: every coordinate still fits.
+    let scale = if big > 0.0 { round_scale(big / Q) } else { 0.0 };
+    let scale = if scale >= big / Q && scale.is_finite() {
+        scale
+    } else {
+        0.0
+    };
     let mut q = [[0i8; 3]; KEPT];
     if scale > 0.0 {
         for (out, c) in q.iter_mut().zip(&chosen[..n]) {
@@ -237,7 +249,7 @@ mod tests {
     #[test]
     fn few_vectors_are_kept_exactly_up_to_quantisation() {
         let v = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)];
-        let k = keep(&v, &v);
+        let k = keep(&v, &v, |s| s);
         let d = dequantize(&k.vectors, k.scale);
         assert!(d.contains(&Vec3::new(0.0, 2.0, 0.0)));
         assert!(k.widening < 0.02, "{}", k.widening);
@@ -255,7 +267,7 @@ mod tests {
                 1.0 + 0.3 * libm::sinf(3.0 * a),
             ) * (0.5 + (k % 5) as f32 * 0.1);
         }
-        let k = keep(&v, &v);
+        let k = keep(&v, &v, |s| s);
         let d = dequantize(&k.vectors, k.scale);
         let n = d.iter().filter(|x| **x != Vec3::ZERO).count();
         assert_eq!(n, KEPT);

@@ -1,7 +1,7 @@
 //! A hierarchy's compact bytes, read in place ([`Hierarchy::from_bytes`]): what a firmware
 //! keeps in flash (`include_bytes!`), at any alignment.
 //!
-//! # Layout (version 1)
+//! # Layout (version 2)
 //!
 //! Every number is little-endian; nothing is aligned. A header of [`HEADER_LEN`] bytes:
 //!
@@ -23,7 +23,7 @@
 //! 2. **Cell corners**: the vertex at each cell corner of the patches with more than one
 //!    cell, `(2^a + 1)(2^b + 1)` a patch, corner `(i, j)` at `i (2^b + 1) + j`.
 //! 3. **Halvings**: a bit per node, set where the bake halves it, in `u32` words, then per
-//!    word the halved nodes before it (`u32`). Nodes are numbered level by level: the
+//!    word the halved nodes before it (`u16` for at most 65,535 nodes, else `u32`). Nodes are numbered level by level: the
 //!    patches' roots first, then the halves of each halved node in the order of the nodes,
 //!    so the halves of the `s`-th halved node are nodes `roots + 2 s` and `roots + 2 s + 1`:
 //!    no node stores where its halves are.
@@ -32,10 +32,18 @@
 //!    vertex is vertex `fixed + o`: no owner stores its vertex.
 //! 5. **Partners**: for each halved node that is not an owner (the second triangle of a
 //!    diamond, across its hypotenuse), in order, its vertex.
-//! 6. **Bounds**, [`BOUND_LEN`] bytes a node: its kept vectors (`i8`), scale and remainder
-//!    (`f32`), as [`HierarchyNode`] holds them.
-//! 7. **Vertices**, [`VERTEX_LEN`] bytes each: position and normal (`f32` each). The fixed
-//!    vertices (patch and cell corners) come first, then the owners'.
+//! 6. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors
+//!    (`i8`), the scale's code and the remainder's (one byte each, see `quantize`). The two
+//!    triangles halved at one vertex share one bound, which holds for both (the bake makes it
+//!    so); a partner finds its owner's by its vertex.
+//! 7. **Bounds of the leaves**, one byte each, in order: the code of the bound of the leaf
+//!    (isotropic: the bake keeps no vector for a leaf).
+//! 8. **Vertices**, [`VERTEX_LEN`] bytes each: the point on the grid of the model's box
+//!    (`u16` each) and the octahedral code of the normal (`i8` each). The fixed vertices
+//!    (patch and cell corners) come first, then the owners'.
+//!
+//! The grids (the box, and the unit of the logarithmic codes) follow from the model, which the
+//! fingerprint ties the bytes to.
 //!
 //! Vertex numbers are `u16` where the hierarchy has at most 65,535 vertices.
 //!
@@ -51,6 +59,7 @@ use core::fmt;
 
 use super::address::{root_count, Cells, SideLink, MAX_CELL_LEVEL};
 use super::hierarchy::{cone_ok, links_agree, poles_of, PatchInfo};
+use super::quantize::{normal_of, LogGrid, PositionGrid};
 use super::{HierarchyNode, KEPT, NO_VERTEX};
 use crate::model::PatchSet;
 use crate::patch::Side;
@@ -62,7 +71,7 @@ use super::Hierarchy;
 pub const MAGIC: [u8; 4] = *b"STHY";
 
 /// The format version this crate reads and writes.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 
 /// Bytes of the header.
 pub const HEADER_LEN: usize = 44;
@@ -70,11 +79,11 @@ pub const HEADER_LEN: usize = 44;
 /// Bytes of a patch record.
 pub const PATCH_LEN: usize = 58;
 
-/// Bytes of a node's bound.
-pub const BOUND_LEN: usize = 3 * KEPT + 8;
+/// Bytes of a halved node's bound.
+pub const BOUND_LEN: usize = 3 * KEPT + 2;
 
 /// Bytes of a vertex.
-pub const VERTEX_LEN: usize = 24;
+pub const VERTEX_LEN: usize = 8;
 
 /// Flag: vertex numbers are `u32`.
 pub(crate) const WIDE: u16 = 1;
@@ -249,6 +258,8 @@ pub(crate) struct Layout {
     pub cell_corners: usize,
     /// Bytes of a vertex number.
     pub index: usize,
+    /// Bytes of a count of set bits (`u16` for at most 65,535 nodes, else `u32`).
+    pub count: usize,
     pub cell_at: usize,
     pub split_at: usize,
     pub split_count_at: usize,
@@ -256,6 +267,7 @@ pub(crate) struct Layout {
     pub owner_count_at: usize,
     pub partner_at: usize,
     pub bound_at: usize,
+    pub leaf_at: usize,
     pub vertex_at: usize,
     pub len: usize,
 }
@@ -287,7 +299,9 @@ impl Layout {
             return None;
         }
         let index = if vertices > u16::MAX as usize { 4 } else { 2 };
+        let count = if nodes > u16::MAX as usize { 4 } else { 2 };
         let words = |bits: usize| bits.div_ceil(32).checked_mul(4);
+        let counts = |bits: usize| bits.div_ceil(32).checked_mul(count);
         let mut at = HEADER_LEN;
         let mut take = |bytes: Option<usize>| -> Option<usize> {
             let start = at;
@@ -297,11 +311,12 @@ impl Layout {
         take(patches.checked_mul(PATCH_LEN))?;
         let cell_at = take(cell_corners.checked_mul(index))?;
         let split_at = take(words(nodes))?;
-        let split_count_at = take(words(nodes))?;
+        let split_count_at = take(counts(nodes))?;
         let owner_at = take(words(splits))?;
-        let owner_count_at = take(words(splits))?;
+        let owner_count_at = take(counts(splits))?;
         let partner_at = take((splits - owners).checked_mul(index))?;
-        let bound_at = take(nodes.checked_mul(BOUND_LEN))?;
+        let bound_at = take(owners.checked_mul(BOUND_LEN))?;
+        let leaf_at = take(Some(nodes - splits))?;
         let vertex_at = take(vertices.checked_mul(VERTEX_LEN))?;
         Some(Layout {
             patches,
@@ -312,6 +327,7 @@ impl Layout {
             owners,
             cell_corners,
             index,
+            count,
             cell_at,
             split_at,
             split_count_at,
@@ -319,6 +335,7 @@ impl Layout {
             owner_count_at,
             partner_at,
             bound_at,
+            leaf_at,
             vertex_at,
             len: at,
         })
@@ -331,11 +348,15 @@ impl Layout {
 pub(crate) struct HierarchyBytes<'a> {
     bytes: &'a [u8],
     layout: Layout,
+    grid: PositionGrid,
+    scales: LogGrid,
+    bounds: LogGrid,
 }
 
 impl<'a> HierarchyBytes<'a> {
-    /// Reads the header: the length, magic, version and checksum.
-    pub(crate) fn parse(bytes: &'a [u8]) -> Result<Self, FormatError> {
+    /// Reads the header (the length, magic, version and checksum) of bytes baked from
+    /// `model`, whose box and diagonal give the grids.
+    pub(crate) fn parse(bytes: &'a [u8], model: &PatchSet<'_>) -> Result<Self, FormatError> {
         if bytes.len() >= 4 && bytes[..4] != MAGIC {
             return Err(FormatError::BadMagic);
         }
@@ -381,7 +402,13 @@ impl<'a> HierarchyBytes<'a> {
         if stored != computed {
             return Err(FormatError::ChecksumMismatch { stored, computed });
         }
-        Ok(HierarchyBytes { bytes, layout })
+        Ok(HierarchyBytes {
+            bytes,
+            layout,
+            grid: PositionGrid::of(model),
+            scales: LogGrid::scales(model),
+            bounds: LogGrid::bounds(model),
+        })
     }
 
     /// Checks that the bytes are a hierarchy of `model` whose every number is in range.
@@ -439,7 +466,7 @@ impl<'a> HierarchyBytes<'a> {
                 if used < 32 && word >> used != 0 {
                     return None;
                 }
-                if u32_at(self.bytes, counts_at + 4 * w) != total {
+                if self.count_of(counts_at, w) != total as usize {
                     return None;
                 }
                 total += word.count_ones();
@@ -459,7 +486,8 @@ impl<'a> HierarchyBytes<'a> {
             }
         }
         for k in 0..splits - l.owners {
-            if self.index(l.partner_at + k * l.index) as usize >= l.vertices {
+            let v = self.index(l.partner_at + k * l.index) as usize;
+            if v >= l.vertices || v < l.fixed {
                 return Err(FormatError::Malformed(Part::Partner(k as u32)));
             }
         }
@@ -477,6 +505,14 @@ impl<'a> HierarchyBytes<'a> {
 
     pub(crate) fn vertex_count(&self) -> usize {
         self.layout.vertices
+    }
+
+    /// The count of set bits before word `w` of the words whose counts are at `counts_at`.
+    fn count_of(&self, counts_at: usize, w: usize) -> usize {
+        match self.layout.count {
+            2 => u16_at(self.bytes, counts_at + 2 * w) as usize,
+            _ => u32_at(self.bytes, counts_at + 4 * w) as usize,
+        }
     }
 
     fn index(&self, at: usize) -> u32 {
@@ -552,10 +588,16 @@ impl<'a> HierarchyBytes<'a> {
         let w = i / 32;
         let word = u32_at(self.bytes, bits_at + 4 * w);
         let bit = 1u32 << (i % 32);
-        (word & bit != 0).then(|| {
-            u32_at(self.bytes, counts_at + 4 * w) as usize
-                + (word & (bit - 1)).count_ones() as usize
-        })
+        (word & bit != 0)
+            .then(|| self.count_of(counts_at, w) + (word & (bit - 1)).count_ones() as usize)
+    }
+
+    /// The set bits before bit `i` of the words at `bits_at` (with their counts at
+    /// `counts_at`).
+    fn before(&self, bits_at: usize, counts_at: usize, i: usize) -> usize {
+        let w = i / 32;
+        let word = u32_at(self.bytes, bits_at + 4 * w);
+        self.count_of(counts_at, w) + (word & ((1u32 << (i % 32)) - 1)).count_ones() as usize
     }
 
     /// The rank of node `i` among the halved nodes, if it is halved.
@@ -564,6 +606,18 @@ impl<'a> HierarchyBytes<'a> {
             return None;
         }
         self.rank(self.layout.split_at, self.layout.split_count_at, i)
+    }
+
+    /// The owner of the diamond of the `s`-th halved node: its rank among the owners.
+    fn owner_of(&self, s: usize) -> usize {
+        let l = &self.layout;
+        match self.rank(l.owner_at, l.owner_count_at, s) {
+            Some(o) => o,
+            None => {
+                let partner = s - self.before(l.owner_at, l.owner_count_at, s);
+                (self.index(l.partner_at + partner * l.index) as usize).saturating_sub(l.fixed)
+            }
+        }
     }
 
     /// Where node `i` is halved: its first half's node and its vertex, if it is.
@@ -576,10 +630,7 @@ impl<'a> HierarchyBytes<'a> {
             None => {
                 // Not an owner: its rank among those, the halved nodes before it less the
                 // owners before it.
-                let w = s / 32;
-                let word = u32_at(self.bytes, l.owner_at + 4 * w);
-                let owners = u32_at(self.bytes, l.owner_count_at + 4 * w) as usize
-                    + (word & ((1u32 << (s % 32)) - 1)).count_ones() as usize;
+                let owners = self.before(l.owner_at, l.owner_count_at, s);
                 self.index(l.partner_at + (s - owners) * l.index)
             }
         };
@@ -589,39 +640,56 @@ impl<'a> HierarchyBytes<'a> {
     /// Node `i`: where it is halved, and its bound.
     pub(crate) fn node(&self, i: usize) -> Option<HierarchyNode> {
         let (children, vertex) = self.halving(i).unwrap_or((0, NO_VERTEX));
-        self.bound(i).map(|b| HierarchyNode {
+        self.bound(i).map(|(b, _)| HierarchyNode {
             children,
             vertex,
             ..b
         })
     }
 
-    /// Node `i`'s bound (its halving left out: a leaf's fields).
-    pub(crate) fn bound(&self, i: usize) -> Option<HierarchyNode> {
-        if i >= self.layout.nodes {
+    /// Node `i`'s bound (its halving left out: a leaf's fields), and whether it is a leaf.
+    pub(crate) fn bound(&self, i: usize) -> Option<(HierarchyNode, bool)> {
+        let l = &self.layout;
+        if i >= l.nodes {
             return None;
         }
-        let at = self.layout.bound_at + i * BOUND_LEN;
-        let mut vectors = [[0i8; 3]; KEPT];
-        for (k, v) in vectors.iter_mut().enumerate() {
-            *v = [0, 1, 2].map(|c| self.byte(at + 3 * k + c) as i8);
-        }
-        Some(HierarchyNode {
-            children: 0,
-            vertex: NO_VERTEX,
-            vectors,
-            scale: f32_at(self.bytes, at + 3 * KEPT),
-            remainder: f32_at(self.bytes, at + 3 * KEPT + 4),
+        Some(match self.split_rank(i) {
+            Some(s) => {
+                let at = l.bound_at + self.owner_of(s) * BOUND_LEN;
+                let mut vectors = [[0i8; 3]; KEPT];
+                for (k, v) in vectors.iter_mut().enumerate() {
+                    *v = [0, 1, 2].map(|c| self.byte(at + 3 * k + c) as i8);
+                }
+                let node = HierarchyNode {
+                    children: 0,
+                    vertex: NO_VERTEX,
+                    vectors,
+                    scale: self.scales.value(self.byte(at + 3 * KEPT)),
+                    remainder: self.bounds.value(self.byte(at + 3 * KEPT + 1)),
+                };
+                (node, false)
+            }
+            None => {
+                let leaf = i - self.before(l.split_at, l.split_count_at, i);
+                let node = HierarchyNode {
+                    remainder: self.bounds.value(self.byte(l.leaf_at + leaf)),
+                    ..HierarchyNode::default()
+                };
+                (node, true)
+            }
         })
     }
 
     pub(crate) fn position(&self, v: usize) -> Option<[f32; 3]> {
         let at = self.layout.vertex_at + v * VERTEX_LEN;
-        (v < self.layout.vertices).then(|| [0, 1, 2].map(|k| f32_at(self.bytes, at + 4 * k)))
+        (v < self.layout.vertices).then(|| {
+            self.grid
+                .decode([0, 1, 2].map(|k| u16_at(self.bytes, at + 2 * k)))
+        })
     }
 
     pub(crate) fn normal(&self, v: usize) -> Option<[f32; 3]> {
-        let at = self.layout.vertex_at + v * VERTEX_LEN + 12;
-        (v < self.layout.vertices).then(|| [0, 1, 2].map(|k| f32_at(self.bytes, at + 4 * k)))
+        let at = self.layout.vertex_at + v * VERTEX_LEN + 6;
+        (v < self.layout.vertices).then(|| normal_of([0, 1].map(|k| self.byte(at + k) as i8)))
     }
 }

@@ -183,7 +183,7 @@ impl<'a> Hierarchy<'a> {
     /// (`include_bytes!`), at any alignment. Bad bytes are refused with what is wrong
     /// ([`FormatError`]); none makes a later frame read out of bounds or panic.
     pub fn from_bytes(model: PatchSet<'a>, bytes: &'a [u8]) -> Result<Self, FormatError> {
-        let store = HierarchyBytes::parse(bytes)?;
+        let store = HierarchyBytes::parse(bytes, &model)?;
         store.check(&model)?;
         Ok(Hierarchy {
             model,
@@ -260,10 +260,11 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
-    /// Node `i`'s bound: its kept vectors, scale and remainder (its halving left out).
-    pub(super) fn node_bound(&self, i: usize) -> Option<HierarchyNode> {
+    /// Node `i`'s bound (its kept vectors, scale and remainder; its halving left out), and
+    /// whether it is a leaf of the bake (which keeps no vector).
+    pub(super) fn node_bound(&self, i: usize) -> Option<(HierarchyNode, bool)> {
         match self.store {
-            Store::Records { nodes, .. } => nodes.get(i).copied(),
+            Store::Records { nodes, .. } => nodes.get(i).map(|n| (*n, n.children == 0)),
             Store::Bytes(b) => b.bound(i),
         }
     }

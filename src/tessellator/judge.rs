@@ -58,24 +58,31 @@ pub(super) fn judge(
     };
     let corners = h.corners.map(|v| Vec3::from_array(selection.position(v)));
     let tree = &selection.tree;
-    if let Some(node) = tree.node_bound(h.node as usize) {
+    let mut baked = None;
+    if let Some((node, leaf)) = tree.node_bound(h.node as usize) {
         // In model units, the bake's own bound (the oracles' too); on screen, one from the
         // quantised vectors, and the vectors only when the isotropic bound is not enough.
         let big = match view {
             View::Object { .. } => node.longest(),
             View::Screen { .. } => node.longest_quantised(),
         };
-        return judge_vectors(view, corners, || node.kept(), big, node.remainder, stop);
+        let j = judge_vectors(view, corners, || node.kept(), big, node.remainder, stop);
+        // A leaf of the bake keeps one bound, no vector: where it is over, the run time's
+        // own lattice (with `refine`) may be within, as it is for a triangle below the bake.
+        if !(leaf && cfg!(feature = "refine") && !j.hidden && j.bound > view.tolerance()) {
+            return j;
+        }
+        baked = Some(j);
     }
     let patch = tree
         .patch_of(h.tri.patch)
         .filter(|_| cfg!(feature = "refine"));
     let Some(patch) = patch else {
         // (A build without refinement makes no triangle below the bake.)
-        return Judged {
+        return baked.unwrap_or(Judged {
             bound: f32::INFINITY,
             hidden: false,
-        };
+        });
     };
     let grid = h.tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
     let (vectors, remainder) = deviation_vectors::<RUN_TIME_STEPS, RUN_TIME_POINTS>(
@@ -86,12 +93,17 @@ pub(super) fn judge(
     );
     let big = longest_of(&vectors);
     if !(big.is_finite() && remainder.is_finite()) {
-        return Judged {
+        return baked.unwrap_or(Judged {
             bound: f32::INFINITY,
             hidden: false,
-        };
+        });
     }
-    judge_vectors(view, corners, || vectors, big, remainder, stop)
+    let own = judge_vectors(view, corners, || vectors, big, remainder, stop);
+    // Two bounds of one leaf: the smaller holds.
+    match baked {
+        Some(b) if b.hidden || b.bound <= own.bound => b,
+        _ => own,
+    }
 }
 
 /// Judges the flat triangle `corners` whose deviation lies in the hull of zero and the

@@ -57,6 +57,7 @@ pub(crate) mod format;
 pub(crate) mod hierarchy;
 mod judge;
 mod output;
+pub(crate) mod quantize;
 mod refine;
 mod select;
 mod storage;
