@@ -9,8 +9,8 @@
 use core::fmt;
 
 use crate::tessellator::format::{
-    fnv1a, link_code, model_fingerprint, Layout, BOUND_LEN, CHECKSUM_AT, FNV_OFFSET, HEADER_LEN,
-    MAGIC, PATCH_LEN, VERTEX_LEN, WIDE,
+    fnv1a, link_code, model_fingerprint, Layout, BOUND_LEN, CHECKSUM_AT, FAR, FAR_LEN, FNV_OFFSET,
+    HEADER_LEN, LEAF_CODE_AT, LEAF_LEN, MAGIC, PATCH_LEN, VERTEX_LEN, WIDE,
 };
 use crate::tessellator::quantize::{normal_code, normal_of, LogGrid, PositionGrid};
 use crate::tessellator::{
@@ -218,7 +218,38 @@ pub fn encode_hierarchy(
         .iter()
         .map(|p| crate::tessellator::address::root_count(p.cells))
         .sum();
-    let l = Layout::of(
+    let model_grids = (LogGrid::scales(&model), LogGrid::bounds(&model));
+    let (scales, bounds) = model_grids;
+    // A record's value as its code, if it is on the grid.
+    let code = |g: &LogGrid, x: f32, i: usize| {
+        let b = g.up(x);
+        match g.value(b).to_bits() == x.to_bits() {
+            true => Ok(b),
+            false => Err(EncodeError::NotOnGrid { node: i as u32 }),
+        }
+    };
+    // The leaves' common bound (the least), the leaves apart, and the partners whose owner
+    // is too far back for a byte.
+    let (order, vmap) = scratch.split_at(nodes.len());
+    let (mut leaf_code, mut apart, mut far) = (u8::MAX, 0usize, 0usize);
+    let mut owners = 0usize;
+    for (i, &old) in order.iter().enumerate() {
+        let n = &nodes[old as usize];
+        if n.children == 0 {
+            leaf_code = leaf_code.min(code(&bounds, n.remainder, i)?);
+        } else if vmap[n.vertex as usize] as usize == r.fixed + owners {
+            owners += 1;
+        } else if owners - 1 - (vmap[n.vertex as usize] as usize - r.fixed) >= FAR as usize {
+            far += 1;
+        }
+    }
+    for (i, &old) in order.iter().enumerate() {
+        let n = &nodes[old as usize];
+        if n.children == 0 && code(&bounds, n.remainder, i)? != leaf_code {
+            apart += 1;
+        }
+    }
+    let counts = [
         patches.len(),
         nodes.len(),
         roots,
@@ -226,13 +257,14 @@ pub fn encode_hierarchy(
         r.fixed,
         r.owners,
         r.cell_corners,
-    )
-    .ok_or(EncodeError::Malformed)?;
+        far,
+        apart,
+    ];
+    let l = Layout::of(counts).ok_or(EncodeError::Malformed)?;
     let Some(out) = out.get_mut(..l.len) else {
         return Err(EncodeError::OutputTooSmall { needed: l.len });
     };
     out.fill(0);
-    let (order, vmap) = scratch.split_at(nodes.len());
     let vnum = |v: u32| vmap[vertices[v as usize].output as usize];
     let mut w = Writer { out };
     // Header.
@@ -240,20 +272,10 @@ pub fn encode_hierarchy(
     w.u16(4, FORMAT_VERSION);
     w.u16(6, if l.index == 4 { WIDE } else { 0 });
     w.u32(12, model_fingerprint(&model));
-    for (k, c) in [
-        l.patches,
-        l.nodes,
-        l.roots,
-        l.vertices,
-        l.fixed,
-        l.owners,
-        l.cell_corners,
-    ]
-    .into_iter()
-    .enumerate()
-    {
+    for (k, c) in counts.into_iter().enumerate() {
         w.u32(16 + 4 * k, c as u32);
     }
+    w.out[LEAF_CODE_AT] = leaf_code;
     // Patches and cell corners. A node's number in the bytes: its place in `order`.
     let mut first_root = 0u32;
     let mut cell = 0usize;
@@ -286,18 +308,10 @@ pub fn encode_hierarchy(
         }
     }
     let grid = PositionGrid::of(&model);
-    let (scales, bounds) = (LogGrid::scales(&model), LogGrid::bounds(&model));
-    // A record's value as its code, if it is on the grid.
-    let code = |g: &LogGrid, x: f32, i: usize| {
-        let b = g.up(x);
-        match g.value(b).to_bits() == x.to_bits() {
-            true => Ok(b),
-            false => Err(EncodeError::NotOnGrid { node: i as u32 }),
-        }
-    };
     // Halvings, owners, partners and bounds, in node order. A halving's vertex was
     // numbered in this order: the next owner's number where it is the first at it.
     let (mut s, mut owners, mut partners) = (0usize, 0usize, 0usize);
+    let (mut far, mut apart) = (0usize, 0usize);
     for (i, &old) in order.iter().enumerate() {
         let n = &nodes[old as usize];
         let mut owner = false;
@@ -309,7 +323,16 @@ pub fn encode_hierarchy(
                 w.set_bit(l.owner_at, s);
                 owners += 1;
             } else {
-                w.index(l.partner_at + partners * l.index, l.index, v);
+                // How far back its owner is among the owners, or in the far partners.
+                let back = owners - 1 - (v as usize - l.fixed);
+                if back < FAR as usize {
+                    w.out[l.partner_at + partners] = back as u8;
+                } else {
+                    w.out[l.partner_at + partners] = FAR;
+                    w.u32(l.far_at + far * FAR_LEN, partners as u32);
+                    w.u32(l.far_at + far * FAR_LEN + 4, v);
+                    far += 1;
+                }
                 partners += 1;
             }
             s += 1;
@@ -336,7 +359,12 @@ pub fn encode_hierarchy(
             if n.scale != 0.0 || n.vectors != [[0; 3]; KEPT] {
                 return Err(EncodeError::NotOnGrid { node: i as u32 });
             }
-            w.out[l.leaf_at + i - s] = remainder;
+            if remainder != leaf_code {
+                let at = l.leaf_at + apart * LEAF_LEN;
+                w.u32(at, (i - s) as u32);
+                w.out[at + 4] = remainder;
+                apart += 1;
+            }
         }
     }
     w.counts(l.split_at, l.split_count_at, l.nodes, l.count);

@@ -231,10 +231,14 @@ pub fn bake_hierarchy_with_progress(
     }
     baker.share_diamonds();
     let (n, v) = (baker.node_count, baker.vertex_count);
-    // A leaf keeps one bound, its model-units one rounded up: the bytes give it a byte.
+    // A leaf keeps one bound: the bake's tolerance (rounded up), or its own where that is
+    // larger (a leaf at the depth limit). The bytes keep the first once and the others apart.
     for node in baker.nodes[..n].iter_mut().filter(|x| x.children == 0) {
+        let own = node.object_bound();
         *node = HierarchyNode {
-            remainder: baker.bounds.round_up(node.object_bound()),
+            remainder: baker
+                .bounds
+                .round_up(if own > tolerance { own } else { tolerance }),
             ..HierarchyNode::default()
         };
     }

@@ -12,7 +12,8 @@
 //! | 6 | flags (`u16`): bit 0, vertex numbers are `u32` (else `u16`) |
 //! | 8 | checksum (`u32`): FNV-1a of every byte from 12 on |
 //! | 12 | fingerprint of the model's patches (`u32`, FNV-1a of headers, points, weights) |
-//! | 16 | patches, nodes, roots, vertices, fixed vertices, owners, cell corners (`u32` each) |
+//! | 16 | patches, nodes, roots, vertices, fixed vertices, owners, cell corners, far partners, leaves apart (`u32` each) |
+//! | 52 | the leaves' common bound's code (`u8`), then three zero bytes |
 //!
 //! then these sections, one after the other:
 //!
@@ -23,22 +24,28 @@
 //! 2. **Cell corners**: the vertex at each cell corner of the patches with more than one
 //!    cell, `(2^a + 1)(2^b + 1)` a patch, corner `(i, j)` at `i (2^b + 1) + j`.
 //! 3. **Halvings**: a bit per node, set where the bake halves it, in `u32` words, then per
-//!    word the halved nodes before it (`u16` for at most 65,535 nodes, else `u32`). Nodes are numbered level by level: the
-//!    patches' roots first, then the halves of each halved node in the order of the nodes,
-//!    so the halves of the `s`-th halved node are nodes `roots + 2 s` and `roots + 2 s + 1`:
-//!    no node stores where its halves are.
+//!    word the halved nodes before it (`u16` for at most 65,535 nodes, else `u32`). Nodes
+//!    are numbered level by level: the patches' roots first, then the halves of each halved
+//!    node in the order of the nodes, so the halves of the `s`-th halved node are nodes
+//!    `roots + 2 s` and `roots + 2 s + 1`: no node stores where its halves are.
 //! 4. **Owners**: a bit per halved node, set where it is the first (in node order) of the
-//!    triangles halved at its vertex, in words and counts as above. The `o`-th owner's
-//!    vertex is vertex `fixed + o`: no owner stores its vertex.
-//! 5. **Partners**: for each halved node that is not an owner (the second triangle of a
-//!    diamond, across its hypotenuse), in order, its vertex.
-//! 6. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors
+//!    triangles halved at its vertex (a diamond's first), in words and counts as above. The
+//!    `o`-th owner's vertex is vertex `fixed + o`, and its diamond's bound the `o`-th: no
+//!    owner stores either.
+//! 5. **Partners**: for each halved node that is not an owner (a diamond's second, across
+//!    its owner's hypotenuse), in order, a byte: how many owners back its owner is (of those
+//!    before it, 0 the last), or [`FAR`] where that is 255 or more.
+//! 6. **Far partners**, [`FAR_LEN`] bytes each, sorted: the partner's rank among the
+//!    partners and its owner's vertex (`u32` each). The teapot has 16 of 1,714 partners so.
+//! 7. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors
 //!    (`i8`), the scale's code and the remainder's (one byte each, see `quantize`). The two
 //!    triangles halved at one vertex share one bound, which holds for both (the bake makes it
-//!    so); a partner finds its owner's by its vertex.
-//! 7. **Bounds of the leaves**, one byte each, in order: the code of the bound of the leaf
-//!    (isotropic: the bake keeps no vector for a leaf).
-//! 8. **Vertices**, [`VERTEX_LEN`] bytes each: the point on the grid of the model's box
+//!    so).
+//! 8. **Leaves apart**, [`LEAF_LEN`] bytes each, sorted: a leaf's rank among the leaves
+//!    (`u32`) and its bound's code, for the leaves whose bound is not the common one (the
+//!    bake's tolerance: a leaf keeps no vector, and no other bound where it is within the
+//!    tolerance; those at the depth limit are apart).
+//! 9. **Vertices**, [`VERTEX_LEN`] bytes each: the point on the grid of the model's box
 //!    (`u16` each) and the octahedral code of the normal (`i8` each). The fixed vertices
 //!    (patch and cell corners) come first, then the owners'.
 //!
@@ -74,7 +81,7 @@ pub const MAGIC: [u8; 4] = *b"STHY";
 pub const FORMAT_VERSION: u16 = 2;
 
 /// Bytes of the header.
-pub const HEADER_LEN: usize = 44;
+pub const HEADER_LEN: usize = LEAF_CODE_AT + 4;
 
 /// Bytes of a patch record.
 pub const PATCH_LEN: usize = 58;
@@ -256,6 +263,8 @@ pub(crate) struct Layout {
     pub fixed: usize,
     pub owners: usize,
     pub cell_corners: usize,
+    pub far_partners: usize,
+    pub leaf_exceptions: usize,
     /// Bytes of a vertex number.
     pub index: usize,
     /// Bytes of a count of set bits (`u16` for at most 65,535 nodes, else `u32`).
@@ -266,11 +275,31 @@ pub(crate) struct Layout {
     pub owner_at: usize,
     pub owner_count_at: usize,
     pub partner_at: usize,
+    pub far_at: usize,
     pub bound_at: usize,
     pub leaf_at: usize,
     pub vertex_at: usize,
     pub len: usize,
 }
+
+/// The header's counts, in their order: patches, nodes, roots, vertices, fixed vertices,
+/// owners, cell corners, far partners, leaves apart.
+pub(crate) type Counts = [usize; COUNTS];
+
+/// Counts in the header.
+pub(crate) const COUNTS: usize = 9;
+
+/// Where the leaves' common bound's code is.
+pub(crate) const LEAF_CODE_AT: usize = 16 + 4 * COUNTS;
+
+/// A partner's entry that says "see the far partners".
+pub(crate) const FAR: u8 = u8::MAX;
+
+/// Bytes of a far partner: its rank among the partners, its vertex.
+pub const FAR_LEN: usize = 8;
+
+/// Bytes of a leaf apart: its rank among the leaves, its bound's code.
+pub const LEAF_LEN: usize = 5;
 
 impl Layout {
     /// Halved nodes.
@@ -280,20 +309,15 @@ impl Layout {
 
     /// The layout of a hierarchy of these counts (`None` where the counts are not those of
     /// one, or its length overflows).
-    #[allow(clippy::too_many_arguments)]
-    pub fn of(
-        patches: usize,
-        nodes: usize,
-        roots: usize,
-        vertices: usize,
-        fixed: usize,
-        owners: usize,
-        cell_corners: usize,
-    ) -> Option<Layout> {
+    pub fn of(counts: Counts) -> Option<Layout> {
+        let [patches, nodes, roots, vertices, fixed, owners, cell_corners, far_partners, leaf_exceptions] =
+            counts;
         let splits = nodes.checked_sub(roots)? / 2;
         if roots + 2 * splits != nodes
             || owners > splits
-            || fixed + owners != vertices
+            || far_partners > splits - owners
+            || leaf_exceptions > nodes - splits
+            || fixed.checked_add(owners)? != vertices
             || vertices > u32::MAX as usize - 1
         {
             return None;
@@ -314,9 +338,10 @@ impl Layout {
         let split_count_at = take(counts(nodes))?;
         let owner_at = take(words(splits))?;
         let owner_count_at = take(counts(splits))?;
-        let partner_at = take((splits - owners).checked_mul(index))?;
+        let partner_at = take(Some(splits - owners))?;
+        let far_at = take(far_partners.checked_mul(FAR_LEN))?;
         let bound_at = take(owners.checked_mul(BOUND_LEN))?;
-        let leaf_at = take(Some(nodes - splits))?;
+        let leaf_at = take(leaf_exceptions.checked_mul(LEAF_LEN))?;
         let vertex_at = take(vertices.checked_mul(VERTEX_LEN))?;
         Some(Layout {
             patches,
@@ -326,6 +351,8 @@ impl Layout {
             fixed,
             owners,
             cell_corners,
+            far_partners,
+            leaf_exceptions,
             index,
             count,
             cell_at,
@@ -334,6 +361,7 @@ impl Layout {
             owner_at,
             owner_count_at,
             partner_at,
+            far_at,
             bound_at,
             leaf_at,
             vertex_at,
@@ -370,17 +398,11 @@ impl<'a> HierarchyBytes<'a> {
         if version != FORMAT_VERSION {
             return Err(FormatError::UnsupportedVersion { found: version });
         }
-        let count = |k: usize| u32_at(bytes, 16 + 4 * k) as usize;
-        let layout = Layout::of(
-            count(0),
-            count(1),
-            count(2),
-            count(3),
-            count(4),
-            count(5),
-            count(6),
-        )
-        .ok_or(FormatError::Malformed(Part::Header))?;
+        let counts = core::array::from_fn(|k| u32_at(bytes, 16 + 4 * k) as usize);
+        let layout = Layout::of(counts).ok_or(FormatError::Malformed(Part::Header))?;
+        if u32_at(bytes, LEAF_CODE_AT) >> 8 != 0 {
+            return Err(FormatError::Malformed(Part::Header));
+        }
         let wide = u16_at(bytes, 6) & WIDE != 0;
         if wide != (layout.index == 4) || u16_at(bytes, 6) & !WIDE != 0 {
             return Err(FormatError::Malformed(Part::Header));
@@ -485,10 +507,42 @@ impl<'a> HierarchyBytes<'a> {
                 }
             }
         }
-        for k in 0..splits - l.owners {
-            let v = self.index(l.partner_at + k * l.index) as usize;
-            if v >= l.vertices || v < l.fixed {
-                return Err(FormatError::Malformed(Part::Partner(k as u32)));
+        // Partners: each near one names an owner before it, each far one is in the sorted
+        // list of far partners with a vertex of an owner, and no other is.
+        let (mut owners, mut far) = (0usize, 0usize);
+        for k in 0..splits {
+            if self.rank(l.owner_at, l.owner_count_at, k).is_some() {
+                owners += 1;
+                continue;
+            }
+            let partner = k - owners;
+            let bad = match self.byte(l.partner_at + partner) {
+                FAR => {
+                    let at = l.far_at + far * FAR_LEN;
+                    let v = u32_at(self.bytes, at + 4) as usize;
+                    far += 1;
+                    far > l.far_partners
+                        || u32_at(self.bytes, at) as usize != partner
+                        || v < l.fixed
+                        || v >= l.fixed + owners
+                }
+                d => d as usize >= owners,
+            };
+            if bad {
+                return Err(FormatError::Malformed(Part::Partner(partner as u32)));
+            }
+        }
+        if far != l.far_partners {
+            return Err(FormatError::Malformed(Part::Bits));
+        }
+        // Leaves apart: sorted, each a leaf.
+        let leaves = l.nodes - splits;
+        for k in 0..l.leaf_exceptions {
+            let at = l.leaf_at + k * LEAF_LEN;
+            let rank = u32_at(self.bytes, at) as usize;
+            let sorted = k == 0 || u32_at(self.bytes, at - LEAF_LEN) < rank as u32;
+            if rank >= leaves || !sorted {
+                return Err(FormatError::Malformed(Part::Node(rank as u32)));
             }
         }
         Ok(())
@@ -608,14 +662,52 @@ impl<'a> HierarchyBytes<'a> {
         self.rank(self.layout.split_at, self.layout.split_count_at, i)
     }
 
+    /// The vertex of the `partner`-th partner, from the far partners (a binary search; 0 where
+    /// it is not there).
+    fn far(&self, partner: usize) -> usize {
+        let l = &self.layout;
+        let (mut lo, mut hi) = (0, l.far_partners);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            let at = l.far_at + mid * FAR_LEN;
+            match (u32_at(self.bytes, at) as usize).cmp(&partner) {
+                core::cmp::Ordering::Less => lo = mid + 1,
+                core::cmp::Ordering::Greater => hi = mid,
+                core::cmp::Ordering::Equal => return u32_at(self.bytes, at + 4) as usize,
+            }
+        }
+        0
+    }
+
+    /// The code of the bound of the `leaf`-th leaf: the leaves' common one, or its own where
+    /// it is apart (a binary search).
+    fn leaf_code(&self, leaf: usize) -> u8 {
+        let l = &self.layout;
+        let (mut lo, mut hi) = (0, l.leaf_exceptions);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            let at = l.leaf_at + mid * LEAF_LEN;
+            match (u32_at(self.bytes, at) as usize).cmp(&leaf) {
+                core::cmp::Ordering::Less => lo = mid + 1,
+                core::cmp::Ordering::Greater => hi = mid,
+                core::cmp::Ordering::Equal => return self.byte(at + 4),
+            }
+        }
+        self.byte(LEAF_CODE_AT)
+    }
+
     /// The owner of the diamond of the `s`-th halved node: its rank among the owners.
     fn owner_of(&self, s: usize) -> usize {
         let l = &self.layout;
         match self.rank(l.owner_at, l.owner_count_at, s) {
             Some(o) => o,
             None => {
-                let partner = s - self.before(l.owner_at, l.owner_count_at, s);
-                (self.index(l.partner_at + partner * l.index) as usize).saturating_sub(l.fixed)
+                let owners = self.before(l.owner_at, l.owner_count_at, s);
+                let partner = s - owners;
+                match self.byte(l.partner_at + partner) {
+                    FAR => self.far(partner).saturating_sub(l.fixed),
+                    d => owners.saturating_sub(1 + d as usize),
+                }
             }
         }
     }
@@ -625,16 +717,7 @@ impl<'a> HierarchyBytes<'a> {
         let l = &self.layout;
         let s = self.split_rank(i)?;
         let first = (l.roots + 2 * s) as u32;
-        let vertex = match self.rank(l.owner_at, l.owner_count_at, s) {
-            Some(o) => (l.fixed + o) as u32,
-            None => {
-                // Not an owner: its rank among those, the halved nodes before it less the
-                // owners before it.
-                let owners = self.before(l.owner_at, l.owner_count_at, s);
-                self.index(l.partner_at + (s - owners) * l.index)
-            }
-        };
-        Some((first, vertex))
+        Some((first, (l.fixed + self.owner_of(s)) as u32))
     }
 
     /// Node `i`: where it is halved, and its bound.
@@ -672,7 +755,7 @@ impl<'a> HierarchyBytes<'a> {
             None => {
                 let leaf = i - self.before(l.split_at, l.split_count_at, i);
                 let node = HierarchyNode {
-                    remainder: self.bounds.value(self.byte(l.leaf_at + leaf)),
+                    remainder: self.bounds.value(self.leaf_code(leaf)),
                     ..HierarchyNode::default()
                 };
                 (node, true)

@@ -192,7 +192,7 @@ impl LogGrid {
         if x <= 0.0 {
             return 0;
         }
-        if !(x <= self.value(254)) {
+        if x.is_nan() || x > self.value(254) {
             return 255;
         }
         // A first guess from the logarithm, then the exact comparisons.
