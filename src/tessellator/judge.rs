@@ -99,10 +99,14 @@ pub(super) fn judge(
         });
     }
     let own = judge_vectors(view, corners, || vectors, big, remainder, stop);
-    // Two bounds of one leaf: the smaller holds.
+    // Two bounds of one leaf: the smaller holds. Whether it is hidden stays the bake's
+    // bound's say, so that a build without `refine` writes the same triangles.
     match baked {
-        Some(b) if b.hidden || b.bound <= own.bound => b,
-        _ => own,
+        Some(b) => Judged {
+            bound: if own.bound < b.bound { own.bound } else { b.bound },
+            hidden: b.hidden,
+        },
+        None => own,
     }
 }
 
