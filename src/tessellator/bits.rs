@@ -1,15 +1,15 @@
-//! The run time's bits, in the caller's `u32`s: per vertex, whether it is in the mesh and
-//! whether the frame's count has seen it; per node, whether it was judged, whether it is
-//! hidden, and whether a leaf of the bake is halved below it; per patch, whether it is culled
-//! for facing away. How many words a hierarchy takes, and where each set starts.
+//! The run time's bits, in the caller's `u32`s: per node, whether the frame's mesh halves it
+//! (above the bake or, for a leaf of the bake, below it), whether it was judged and whether
+//! it is hidden; per vertex, whether the frame's count has seen it; per patch, whether it is
+//! culled for facing away. How many words a hierarchy takes, and where each set starts.
 
 use super::hierarchy::Hierarchy;
 #[cfg(doc)]
 use super::select::Tessellator;
 
 impl Hierarchy<'_> {
-    /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: two bits per vertex,
-    /// three per node and one per patch.
+    /// `u32` words of [`Tessellator`]'s bit storage for this hierarchy: three bits per node,
+    /// one per vertex and one per patch.
     pub fn bit_words(&self) -> usize {
         bit_words_for(self.node_count(), self.vertex_count(), self.patch_count())
     }
@@ -23,19 +23,21 @@ impl Hierarchy<'_> {
 /// use spline_tess::tessellator::bit_words_for;
 /// const BITS: usize = bit_words_for(7520, 3900, 32);
 /// let bits = [0u32; BITS];
-/// assert_eq!(bits.len(), 2 * 122 + 3 * 235 + 1);
+/// assert_eq!(bits.len(), 3 * 235 + 122 + 1);
 /// ```
 pub const fn bit_words_for(nodes: usize, vertices: usize, patches: usize) -> usize {
-    2 * vertices.div_ceil(32) + 3 * nodes.div_ceil(32) + patches.div_ceil(32)
+    3 * nodes.div_ceil(32) + vertices.div_ceil(32) + patches.div_ceil(32)
 }
 
 /// Offsets of the bit sets in [`Tessellator::bits`].
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Layout {
-    pub seen: usize,
+    /// Per node: halved in the frame's mesh (the bits start at 0).
+    pub halved: usize,
     pub judged: usize,
     pub hidden: usize,
-    pub refined: usize,
+    /// Per vertex: seen by the frame's count.
+    pub seen: usize,
     /// Per patch: culled as facing away.
     pub culled: usize,
 }
@@ -47,11 +49,11 @@ impl Layout {
             tree.node_count().div_ceil(32),
         );
         Layout {
-            seen: v,
-            judged: 2 * v,
-            hidden: 2 * v + n,
-            refined: 2 * v + 2 * n,
-            culled: 2 * v + 3 * n,
+            halved: 0,
+            judged: n,
+            hidden: 2 * n,
+            seen: 3 * n,
+            culled: 3 * n + v,
         }
     }
 }

@@ -38,7 +38,7 @@ impl Tessellator<'_, '_> {
         let layout = self.layout();
         let tree = self.tree;
         let (mut triangles, mut vertices, mut hidden) = (0, 0, 0);
-        self.bits[layout.seen..layout.judged].fill(0);
+        self.bits[layout.seen..layout.culled].fill(0);
         for e in self.pool.entries.iter_mut() {
             e.seen = false;
         }
@@ -56,7 +56,7 @@ impl Tessellator<'_, '_> {
                 triangles += 1;
                 for v in corners {
                     let new = if v < baked {
-                        let words = &mut self.bits[layout.seen..layout.judged];
+                        let words = &mut self.bits[layout.seen..layout.culled];
                         let fresh = !bit(words, v);
                         set(words, v);
                         fresh

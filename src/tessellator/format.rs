@@ -712,6 +712,12 @@ impl<'a> HierarchyBytes<'a> {
         }
     }
 
+    /// The first half of node `i`, if it is halved.
+    pub(crate) fn first_half(&self, i: usize) -> Option<u32> {
+        self.split_rank(i)
+            .map(|s| (self.layout.roots + 2 * s) as u32)
+    }
+
     /// Where node `i` is halved: its first half's node and its vertex, if it is.
     pub(crate) fn halving(&self, i: usize) -> Option<(u32, u32)> {
         let l = &self.layout;

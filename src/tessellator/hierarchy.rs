@@ -419,6 +419,18 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
+    /// The node of the first half of `h`, if the bake halves it (without its vertex, which
+    /// the bytes take longer to find).
+    pub(super) fn baked_first_half(&self, h: &Pending) -> Option<u32> {
+        match self.store {
+            Store::Records { nodes, .. } => nodes
+                .get(h.node as usize)
+                .filter(|n| n.children != 0)
+                .map(|n| n.children),
+            Store::Bytes(b) => b.first_half(h.node as usize),
+        }
+    }
+
     /// Whether `h` is a triangle of the bake (not one the run time made below it).
     pub(super) fn is_baked(&self, h: &Pending) -> bool {
         (h.node as usize) < self.node_count()
@@ -426,8 +438,8 @@ impl<'a> Hierarchy<'a> {
 
     /// The halves of `h`, split at vertex `v`: the bake's nodes, or the run time's.
     pub(super) fn halves(&self, h: &Pending, v: u32) -> [Pending; 2] {
-        let [n0, n1] = match self.baked_halving(h) {
-            Some((first, _)) => [first, first + 1],
+        let [n0, n1] = match self.baked_first_half(h) {
+            Some(first) => [first, first + 1],
             None => [RUN_TIME; 2],
         };
         let [a, b, c] = h.corners;

@@ -103,7 +103,11 @@ pub(super) fn judge(
     // bound's say, so that a build without `refine` writes the same triangles.
     match baked {
         Some(b) => Judged {
-            bound: if own.bound < b.bound { own.bound } else { b.bound },
+            bound: if own.bound < b.bound {
+                own.bound
+            } else {
+                b.bound
+            },
             hidden: b.hidden,
         },
         None => own,

@@ -135,8 +135,8 @@ pub(crate) struct LogGrid {
     unit: i32,
     /// The code of the unit.
     zero: i32,
-    /// Steps an octave: 4 or 8.
-    per_octave: i32,
+    /// Steps an octave, as a shift: 2 (four steps) or 3 (eight).
+    shift: u32,
 }
 
 /// The exponent of a power of two near a thousandth of `model`'s diagonal (`2^-10` for a
@@ -155,7 +155,7 @@ impl LogGrid {
         LogGrid {
             unit: unit_exponent(model),
             zero: 218,
-            per_octave: 4,
+            shift: 2,
         }
     }
 
@@ -164,7 +164,7 @@ impl LogGrid {
         LogGrid {
             unit: unit_exponent(model),
             zero: 152,
-            per_octave: 8,
+            shift: 3,
         }
     }
 
@@ -175,10 +175,11 @@ impl LogGrid {
             255 => f32::INFINITY,
             _ => {
                 let k = b as i32 - self.zero;
-                let (octave, step) = (k.div_euclid(self.per_octave), k.rem_euclid(self.per_octave));
-                let table = match self.per_octave {
-                    4 => QUARTERS[step as usize],
-                    _ => EIGHTHS[step as usize & 7],
+                // (Shifts, not divisions: this is read at every judgement.)
+                let (octave, step) = (k >> self.shift, (k & ((1 << self.shift) - 1)) as usize);
+                let table = match self.shift {
+                    2 => QUARTERS[step & 3],
+                    _ => EIGHTHS[step & 7],
                 };
                 let e = (octave + self.unit).clamp(-126, 127);
                 f32::from_bits(table) * f32::from_bits(((e + 127) as u32) << 23)
@@ -196,7 +197,7 @@ impl LogGrid {
             return 255;
         }
         // A first guess from the logarithm, then the exact comparisons.
-        let guess = (crate::math::log2(x) - self.unit as f32) * self.per_octave as f32;
+        let guess = (crate::math::log2(x) - self.unit as f32) * (1 << self.shift) as f32;
         let mut b = (libm::ceilf(guess) as i32 + self.zero).clamp(1, 254) as u8;
         while b < 254 && self.value(b) < x {
             b += 1;
@@ -222,7 +223,7 @@ mod tests {
         let g = LogGrid {
             unit: -10,
             zero: 152,
-            per_octave: 8,
+            shift: 3,
         };
         for x in [1e-9f32, 1e-6, 1e-3, 0.0123, 0.5, 1.0, 3.0, 6.5] {
             let b = g.up(x);

@@ -22,10 +22,11 @@
 //!
 //! # Storage
 //!
-//! Bits, in the caller's `u32`s ([`Hierarchy::bit_words`]): per vertex, whether it is in the
-//! mesh (its triangles halved) and whether the frame's count has seen it; per node, whether it
-//! was judged, whether it is hidden (not written out), and whether a leaf of the bake is halved
-//! below it. A stack of waiting triangles, and a
+//! Bits, in the caller's `u32`s ([`Hierarchy::bit_words`]): per node, whether the mesh halves
+//! it (above the bake, or below it for a leaf of the bake), whether it was judged and whether
+//! it is hidden (not written out); per vertex, whether the frame's count has seen it. A
+//! triangle that is not halved is told by its bit, with nothing of the hierarchy decoded. A
+//! stack of waiting triangles, and a
 //! pool of vertices below the bake ([`RefinedVertex`]), both of any length.
 
 use core::fmt;
@@ -251,24 +252,27 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.layout
     }
 
-    /// The vertices' bits: set where a vertex is in the mesh.
-    pub(super) fn active(&self) -> &[u32] {
-        &self.bits[..self.layout().seen]
+    /// The nodes' bits: set where the frame's mesh halves a node.
+    fn halved(&self) -> &[u32] {
+        &self.bits[self.layout().halved..self.layout().judged]
     }
 
     /// The vertex `h` is halved at in the current mesh, if it is.
     pub(super) fn split_vertex(&self, h: &Pending) -> Option<u32> {
+        let baked = self.tree.is_baked(h);
+        if baked && !bit(self.halved(), h.node) {
+            // (Most triangles a frame asks about: a bit, and nothing decoded.)
+            return None;
+        }
         match self.tree.baked_halving(h) {
-            Some((_, v)) => bit(self.active(), v).then_some(v),
-            // Below the bake: in the pool, if anything is (most frames make nothing there, and
-            // most leaves of the bake are not halved).
+            Some((_, v)) => Some(v),
+            // Below the bake: in the pool, if anything is (most frames make nothing there).
             _ if self.pool.used == 0 || !cfg!(feature = "refine") => None,
             // A triangle that cannot be halved never was: its hypotenuse's midpoint, rounded
             // to the grid, may be another vertex of the pool (found by the bisect fuzz
             // target: a walk took such triangles as halved, and below them every triangle
             // again, down to its depth limit, 2^30 triangles).
             _ if !h.tri.can_split(self.tree.cells(h.tri.patch)) => None,
-            _ if self.tree.is_baked(h) && !bit(&self.bits[self.layout.refined..], h.node) => None,
             _ => {
                 let at = key(&self.tree, h.tri.patch, h.tri.midpoint());
                 let base = self.tree.vertex_count() as u32;
@@ -523,7 +527,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.stats.judged += 1;
         // A triangle that cannot be halved is judged in full: its bound is the frame's when
         // over. (One that can stops once over.)
-        let baked = self.tree.baked_halving(&h).is_some();
+        let baked = self.tree.baked_first_half(&h).is_some();
         let halvable = baked || (cfg!(feature = "refine") && !self.pool.is_full());
         let j = judge(self, view, &h, !halvable);
         if j.hidden {
@@ -598,7 +602,11 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
         let v = match halving {
             Some((_, v)) => {
-                set(self.bits, v);
+                for x in [across, Some(*h)].into_iter().flatten() {
+                    if self.tree.is_baked(&x) {
+                        set(self.bits, x.node);
+                    }
+                }
                 v
             }
             // Below the bake (the code is left out of builds without refinement).
@@ -606,10 +614,9 @@ impl<'t, 's> Tessellator<'t, 's> {
             _ => match self.pool.make(&tree, &h.tri, tree.vertex_count() as u32) {
                 Some(v) => {
                     self.stats.refined += 1;
-                    let refined = self.layout().refined;
                     for x in [across, Some(*h)].into_iter().flatten() {
-                        if x.node != RUN_TIME {
-                            set(&mut self.bits[refined..], x.node);
+                        if self.tree.is_baked(&x) {
+                            set(self.bits, x.node);
                         }
                     }
                     v
