@@ -67,9 +67,9 @@ GRID_CACHE="$grids" SPLIT=1 cargo run -q --release -p host-tests --example error
 GRID_CACHE="$grids" cargo run -q --release -p host-tests --example hierarchy_limits >"$out/hierarchy_limits.md"
 step "hierarchies, orbit steps, frame loop"
 if [ "$full" = 1 ]; then
-    cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 2.5e-4 >"$out/hierarchies.md"
+    cargo run -q --release -p host-tests --example bintree_figures -- 2e-3 1e-3 2.5e-4 >"$out/hierarchies.md"
 else
-    cargo run -q --release -p host-tests --example bintree_figures -- 1e-3 >"$out/hierarchies.md"
+    cargo run -q --release -p host-tests --example bintree_figures -- 2e-3 1e-3 >"$out/hierarchies.md"
 fi
 cargo run -q --release -p host-tests --example orbit_changes >"$out/orbit_changes.md"
 cargo run -q --release -p host-tests --example frame_loop >"$out/frame_loop.txt"
@@ -115,7 +115,7 @@ for name, body in blocks.items():
     readme = readme[:i] + "\n" + body + "\n" + readme[j:]
 open("README.md", "w").write(readme)
 
-scope = "1e-3 and 2.5e-4" if full == "1" else "1e-3"
+scope = "2e-3, 1e-3 and 2.5e-4" if full == "1" else "2e-3 and 1e-3"
 left = []
 if full != "1":
     left.append("- The hierarchies' figures at 2.5e-4 of the diagonal (`scripts/figures.sh "
@@ -205,10 +205,11 @@ a bound that pairs each deviation with its own ray and depth.
 
 ## The hierarchies
 
-`cargo run --release -p host-tests --example bintree_figures -- {scope.replace(" and ", " ")}`:
-every model's hierarchy at {scope} of its control-point diagonal (the records as statics in
-flash: nodes, vertices and patch records at their in-memory sizes), and the bake's time on one
-core:
+`cargo run --release -p host-tests --example bintree_figures -- {scope.replace(",", "").replace(" and ", " ")}`:
+every model's hierarchy at {scope} of its control-point diagonal. *Bytes* are its compact bytes
+(`bake::encode_hierarchy`, read in place by `Hierarchy::from_bytes`: what a firmware keeps in
+flash), *records* the bake's records at their in-memory sizes (what a firmware kept in flash
+before the bytes, and what `Hierarchy::new` reads in RAM), and the bake's time on one core:
 
 {read("hierarchies.md")}
 

@@ -6,9 +6,12 @@
 //! ```
 //!
 //! The arguments are tolerances relative to each model's control-point diagonal (default
-//! 1e-3). *Bytes* are the records as a firmware keeps them in flash (`write_rust_source`'s
-//! statics: nodes, vertices and patch records at their in-memory sizes). *Bake s* is one run
-//! on one core.
+//! 1e-3). *Bytes* are the hierarchy's compact bytes (`encode_hierarchy`), what a firmware keeps
+//! in flash and `Hierarchy::from_bytes` reads in place, and *bytes / vertex* those over the
+//! vertices the bytes hold (the records' copies of cell corners left out). *Records* are the
+//! bake's records at their in-memory sizes (nodes, vertices and patch records: what a firmware
+//! kept in flash before the bytes, and what `Hierarchy::new` reads in RAM); *ratio* is bytes
+//! over records. *Bake s* is one run on one core (the bake and its encoding).
 
 use std::time::Instant;
 
@@ -26,9 +29,9 @@ fn main() {
         .collect();
     let rels = if rels.is_empty() { vec![1e-3] } else { rels };
     println!(
-        "| model | rel. tol. | patches | triangles (nodes) | leaves | vertices | bytes | bake s | bytes / vertex |"
+        "| model | rel. tol. | patches | triangles (nodes) | leaves | vertices | records | bytes | ratio | bytes / vertex | bake s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for rel in rels {
         for path in bpt_models().into_iter().chain(nurbs_fixtures()) {
             let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
@@ -38,18 +41,22 @@ fn main() {
             };
             let start = Instant::now();
             let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
+            let encoded = bake.encoded();
             let seconds = start.elapsed().as_secs_f64();
+            let tree = bake.tree_from(&encoded);
             let leaves = bake.nodes.iter().filter(|n| n.children == 0).count();
-            let bytes = bake.nodes.len() * size_of::<HierarchyNode>()
+            let records = bake.nodes.len() * size_of::<HierarchyNode>()
                 + bake.vertices.len() * size_of::<HierarchyVertex>()
                 + bake.patches.len() * size_of::<HierarchyPatch>();
+            let bytes = encoded.len();
             println!(
-                "| {} | {rel:e} | {} | {} | {leaves} | {} | {bytes} | {seconds:.2} | {:.1} |",
+                "| {} | {rel:e} | {} | {} | {leaves} | {} | {records} | {bytes} | {:.3} | {:.1} | {seconds:.2} |",
                 name(&path),
                 bake.patches.len(),
                 bake.nodes.len(),
-                bake.vertices.len(),
-                bytes as f64 / bake.vertices.len() as f64
+                tree.vertex_count(),
+                bytes as f64 / records as f64,
+                bytes as f64 / tree.vertex_count() as f64
             );
         }
     }
