@@ -9,8 +9,9 @@
 use core::fmt;
 
 use crate::tessellator::format::{
-    fnv1a, link_code, model_fingerprint, Layout, BOUND_LEN, CHECKSUM_AT, FAR, FAR_LEN, FNV_OFFSET,
-    HEADER_LEN, LEAF_CODE_AT, LEAF_LEN, MAGIC, PATCH_LEN, VERTEX_LEN, WIDE,
+    fnv1a, link_code, model_fingerprint, put_coordinate, Layout, BOUND_LEN, CHECKSUM_AT, FAR,
+    FAR_LEN, FNV_OFFSET, HEADER_LEN, LEAF_CODE_AT, LEAF_LEN, MAGIC, PATCH_LEN, VECTOR_BYTES,
+    VERTEX_LEN, WIDE,
 };
 use crate::tessellator::quantize::{normal_code, normal_of, LogGrid, PositionGrid};
 use crate::tessellator::{
@@ -341,12 +342,15 @@ pub fn encode_hierarchy(
         if n.children != 0 {
             let mut record = [0u8; BOUND_LEN];
             for (k, v) in n.vectors.iter().enumerate() {
-                for (c, x) in v.iter().enumerate() {
-                    record[3 * k + c] = *x as u8;
+                for (c, &x) in v.iter().enumerate() {
+                    if !(-31..=31).contains(&x) {
+                        return Err(EncodeError::NotOnGrid { node: i as u32 });
+                    }
+                    put_coordinate(&mut record, 3 * k + c, x);
                 }
             }
-            record[3 * KEPT] = code(&scales, n.scale, i)?;
-            record[3 * KEPT + 1] = remainder;
+            record[VECTOR_BYTES] = code(&scales, n.scale, i)?;
+            record[VECTOR_BYTES + 1] = remainder;
             // One bound a diamond, at its owner's place: a partner's must be the owner's.
             let o = vmap[n.vertex as usize] as usize - l.fixed;
             let at = l.bound_at + o * BOUND_LEN;

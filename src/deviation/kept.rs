@@ -35,8 +35,10 @@ const CHOOSING_STEPS: usize = 16;
 const FIRST_STEPS: usize = 4;
 const STEPS: usize = 64;
 
-/// Largest quantised coordinate.
-const Q: f32 = 127.0;
+/// Largest quantised coordinate: six bits a coordinate (what the compact bytes keep). Against
+/// eight bits (127), the firmware teapot's frames take -0.4% to +0.8% triangles (the rounding
+/// is a small part of the widening), and a diamond's bound 3 bytes less.
+pub(crate) const Q: f32 = 31.0;
 
 /// Kept vectors, quantised: vector `i` is `scale * vectors[i]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -37,8 +37,9 @@
 //!    before it, 0 the last), or [`FAR`] where that is 255 or more.
 //! 6. **Far partners**, [`FAR_LEN`] bytes each, sorted: the partner's rank among the
 //!    partners and its owner's vertex (`u32` each). The teapot has 16 of 1,714 partners so.
-//! 7. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors
-//!    (`i8`), the scale's code and the remainder's (one byte each, see `quantize`). The two
+//! 7. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors'
+//!    coordinates (six bits each, `c + 32`, packed from the low bits up), the scale's code and
+//!    the remainder's (one byte each, see `quantize`). The two
 //!    triangles halved at one vertex share one bound, which holds for both (the bake makes it
 //!    so).
 //! 8. **Leaves apart**, [`LEAF_LEN`] bytes each, sorted: a leaf's rank among the leaves
@@ -86,8 +87,30 @@ pub const HEADER_LEN: usize = LEAF_CODE_AT + 4;
 /// Bytes of a patch record.
 pub const PATCH_LEN: usize = 58;
 
-/// Bytes of a halved node's bound.
-pub const BOUND_LEN: usize = 3 * KEPT + 2;
+/// Bytes of a diamond's bound: six bits a vector coordinate, a byte for the scale and one for
+/// the remainder.
+pub const BOUND_LEN: usize = VECTOR_BYTES + 2;
+
+/// Bytes of a bound's vectors: `3 KEPT` coordinates of six bits.
+pub(crate) const VECTOR_BYTES: usize = (3 * KEPT * 6).div_ceil(8);
+
+/// Coordinate `k` of the six-bit coordinates at `bytes` (each stored as `c + 32`).
+pub(crate) fn coordinate(bytes: &[u8], k: usize) -> i8 {
+    let (at, shift) = (6 * k / 8, 6 * k % 8);
+    let lo = bytes.get(at).copied().unwrap_or(0) as u16;
+    let hi = bytes.get(at + 1).copied().unwrap_or(0) as u16;
+    ((((hi << 8) | lo) >> shift) & 63) as i8 - 32
+}
+
+/// Writes coordinate `k` (in `-32..=31`) into the six-bit coordinates at `bytes`.
+pub(crate) fn put_coordinate(bytes: &mut [u8], k: usize, c: i8) {
+    let (at, shift) = (6 * k / 8, 6 * k % 8);
+    let v = ((c as i16 + 32) as u16 & 63) << shift;
+    bytes[at] |= v as u8;
+    if let Some(b) = bytes.get_mut(at + 1) {
+        *b |= (v >> 8) as u8;
+    }
+}
 
 /// Bytes of a vertex.
 pub const VERTEX_LEN: usize = 8;
@@ -745,16 +768,17 @@ impl<'a> HierarchyBytes<'a> {
         Some(match self.split_rank(i) {
             Some(s) => {
                 let at = l.bound_at + self.owner_of(s) * BOUND_LEN;
+                let record = self.bytes.get(at..at + BOUND_LEN).unwrap_or_default();
                 let mut vectors = [[0i8; 3]; KEPT];
                 for (k, v) in vectors.iter_mut().enumerate() {
-                    *v = [0, 1, 2].map(|c| self.byte(at + 3 * k + c) as i8);
+                    *v = [0, 1, 2].map(|c| coordinate(record, 3 * k + c));
                 }
                 let node = HierarchyNode {
                     children: 0,
                     vertex: NO_VERTEX,
                     vectors,
-                    scale: self.scales.value(self.byte(at + 3 * KEPT)),
-                    remainder: self.bounds.value(self.byte(at + 3 * KEPT + 1)),
+                    scale: self.scales.value(self.byte(at + VECTOR_BYTES)),
+                    remainder: self.bounds.value(self.byte(at + VECTOR_BYTES + 1)),
                 };
                 (node, false)
             }
@@ -780,5 +804,23 @@ impl<'a> HierarchyBytes<'a> {
     pub(crate) fn normal(&self, v: usize) -> Option<[f32; 3]> {
         let at = self.layout.vertex_at + v * VERTEX_LEN + 6;
         (v < self.layout.vertices).then(|| normal_of([0, 1].map(|k| self.byte(at + k) as i8)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn six_bit_coordinates_pack_and_unpack() {
+        let values: [i8; 3 * KEPT] = core::array::from_fn(|k| (k as i8 * 5) % 63 - 31);
+        let mut bytes = [0u8; VECTOR_BYTES];
+        for (k, &c) in values.iter().enumerate() {
+            put_coordinate(&mut bytes, k, c);
+        }
+        for (k, &c) in values.iter().enumerate() {
+            assert_eq!(coordinate(&bytes, k), c, "coordinate {k}");
+        }
+        assert_eq!(VECTOR_BYTES, 9);
     }
 }

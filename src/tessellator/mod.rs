@@ -84,7 +84,8 @@ pub struct HierarchyNode {
     pub children: u32,
     /// The vertex at its hypotenuse's midpoint, or [`NO_VERTEX`] for a leaf of the bake.
     pub vertex: u32,
-    /// Kept deviation vectors, quantised: vector `i` is `scale * vectors[i]` in model units.
+    /// Kept deviation vectors, quantised: vector `i` is `scale * vectors[i]` in model units
+    /// (coordinates in `-31..=31`: the compact bytes keep six bits of each).
     pub vectors: [[i8; 3]; KEPT],
     /// Model units per quantisation step.
     pub scale: f32,
