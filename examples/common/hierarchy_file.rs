@@ -11,7 +11,7 @@
 //! ```text
 //! "SPLTHIER"  version: u32  fingerprint: u64  settings: u64
 //! nodes: u32  vertices: u32  patches: u32
-//! nodes x 28 bytes, vertices x 36, patches x 58
+//! nodes x 28 bytes, vertices x 36, patches x 68
 //! checksum: u64 (FNV-1a of everything before it)
 //! ```
 
@@ -24,7 +24,7 @@ use spline_tess::Side;
 use super::model_file::{BakedHierarchy, ModelFile};
 
 const MAGIC: &[u8; 8] = b"SPLTHIER";
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
 
 /// FNV-1a, 64 bits.
 pub fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
@@ -135,6 +135,9 @@ pub fn to_bytes(file: &ModelFile, settings: &BakeSettings, baked: &BakedHierarch
         out.push(p.flip as u8);
         out.push(p.poles);
         f32s(&mut out, &p.cone);
+        out.extend_from_slice(&p.cells);
+        out.extend_from_slice(&p.first_root.to_le_bytes());
+        out.extend_from_slice(&p.cell_vertices.to_le_bytes());
     }
     let sum = fnv1a(&out, FNV_START);
     out.extend_from_slice(&sum.to_le_bytes());
@@ -197,7 +200,7 @@ pub fn from_bytes(
         return Err("the hierarchy was baked with other settings".into());
     }
     let (nodes, vertices, patches) = (r.u32()? as usize, r.u32()? as usize, r.u32()? as usize);
-    let expected = 8 + 4 + 8 + 8 + 12 + 28 * nodes + 36 * vertices + 58 * patches + 8;
+    let expected = 8 + 4 + 8 + 8 + 12 + 28 * nodes + 36 * vertices + 68 * patches + 8;
     if bytes.len() != expected {
         return Err(format!(
             "hierarchy file of {} bytes, its header says {expected}",
@@ -264,6 +267,9 @@ pub fn from_bytes(
         p.flip = r.take::<1>()?[0] != 0;
         p.poles = r.take::<1>()?[0];
         p.cone = [r.f32()?, r.f32()?, r.f32()?, r.f32()?];
+        p.cells = r.take::<2>()?;
+        p.first_root = r.u32()?;
+        p.cell_vertices = r.u32()?;
         out.patches.push(p);
     }
     out.check()?;
