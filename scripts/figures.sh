@@ -259,8 +259,8 @@ with its caller, and the demo's frame loop holds the parts of the update it inli
 `cargo run --release --example fw_bisect --target thumbv7em-none-eabihf` (QEMU mps2-an386,
 `-icount shift=0`; the teapot's hierarchy at 2e-3 in flash; four 240x240 views: a view, a small
 orbit step, a dolly in, half the tolerance, the last below the bake; instructions cover the
-frame's update and its indexed write; the storage line gives the tessellator's RAM: two bits
-per vertex, three per node and one per patch, a stack of 256 waiting triangles, a pool of 2,048
+frame's update and its indexed write; the storage line gives the tessellator's RAM: three
+bits per node, one per vertex and one per patch, a stack of 256 waiting triangles, a pool of 2,048
 vertices below the bake):
 
 ```text
