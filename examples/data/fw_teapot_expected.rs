@@ -2,8 +2,8 @@
 // (triangles, pixels drawn, checksum of the pixels pushed), which the firmware must reproduce.
 // Do not edit: run `SPLINE_TESS_BLESS=1 cargo test -p host-tests --test firmware_data`.
 pub static FRAMES: [[u32; 3]; 4] = [
-    [1052, 6197, 0x344c04a8],
-    [1051, 6196, 0x69884c29],
-    [2110, 21255, 0xa610535d],
-    [2000, 53309, 0xa96241bd],
+    [1050, 6197, 0x1511a4a8],
+    [1049, 6196, 0x7df72d5a],
+    [2103, 21255, 0x1c44b11d],
+    [1998, 53309, 0xa96241bd],
 ];

@@ -26,12 +26,6 @@ pub enum EncodeError {
     Records(HierarchyError),
     /// The records halve a node more than once, or name a node twice as a half.
     Malformed,
-    /// The two triangles of a diamond (halved at one vertex) have different bounds: the
-    /// bytes keep one (node `node`, in the bytes' order, is the second).
-    DiamondsDiffer {
-        /// The node.
-        node: u32,
-    },
     /// A record holds a value the bytes cannot (records not rounded as
     /// [`bake_hierarchy`](super::bake_hierarchy) rounds them): node `node`'s bound, or with
     /// `node` `u32::MAX`, a vertex's point or normal.
@@ -56,9 +50,6 @@ impl fmt::Display for EncodeError {
         match self {
             EncodeError::Records(e) => write!(f, "the records are not a hierarchy: {e}"),
             EncodeError::Malformed => f.write_str("the records halve a node twice"),
-            EncodeError::DiamondsDiffer { node } => {
-                write!(f, "node {node}'s bound is not its diamond's")
-            }
             EncodeError::NotOnGrid { node } => {
                 write!(f, "record {node} holds a value the bytes cannot hold")
             }
@@ -83,7 +74,7 @@ impl From<HierarchyError> for EncodeError {
 /// Entries of `scratch` [`encode_hierarchy`] takes for records of `nodes` nodes and
 /// `vertices` vertices.
 pub const fn encode_scratch_len(nodes: usize, vertices: usize) -> usize {
-    nodes + vertices
+    nodes + 2 * vertices
 }
 
 const NONE: u32 = u32::MAX;
@@ -231,19 +222,24 @@ pub fn encode_hierarchy(
     };
     // The leaves' common bound (the least), the leaves apart, and the partners whose owner
     // is too far back for a byte.
-    let (order, vmap) = scratch.split_at(nodes.len());
-    let (mut leaf_code, mut apart, mut far) = (u8::MAX, 0usize, 0usize);
+    let (order, rest) = scratch.split_at_mut(nodes.len());
+    let (vmap, owner_node) = rest.split_at_mut(vertices.len());
+    let (mut leaf_code, mut apart, mut far, mut own) = (u8::MAX, 0usize, 0usize, 0usize);
     let mut owners = 0usize;
     for (i, &old) in order.iter().enumerate() {
         let n = &nodes[old as usize];
         if n.children == 0 {
             leaf_code = leaf_code.min(code(&bounds, n.remainder, i)?);
         } else if vmap[n.vertex as usize] as usize == r.fixed + owners {
+            owner_node[owners] = old;
             owners += 1;
-        } else if owners - 1 - (vmap[n.vertex as usize] as usize - r.fixed) >= FAR as usize {
-            far += 1;
+        } else {
+            let o = vmap[n.vertex as usize] as usize - r.fixed;
+            far += usize::from(owners - 1 - o >= FAR as usize);
+            own += usize::from(!same_bound(n, &nodes[owner_node[o] as usize]));
         }
     }
+    let (order, vmap, owner_node) = (&*order, &*vmap, &*owner_node);
     for (i, &old) in order.iter().enumerate() {
         let n = &nodes[old as usize];
         if n.children == 0 && code(&bounds, n.remainder, i)? != leaf_code {
@@ -260,6 +256,7 @@ pub fn encode_hierarchy(
         r.cell_corners,
         far,
         apart,
+        own,
     ];
     let l = Layout::of(counts).ok_or(EncodeError::Malformed)?;
     let Some(out) = out.get_mut(..l.len) else {
@@ -312,7 +309,8 @@ pub fn encode_hierarchy(
     // Halvings, owners, partners and bounds, in node order. A halving's vertex was
     // numbered in this order: the next owner's number where it is the first at it.
     let (mut s, mut owners, mut partners) = (0usize, 0usize, 0usize);
-    let (mut far, mut apart) = (0usize, 0usize);
+    let (mut far, mut apart, mut own) = (0usize, 0usize, 0usize);
+    let mut shared = true;
     for (i, &old) in order.iter().enumerate() {
         let n = &nodes[old as usize];
         let mut owner = false;
@@ -324,6 +322,12 @@ pub fn encode_hierarchy(
                 w.set_bit(l.owner_at, s);
                 owners += 1;
             } else {
+                // Its bound: its owner's, or its own.
+                let o = v as usize - l.fixed;
+                shared = same_bound(n, &nodes[owner_node[o] as usize]);
+                if !shared {
+                    w.set_bit(l.own_at, partners);
+                }
                 // How far back its owner is among the owners, or in the far partners.
                 let back = owners - 1 - (v as usize - l.fixed);
                 if back < FAR as usize {
@@ -351,13 +355,14 @@ pub fn encode_hierarchy(
             }
             record[VECTOR_BYTES] = code(&scales, n.scale, i)?;
             record[VECTOR_BYTES + 1] = remainder;
-            // One bound a diamond, at its owner's place: a partner's must be the owner's.
-            let o = vmap[n.vertex as usize] as usize - l.fixed;
-            let at = l.bound_at + o * BOUND_LEN;
+            // A diamond's bound at its owner's place; a partner's own in its own list.
             if owner {
+                let at = l.bound_at + (vmap[n.vertex as usize] as usize - l.fixed) * BOUND_LEN;
                 w.out[at..at + BOUND_LEN].copy_from_slice(&record);
-            } else if w.out[at..at + BOUND_LEN] != record {
-                return Err(EncodeError::DiamondsDiffer { node: i as u32 });
+            } else if !shared {
+                let at = l.own_bound_at + own * BOUND_LEN;
+                w.out[at..at + BOUND_LEN].copy_from_slice(&record);
+                own += 1;
             }
         } else {
             if n.scale != 0.0 || n.vectors != [[0; 3]; KEPT] {
@@ -373,6 +378,7 @@ pub fn encode_hierarchy(
     }
     w.counts(l.split_at, l.split_count_at, l.nodes, l.count);
     w.counts(l.owner_at, l.owner_count_at, l.splits(), l.count);
+    w.counts(l.own_at, l.own_count_at, l.splits() - l.owners, l.count);
     // Vertices, in their new order.
     for (old, &new) in vmap.iter().enumerate() {
         if new == NONE {
@@ -406,6 +412,13 @@ pub fn encode_hierarchy(
     let sum = fnv1a(FNV_OFFSET, &w.out[CHECKSUM_AT + 4..]);
     w.u32(CHECKSUM_AT, sum);
     Ok(l.len)
+}
+
+/// Whether two records hold the same bound, bit for bit.
+fn same_bound(a: &HierarchyNode, b: &HierarchyNode) -> bool {
+    a.vectors == b.vectors
+        && a.scale.to_bits() == b.scale.to_bits()
+        && a.remainder.to_bits() == b.remainder.to_bits()
 }
 
 struct Writer<'o> {

@@ -10,6 +10,10 @@ use crate::deviation::kept::keep;
 use crate::deviation::lattice::{coarse, deviation_vectors, POINTS, STEPS};
 use glam::Vec3;
 
+/// How much larger than its triangles' own a diamond's shared bound may be (in model units):
+/// past it, each keeps its own (the bytes then keep both).
+const SHARED_SLACK: f32 = 0.07;
+
 /// Vectors of a coarse lattice ([`coarse`]).
 const COARSE: usize = (STEPS / 2 + 1) * (STEPS / 2 + 2) / 2;
 use crate::model::Model;
@@ -566,6 +570,15 @@ impl Baker<'_, '_> {
                     ..HierarchyNode::default()
                 },
             };
+            // Shared only where it costs little: the diamond's bound in model units at most
+            // SHARED_SLACK over the larger of its triangles' own.
+            let own = self.nodes[i]
+                .object_bound()
+                .max(self.nodes[j].object_bound());
+            let shared = bound.object_bound();
+            if shared.is_nan() || shared > own * (1.0 + SHARED_SLACK) {
+                continue;
+            }
             for k in [i, j] {
                 let node = &mut self.nodes[k];
                 (node.vectors, node.scale, node.remainder) =

@@ -1,7 +1,7 @@
 //! A hierarchy's compact bytes, read in place ([`Hierarchy::from_bytes`]): what a firmware
 //! keeps in flash (`include_bytes!`), at any alignment.
 //!
-//! # Layout (version 2)
+//! # Layout (version 3)
 //!
 //! Every number is little-endian; nothing is aligned. A header of [`HEADER_LEN`] bytes:
 //!
@@ -12,8 +12,8 @@
 //! | 6 | flags (`u16`): bit 0, vertex numbers are `u32` (else `u16`) |
 //! | 8 | checksum (`u32`): FNV-1a of every byte from 12 on |
 //! | 12 | fingerprint of the model's patches (`u32`, FNV-1a of headers, points, weights) |
-//! | 16 | patches, nodes, roots, vertices, fixed vertices, owners, cell corners, far partners, leaves apart (`u32` each) |
-//! | 52 | the leaves' common bound's code (`u8`), then three zero bytes |
+//! | 16 | patches, nodes, roots, vertices, fixed vertices, owners, cell corners, far partners, leaves apart, partners with their own bound (`u32` each) |
+//! | 56 | the leaves' common bound's code (`u8`), then three zero bytes |
 //!
 //! then these sections, one after the other:
 //!
@@ -35,20 +35,23 @@
 //! 5. **Partners**: for each halved node that is not an owner (a diamond's second, across
 //!    its owner's hypotenuse), in order, a byte: how many owners back its owner is (of those
 //!    before it, 0 the last), or [`FAR`] where that is 255 or more.
-//! 6. **Far partners**, [`FAR_LEN`] bytes each, sorted: the partner's rank among the
+//! 6. **Own bounds**: a bit per partner, set where it keeps a bound of its own (the bake
+//!    shares a diamond's bound only where that costs little), in words and counts as above.
+//! 7. **Far partners**, [`FAR_LEN`] bytes each, sorted: the partner's rank among the
 //!    partners and its owner's vertex (`u32` each). The teapot has 16 of 1,714 partners so.
-//! 7. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors'
+//! 8. **Bounds of the diamonds**, [`BOUND_LEN`] bytes an owner, in order: the kept vectors'
 //!    coordinates (six bits each, `c + 32`, packed from the low bits up), the scale's code and
-//!    the remainder's (one byte each, see `quantize`). The two
-//!    triangles halved at one vertex share one bound, which holds for both (the bake makes it
-//!    so).
-//! 8. **Leaves apart**, [`LEAF_LEN`] bytes each, sorted: a leaf's rank among the leaves
-//!    (`u32`) and its bound's code, for the leaves whose bound is not the common one (the
-//!    bake's tolerance: a leaf keeps no vector, and no other bound where it is within the
-//!    tolerance; those at the depth limit are apart).
-//! 9. **Vertices**, [`VERTEX_LEN`] bytes each: the point on the grid of the model's box
-//!    (`u16` each) and the octahedral code of the normal (`i8` each). The fixed vertices
-//!    (patch and cell corners) come first, then the owners'.
+//!    the remainder's (one byte each, see `quantize`): the bound of both triangles halved at
+//!    the owner's vertex, or of the owner alone where its partner has its own.
+//! 9. **Partners' own bounds**, [`BOUND_LEN`] bytes each, in order of the partners that have
+//!    one.
+//! 10. **Leaves apart**, [`LEAF_LEN`] bytes each, sorted: a leaf's rank among the leaves
+//!     (`u32`) and its bound's code, for the leaves whose bound is not the common one (the
+//!     bake's tolerance: a leaf keeps no vector, and no other bound where it is within the
+//!     tolerance; those at the depth limit are apart).
+//! 11. **Vertices**, [`VERTEX_LEN`] bytes each: the point on the grid of the model's box
+//!     (`u16` each) and the octahedral code of the normal (`i8` each). The fixed vertices
+//!     (patch and cell corners) come first, then the owners'.
 //!
 //! The grids (the box, and the unit of the logarithmic codes) follow from the model, which the
 //! fingerprint ties the bytes to.
@@ -79,7 +82,7 @@ use super::Hierarchy;
 pub const MAGIC: [u8; 4] = *b"STHY";
 
 /// The format version this crate reads and writes.
-pub const FORMAT_VERSION: u16 = 2;
+pub const FORMAT_VERSION: u16 = 3;
 
 /// Bytes of the header.
 pub const HEADER_LEN: usize = LEAF_CODE_AT + 4;
@@ -288,6 +291,7 @@ pub(crate) struct Layout {
     pub cell_corners: usize,
     pub far_partners: usize,
     pub leaf_exceptions: usize,
+    pub own_bounds: usize,
     /// Bytes of a vertex number.
     pub index: usize,
     /// Bytes of a count of set bits (`u16` for at most 65,535 nodes, else `u32`).
@@ -298,19 +302,22 @@ pub(crate) struct Layout {
     pub owner_at: usize,
     pub owner_count_at: usize,
     pub partner_at: usize,
+    pub own_at: usize,
+    pub own_count_at: usize,
     pub far_at: usize,
     pub bound_at: usize,
+    pub own_bound_at: usize,
     pub leaf_at: usize,
     pub vertex_at: usize,
     pub len: usize,
 }
 
 /// The header's counts, in their order: patches, nodes, roots, vertices, fixed vertices,
-/// owners, cell corners, far partners, leaves apart.
+/// owners, cell corners, far partners, leaves apart, partners with a bound of their own.
 pub(crate) type Counts = [usize; COUNTS];
 
 /// Counts in the header.
-pub(crate) const COUNTS: usize = 9;
+pub(crate) const COUNTS: usize = 10;
 
 /// Where the leaves' common bound's code is.
 pub(crate) const LEAF_CODE_AT: usize = 16 + 4 * COUNTS;
@@ -333,13 +340,14 @@ impl Layout {
     /// The layout of a hierarchy of these counts (`None` where the counts are not those of
     /// one, or its length overflows).
     pub fn of(counts: Counts) -> Option<Layout> {
-        let [patches, nodes, roots, vertices, fixed, owners, cell_corners, far_partners, leaf_exceptions] =
+        let [patches, nodes, roots, vertices, fixed, owners, cell_corners, far_partners, leaf_exceptions, own_bounds] =
             counts;
         let splits = nodes.checked_sub(roots)? / 2;
         if roots + 2 * splits != nodes
             || owners > splits
             || far_partners > splits - owners
             || leaf_exceptions > nodes - splits
+            || own_bounds > splits - owners
             || fixed.checked_add(owners)? != vertices
             || vertices > u32::MAX as usize - 1
         {
@@ -362,8 +370,11 @@ impl Layout {
         let owner_at = take(words(splits))?;
         let owner_count_at = take(counts(splits))?;
         let partner_at = take(Some(splits - owners))?;
+        let own_at = take(words(splits - owners))?;
+        let own_count_at = take(counts(splits - owners))?;
         let far_at = take(far_partners.checked_mul(FAR_LEN))?;
         let bound_at = take(owners.checked_mul(BOUND_LEN))?;
+        let own_bound_at = take(own_bounds.checked_mul(BOUND_LEN))?;
         let leaf_at = take(leaf_exceptions.checked_mul(LEAF_LEN))?;
         let vertex_at = take(vertices.checked_mul(VERTEX_LEN))?;
         Some(Layout {
@@ -376,6 +387,7 @@ impl Layout {
             cell_corners,
             far_partners,
             leaf_exceptions,
+            own_bounds,
             index,
             count,
             cell_at,
@@ -384,8 +396,11 @@ impl Layout {
             owner_at,
             owner_count_at,
             partner_at,
+            own_at,
+            own_count_at,
             far_at,
             bound_at,
+            own_bound_at,
             leaf_at,
             vertex_at,
             len: at,
@@ -520,6 +535,7 @@ impl<'a> HierarchyBytes<'a> {
         };
         if counted(l.split_at, l.split_count_at, l.nodes) != Some(splits)
             || counted(l.owner_at, l.owner_count_at, splits) != Some(l.owners)
+            || counted(l.own_at, l.own_count_at, splits - l.owners) != Some(l.own_bounds)
         {
             return Err(FormatError::Malformed(Part::Bits));
         }
@@ -719,6 +735,18 @@ impl<'a> HierarchyBytes<'a> {
         self.byte(LEAF_CODE_AT)
     }
 
+    /// Where the bound of the `s`-th halved node is: its diamond's, or a partner's own.
+    fn bound_of(&self, s: usize) -> usize {
+        let l = &self.layout;
+        if self.rank(l.owner_at, l.owner_count_at, s).is_none() {
+            let partner = s - self.before(l.owner_at, l.owner_count_at, s);
+            if let Some(k) = self.rank(l.own_at, l.own_count_at, partner) {
+                return l.own_bound_at + k * BOUND_LEN;
+            }
+        }
+        l.bound_at + self.owner_of(s) * BOUND_LEN
+    }
+
     /// The owner of the diamond of the `s`-th halved node: its rank among the owners.
     fn owner_of(&self, s: usize) -> usize {
         let l = &self.layout;
@@ -767,7 +795,7 @@ impl<'a> HierarchyBytes<'a> {
         }
         Some(match self.split_rank(i) {
             Some(s) => {
-                let at = l.bound_at + self.owner_of(s) * BOUND_LEN;
+                let at = self.bound_of(s);
                 let record = self.bytes.get(at..at + BOUND_LEN).unwrap_or_default();
                 let mut vectors = [[0i8; 3]; KEPT];
                 for (k, v) in vectors.iter_mut().enumerate() {

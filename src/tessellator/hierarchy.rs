@@ -25,9 +25,11 @@ pub struct Hierarchy<'a> {
     pub(super) store: Store<'a>,
 }
 
-/// Where a hierarchy's records are.
+/// Where a hierarchy's records are. (The bytes' variant carries their layout, read once:
+/// a few hundred bytes, held once a tessellator.)
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[allow(clippy::large_enum_variant)]
 pub(super) enum Store<'a> {
     /// The bake's records.
     Records {
