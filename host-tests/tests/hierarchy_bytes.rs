@@ -4,29 +4,15 @@
 //! what is wrong, never a panic.
 
 use host_tests::model_file::{BakedHierarchy, ModelFile};
-use host_tests::models_dir;
+use std::path::Path;
+
 use host_tests::runtime::{indexed, VecStorage};
+use host_tests::{bpt_models, models_dir, nurbs_fixtures};
 use spline_tess::bake::{BakeSettings, Tolerance};
 use spline_tess::tessellator::{FormatError, FORMAT_VERSION};
 use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
 
-const MODELS: [&str; 12] = [
-    "teapot.bpt",
-    "teaspoon.bpt",
-    "teacup.bpt",
-    "teapot_orig28.bpt",
-    "teapot_westin.bpt",
-    "gumbo.bpt",
-    "nurbs/geomdl_surface1.json",
-    "nurbs/geomdl_surface2_weighted.json",
-    "nurbs/rational_torus.json",
-    "nurbs/threejs_nurbs_example.json",
-    "nurbs/tinynurbs_hemisphere.json",
-    "nurbs/verb_quarter_cylinder.json",
-];
-
-fn bake(name: &str, relative: f32) -> BakedHierarchy {
-    let path = models_dir().join(name);
+fn bake(path: &Path, relative: f32) -> BakedHierarchy {
     let file = ModelFile::read(path.to_str().unwrap()).unwrap();
     let settings = BakeSettings {
         tolerance: Tolerance::Relative(relative),
@@ -72,8 +58,11 @@ fn views(tree: &Hierarchy<'_>) -> Vec<View> {
 
 #[test]
 fn bytes_give_the_records_meshes_on_every_model() {
-    for name in &MODELS {
-        let baked = bake(name, 1e-2);
+    let models: Vec<_> = bpt_models().into_iter().chain(nurbs_fixtures()).collect();
+    assert!(models.len() >= 12, "the repository's models");
+    for path in &models {
+        let name = path.display();
+        let baked = bake(path, 1e-2);
         let records = baked.tree();
         let bytes = baked.encoded();
         assert_eq!(bytes, baked.encoded(), "{name}: encoding is deterministic");
@@ -95,7 +84,7 @@ fn bytes_give_the_records_meshes_on_every_model() {
 
 #[test]
 fn bad_bytes_are_refused_with_what_is_wrong() {
-    let baked = bake("teapot.bpt", 2e-2);
+    let baked = bake(&models_dir().join("teapot.bpt"), 2e-2);
     let patches = baked.file.patches();
     let bytes = baked.encoded();
     assert!(Hierarchy::from_bytes(patches, &bytes).is_ok());
@@ -145,7 +134,7 @@ fn bad_bytes_are_refused_with_what_is_wrong() {
         })
     );
     // The bytes of another model.
-    let other = bake("teaspoon.bpt", 2e-2);
+    let other = bake(&models_dir().join("teaspoon.bpt"), 2e-2);
     assert!(matches!(
         Hierarchy::from_bytes(other.file.patches(), &bytes),
         Err(FormatError::ModelMismatch { .. })

@@ -701,38 +701,37 @@ impl<'a> HierarchyBytes<'a> {
         self.rank(self.layout.split_at, self.layout.split_count_at, i)
     }
 
-    /// The vertex of the `partner`-th partner, from the far partners (a binary search; 0 where
-    /// it is not there).
-    fn far(&self, partner: usize) -> usize {
-        let l = &self.layout;
-        let (mut lo, mut hi) = (0, l.far_partners);
+    /// Where the record keyed `key` is among the `count` records of `len` bytes at `at`, each
+    /// starting with its key (`u32`), sorted (a binary search).
+    fn sorted_record(&self, at: usize, count: usize, len: usize, key: usize) -> Option<usize> {
+        let (mut lo, mut hi) = (0, count);
         while lo < hi {
             let mid = (lo + hi) / 2;
-            let at = l.far_at + mid * FAR_LEN;
-            match (u32_at(self.bytes, at) as usize).cmp(&partner) {
+            let record = at + mid * len;
+            match (u32_at(self.bytes, record) as usize).cmp(&key) {
                 core::cmp::Ordering::Less => lo = mid + 1,
                 core::cmp::Ordering::Greater => hi = mid,
-                core::cmp::Ordering::Equal => return u32_at(self.bytes, at + 4) as usize,
+                core::cmp::Ordering::Equal => return Some(record),
             }
         }
-        0
+        None
+    }
+
+    /// The vertex of the `partner`-th partner, from the far partners (0 where it is not there).
+    fn far(&self, partner: usize) -> usize {
+        let l = &self.layout;
+        self.sorted_record(l.far_at, l.far_partners, FAR_LEN, partner)
+            .map_or(0, |at| u32_at(self.bytes, at + 4) as usize)
     }
 
     /// The code of the bound of the `leaf`-th leaf: the leaves' common one, or its own where
-    /// it is apart (a binary search).
+    /// it is apart.
     fn leaf_code(&self, leaf: usize) -> u8 {
         let l = &self.layout;
-        let (mut lo, mut hi) = (0, l.leaf_exceptions);
-        while lo < hi {
-            let mid = (lo + hi) / 2;
-            let at = l.leaf_at + mid * LEAF_LEN;
-            match (u32_at(self.bytes, at) as usize).cmp(&leaf) {
-                core::cmp::Ordering::Less => lo = mid + 1,
-                core::cmp::Ordering::Greater => hi = mid,
-                core::cmp::Ordering::Equal => return self.byte(at + 4),
-            }
+        match self.sorted_record(l.leaf_at, l.leaf_exceptions, LEAF_LEN, leaf) {
+            Some(at) => self.byte(at + 4),
+            None => self.byte(LEAF_CODE_AT),
         }
-        self.byte(LEAF_CODE_AT)
     }
 
     /// Where the bound of the `s`-th halved node is: its diamond's, or a partner's own.

@@ -303,11 +303,7 @@ impl<'a> Hierarchy<'a> {
     }
 
     /// The vertex at corner `k` (`(0, 0)`, `(1, 0)`, `(1, 1)`, `(0, 1)`) of patch `p`.
-    pub(super) fn corner_vertex(&self, p: u32, k: usize) -> u32 {
-        self.corner(p, k)
-    }
-
-    fn corner(&self, p: u32, k: usize) -> u32 {
+    pub(super) fn corner(&self, p: u32, k: usize) -> u32 {
         match self.store {
             Store::Records { patches, .. } => patches.get(p as usize).map_or(0, |r| r.corners[k]),
             Store::Bytes(b) => b.corner(p as usize, k),

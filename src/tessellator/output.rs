@@ -64,7 +64,7 @@ impl Tessellator<'_, '_> {
             let m = super::address::ONE;
             for q in 0..tree.patch_count() as u32 {
                 for (k, g) in [[0, 0], [m, 0], [m, m], [0, m]].into_iter().enumerate() {
-                    if tree.corner_vertex(q, k) == v {
+                    if tree.corner(q, k) == v {
                         return (q, g);
                     }
                 }

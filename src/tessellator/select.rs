@@ -319,29 +319,27 @@ impl<'t, 's> Tessellator<'t, 's> {
         h.node != RUN_TIME && bit(&self.bits[self.layout().judged..], h.node)
     }
 
+    /// The pool's entry of vertex `v`, or `Err` with its number in the bake.
+    fn below_the_bake(&self, v: u32) -> Result<Option<&PoolSlot>, usize> {
+        match (v as usize).checked_sub(self.tree.vertex_count()) {
+            None => Err(v as usize),
+            Some(slot) => Ok(self.pool.entries.get(slot)),
+        }
+    }
+
     /// The point of vertex `v`: the bake's, or one below it.
     pub(super) fn position(&self, v: u32) -> [f32; 3] {
-        let baked = self.tree.vertex_count();
-        match (v as usize).checked_sub(baked) {
-            None => self.tree.position(v as usize).unwrap_or_default(),
-            Some(slot) => self
-                .pool
-                .entries
-                .get(slot)
-                .map_or([0.0; 3], |e| e.vertex.position),
+        match self.below_the_bake(v) {
+            Err(baked) => self.tree.position(baked).unwrap_or_default(),
+            Ok(e) => e.map_or([0.0; 3], |e| e.vertex.position),
         }
     }
 
     /// The unit normal of vertex `v`: the bake's, or one below it.
     pub(super) fn normal(&self, v: u32) -> [f32; 3] {
-        let baked = self.tree.vertex_count();
-        match (v as usize).checked_sub(baked) {
-            None => self.tree.normal(v as usize).unwrap_or_default(),
-            Some(slot) => self
-                .pool
-                .entries
-                .get(slot)
-                .map_or([0.0; 3], |e| e.vertex.normal),
+        match self.below_the_bake(v) {
+            Err(baked) => self.tree.normal(baked).unwrap_or_default(),
+            Ok(e) => e.map_or([0.0; 3], |e| e.vertex.normal),
         }
     }
 
