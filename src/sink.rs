@@ -80,6 +80,13 @@ pub trait TriangleSink {
         true
     }
 
+    /// Whether the sink reads the vertices' parameters ([`Vertex::uv`] and
+    /// [`Vertex::patch`]): a source may leave them zero (and spare the work of finding the
+    /// patch every triangle gives a shared vertex) when this is false. The default reads them.
+    fn wants_parameters(&self) -> bool {
+        true
+    }
+
     /// One triangle of patch `patch` whose corners are named by keys, with `corner(i)` giving
     /// corner `i`'s vertex (evaluated when asked).
     ///
@@ -113,6 +120,10 @@ impl<S: TriangleSink + ?Sized> TriangleSink for &mut S {
 
     fn wants_patch(&self, patch: u32) -> bool {
         (**self).wants_patch(patch)
+    }
+
+    fn wants_parameters(&self) -> bool {
+        (**self).wants_parameters()
     }
 
     fn keyed_triangle(

@@ -440,6 +440,10 @@ pub(super) struct Band<'a, 'b, O: BandOutput> {
 }
 
 impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
+    fn wants_parameters(&self) -> bool {
+        false
+    }
+
     fn triangle(&mut self, _patch: u32, corners: [&Vertex; 3]) {
         if self.error.is_some() {
             return;

@@ -69,7 +69,7 @@
 use core::fmt;
 
 use super::address::{root_count, Cells, SideLink, MAX_CELL_LEVEL};
-use super::hierarchy::{cone_ok, links_agree, poles_of, PatchInfo};
+use super::hierarchy::{cone_ok, links_agree, poles_of, PatchInfo, Shape};
 use super::quantize::{normal_of, LogGrid, PositionGrid};
 use super::{HierarchyNode, KEPT, NO_VERTEX};
 use crate::model::PatchSet;
@@ -685,14 +685,6 @@ impl<'a> HierarchyBytes<'a> {
             .then(|| self.count_of(counts_at, w) + (word & (bit - 1)).count_ones() as usize)
     }
 
-    /// The set bits before bit `i` of the words at `bits_at` (with their counts at
-    /// `counts_at`).
-    fn before(&self, bits_at: usize, counts_at: usize, i: usize) -> usize {
-        let w = i / 32;
-        let word = u32_at(self.bytes, bits_at + 4 * w);
-        self.count_of(counts_at, w) + (word & ((1u32 << (i % 32)) - 1)).count_ones() as usize
-    }
-
     /// The rank of node `i` among the halved nodes, if it is halved.
     fn split_rank(&self, i: usize) -> Option<usize> {
         if i >= self.layout.nodes {
@@ -734,67 +726,109 @@ impl<'a> HierarchyBytes<'a> {
         }
     }
 
+    /// Whether the `s`-th halved node owns its diamond's bound, and the owners before it.
+    fn owner_rank(&self, s: usize) -> (bool, usize) {
+        let l = &self.layout;
+        let w = s / 32;
+        let word = u32_at(self.bytes, l.owner_at + 4 * w);
+        let bit = 1u32 << (s % 32);
+        let before = self.count_of(l.owner_count_at, w) + (word & (bit - 1)).count_ones() as usize;
+        (word & bit != 0, before)
+    }
+
     /// Where the bound of the `s`-th halved node is: its diamond's, or a partner's own.
     fn bound_of(&self, s: usize) -> usize {
         let l = &self.layout;
-        if self.rank(l.owner_at, l.owner_count_at, s).is_none() {
-            let partner = s - self.before(l.owner_at, l.owner_count_at, s);
+        let (owner, before) = self.owner_rank(s);
+        if !owner {
+            let partner = s - before;
             if let Some(k) = self.rank(l.own_at, l.own_count_at, partner) {
                 return l.own_bound_at + k * BOUND_LEN;
             }
         }
-        l.bound_at + self.owner_of(s) * BOUND_LEN
+        l.bound_at + self.owner_from(s, owner, before) * BOUND_LEN
     }
 
     /// The owner of the diamond of the `s`-th halved node: its rank among the owners.
     fn owner_of(&self, s: usize) -> usize {
+        let (owner, before) = self.owner_rank(s);
+        self.owner_from(s, owner, before)
+    }
+
+    /// [`owner_of`](Self::owner_of) from [`owner_rank`](Self::owner_rank).
+    fn owner_from(&self, s: usize, owner: bool, before: usize) -> usize {
         let l = &self.layout;
-        match self.rank(l.owner_at, l.owner_count_at, s) {
-            Some(o) => o,
-            None => {
-                let owners = self.before(l.owner_at, l.owner_count_at, s);
-                let partner = s - owners;
-                match self.byte(l.partner_at + partner) {
-                    FAR => self.far(partner).saturating_sub(l.fixed),
-                    d => owners.saturating_sub(1 + d as usize),
-                }
-            }
+        if owner {
+            return before;
+        }
+        let partner = s - before;
+        match self.byte(l.partner_at + partner) {
+            FAR => self.far(partner).saturating_sub(l.fixed),
+            d => before.saturating_sub(1 + d as usize),
         }
     }
 
-    /// The first half of node `i`, if it is halved.
-    pub(crate) fn first_half(&self, i: usize) -> Option<u32> {
-        self.split_rank(i)
-            .map(|s| (self.layout.roots + 2 * s) as u32)
+    /// The shapes of nodes `i` and `i + 1`: halved or a leaf, and its rank among either (one
+    /// count of bits for both).
+    pub(crate) fn shapes(&self, i: usize) -> [Shape; 2] {
+        let l = &self.layout;
+        let shape = |i: usize, before: usize, halved: bool| match halved {
+            true => Shape::halved(before as u32),
+            false => Shape::leaf((i - before) as u32),
+        };
+        if i >= l.nodes {
+            return [Shape::leaf(0); 2];
+        }
+        let w = i / 32;
+        let word = u32_at(self.bytes, l.split_at + 4 * w);
+        let bit = 1u32 << (i % 32);
+        let before = self.count_of(l.split_count_at, w) + (word & (bit - 1)).count_ones() as usize;
+        let first = word & bit != 0;
+        let second = match (i + 1) % 32 {
+            _ if i + 1 >= l.nodes => return [shape(i, before, first), Shape::leaf(0)],
+            0 => u32_at(self.bytes, l.split_at + 4 * (w + 1)) & 1 != 0,
+            k => word & (1 << k) != 0,
+        };
+        let next = before + usize::from(first);
+        [shape(i, before, first), shape(i + 1, next, second)]
     }
 
-    /// Where node `i` is halved: its first half's node and its vertex, if it is.
-    pub(crate) fn halving(&self, i: usize) -> Option<(u32, u32)> {
-        let l = &self.layout;
-        let s = self.split_rank(i)?;
-        let first = (l.roots + 2 * s) as u32;
-        Some((first, (l.fixed + self.owner_of(s)) as u32))
+    /// The first half of node `i` of shape `shape`, if it is halved.
+    pub(crate) fn first_half_of_shape(&self, i: usize, shape: Shape) -> Option<u32> {
+        (i < self.layout.nodes && shape.is_halved())
+            .then(|| (self.layout.roots + 2 * shape.rank()) as u32)
+    }
+
+    /// Where node `i` of shape `shape` is halved: its first half's node and its vertex, if it
+    /// is.
+    pub(crate) fn halving_of_shape(&self, i: usize, shape: Shape) -> Option<(u32, u32)> {
+        let first = self.first_half_of_shape(i, shape)?;
+        Some((
+            first,
+            (self.layout.fixed + self.owner_of(shape.rank())) as u32,
+        ))
     }
 
     /// Node `i`: where it is halved, and its bound.
     pub(crate) fn node(&self, i: usize) -> Option<HierarchyNode> {
-        let (children, vertex) = self.halving(i).unwrap_or((0, NO_VERTEX));
-        self.bound(i).map(|(b, _)| HierarchyNode {
+        let shape = self.shapes(i)[0];
+        let (children, vertex) = self.halving_of_shape(i, shape).unwrap_or((0, NO_VERTEX));
+        self.bound_of_shape(i, shape).map(|(b, _)| HierarchyNode {
             children,
             vertex,
             ..b
         })
     }
 
-    /// Node `i`'s bound (its halving left out: a leaf's fields), and whether it is a leaf.
-    pub(crate) fn bound(&self, i: usize) -> Option<(HierarchyNode, bool)> {
-        let l = &self.layout;
-        if i >= l.nodes {
+    /// Node `i`'s bound (its halving left out: a leaf's fields), and whether it is a leaf,
+    /// with its shape `shape`.
+    pub(crate) fn bound_of_shape(&self, i: usize, shape: Shape) -> Option<(HierarchyNode, bool)> {
+        if i >= self.layout.nodes {
             return None;
         }
-        Some(match self.split_rank(i) {
-            Some(s) => {
-                let at = self.bound_of(s);
+        Some(match shape.is_halved() {
+            true => {
+                let at = self.bound_of(shape.rank());
                 let record = self.bytes.get(at..at + BOUND_LEN).unwrap_or_default();
                 let mut vectors = [[0i8; 3]; KEPT];
                 for (k, v) in vectors.iter_mut().enumerate() {
@@ -809,10 +843,9 @@ impl<'a> HierarchyBytes<'a> {
                 };
                 (node, false)
             }
-            None => {
-                let leaf = i - self.before(l.split_at, l.split_count_at, i);
+            false => {
                 let node = HierarchyNode {
-                    remainder: self.bounds.value(self.leaf_code(leaf)),
+                    remainder: self.bounds.value(self.leaf_code(shape.rank())),
                     ..HierarchyNode::default()
                 };
                 (node, true)

@@ -97,6 +97,41 @@ pub(crate) struct Pending {
     pub(super) node: u32,
     pub(super) tri: Tri,
     pub(super) corners: [u32; 3],
+    /// How the bake treats the node, found once where the triangle is made (the bytes count
+    /// bits to find it, and a frame asks it several times a triangle): see [`Shape`].
+    pub(super) shape: Shape,
+}
+
+/// Whether the bake halves a node, and where its records are: for the bytes, a halved node's
+/// rank among the halved nodes, or a leaf's among the leaves (with [`Shape::LEAF`] set).
+/// The records keep only the flag; a triangle below the bake is a leaf.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(crate) struct Shape(pub(super) u32);
+
+impl Shape {
+    /// The flag of a leaf of the bake.
+    pub(super) const LEAF: u32 = 1 << 31;
+
+    /// A leaf of the bake (or a triangle below it), `rank`-th among the leaves.
+    pub(super) const fn leaf(rank: u32) -> Shape {
+        Shape(Self::LEAF | rank)
+    }
+
+    /// A node the bake halves, `rank`-th among the halved nodes.
+    pub(super) const fn halved(rank: u32) -> Shape {
+        Shape(rank & !Self::LEAF)
+    }
+
+    /// Whether the bake halves the node.
+    pub(super) fn is_halved(self) -> bool {
+        self.0 & Self::LEAF == 0
+    }
+
+    /// Its rank among the halved nodes or among the leaves.
+    pub(super) fn rank(self) -> usize {
+        (self.0 & !Self::LEAF) as usize
+    }
 }
 
 impl Pending {
@@ -108,6 +143,7 @@ impl Pending {
             corners: [[0; 2]; 3],
         },
         corners: [0; 3],
+        shape: Shape::leaf(0),
     };
 }
 
@@ -264,10 +300,12 @@ impl<'a> Hierarchy<'a> {
 
     /// Node `i`'s bound (its kept vectors, scale and remainder; its halving left out), and
     /// whether it is a leaf of the bake (which keeps no vector).
-    pub(super) fn node_bound(&self, i: usize) -> Option<(HierarchyNode, bool)> {
+    pub(super) fn node_bound(&self, h: &Pending) -> Option<(HierarchyNode, bool)> {
         match self.store {
-            Store::Records { nodes, .. } => nodes.get(i).map(|n| (*n, n.children == 0)),
-            Store::Bytes(b) => b.bound(i),
+            Store::Records { nodes, .. } => {
+                nodes.get(h.node as usize).map(|n| (*n, n.children == 0))
+            }
+            Store::Bytes(b) => b.bound_of_shape(h.node as usize, h.shape),
         }
     }
 
@@ -363,10 +401,26 @@ impl<'a> Hierarchy<'a> {
             }
             Store::Bytes(b) => b.first_root(patch as usize),
         };
+        let node = first + k as u32;
         Pending {
-            node: first + k as u32,
+            node,
             tri,
             corners: tri.corners.map(|g| self.grid_vertex(patch, cells, g)),
+            shape: self.shapes(node)[0],
+        }
+    }
+
+    /// The shapes of nodes `node` and `node + 1` (one count of bits for both, as a triangle's
+    /// two halves are numbered).
+    fn shapes(&self, node: u32) -> [Shape; 2] {
+        match self.store {
+            Store::Records { nodes, .. } => [node, node + 1].map(|i| {
+                match nodes.get(i as usize).is_some_and(|n| n.children != 0) {
+                    true => Shape::halved(0),
+                    false => Shape::leaf(0),
+                }
+            }),
+            Store::Bytes(b) => b.shapes(node as usize),
         }
     }
 
@@ -413,7 +467,7 @@ impl<'a> Hierarchy<'a> {
                 .get(h.node as usize)
                 .filter(|n| n.children != 0)
                 .map(|n| (n.children, n.vertex)),
-            Store::Bytes(b) => b.halving(h.node as usize),
+            Store::Bytes(b) => b.halving_of_shape(h.node as usize, h.shape),
         }
     }
 
@@ -425,7 +479,7 @@ impl<'a> Hierarchy<'a> {
                 .get(h.node as usize)
                 .filter(|n| n.children != 0)
                 .map(|n| n.children),
-            Store::Bytes(b) => b.first_half(h.node as usize),
+            Store::Bytes(b) => b.first_half_of_shape(h.node as usize, h.shape),
         }
     }
 
@@ -436,9 +490,9 @@ impl<'a> Hierarchy<'a> {
 
     /// The halves of `h`, split at vertex `v`: the bake's nodes, or the run time's.
     pub(super) fn halves(&self, h: &Pending, v: u32) -> [Pending; 2] {
-        let [n0, n1] = match self.baked_first_half(h) {
-            Some(first) => [first, first + 1],
-            None => [RUN_TIME; 2],
+        let ([n0, n1], [s0, s1]) = match self.baked_first_half(h) {
+            Some(first) => ([first, first + 1], self.shapes(first)),
+            None => ([RUN_TIME; 2], [Shape::leaf(0); 2]),
         };
         let [a, b, c] = h.corners;
         let [t0, t1] = h.tri.children();
@@ -447,11 +501,13 @@ impl<'a> Hierarchy<'a> {
                 node: n0,
                 tri: t0,
                 corners: [v, a, b],
+                shape: s0,
             },
             Pending {
                 node: n1,
                 tri: t1,
                 corners: [v, c, a],
+                shape: s1,
             },
         ]
     }

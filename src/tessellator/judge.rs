@@ -59,7 +59,7 @@ pub(super) fn judge(
     let corners = h.corners.map(|v| Vec3::from_array(selection.position(v)));
     let tree = &selection.tree;
     let mut baked = None;
-    if let Some((node, leaf)) = tree.node_bound(h.node as usize) {
+    if let Some((node, leaf)) = tree.node_bound(h) {
         // In model units, the bake's own bound (the oracles' too); on screen, one from the
         // quantised vectors, and the vectors only when the isotropic bound is not enough.
         let big = match view {

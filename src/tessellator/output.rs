@@ -42,10 +42,20 @@ impl Tessellator<'_, '_> {
         let (q, g) = self.params(v, patch, at);
         let (u, w) = unit(g);
         Vertex {
-            position: self.position(v),
-            normal: self.normal(v),
             uv: [u, w],
             patch: q,
+            ..self.bare_vertex(v)
+        }
+    }
+
+    /// The output vertex of vertex `v` without its parameters (zero), for a sink that reads
+    /// none ([`TriangleSink::wants_parameters`]).
+    fn bare_vertex(&self, v: u32) -> Vertex {
+        Vertex {
+            position: self.position(v),
+            normal: self.normal(v),
+            uv: [0.0; 2],
+            patch: 0,
         }
     }
 
@@ -106,7 +116,11 @@ impl Tessellator<'_, '_> {
             |sink, p| wants(sink, p),
             |sink, h, corners| {
                 let grid = self.oriented(h, h.tri.corners);
-                let mut corner = |i: usize| self.vertex(corners[i % 3], h.tri.patch, grid[i % 3]);
+                let parameters = sink.wants_parameters();
+                let mut corner = |i: usize| match parameters {
+                    true => self.vertex(corners[i % 3], h.tri.patch, grid[i % 3]),
+                    false => self.bare_vertex(corners[i % 3]),
+                };
                 sink.keyed_triangle(h.tri.patch, corners.map(u64::from), &mut corner);
             },
         );

@@ -401,6 +401,10 @@ impl ListSink<'_, '_, '_> {
 }
 
 impl TriangleSink for ListSink<'_, '_, '_> {
+    fn wants_parameters(&self) -> bool {
+        false
+    }
+
     fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
         if self.admit() {
             let (corners, inside) = self.setup.corners(corners);
@@ -504,6 +508,10 @@ impl<S: TriangleSink> TriangleSink for Remaining<'_, S> {
 
     fn wants_patch(&self, patch: u32) -> bool {
         patch >= self.first && self.sink.wants_patch(patch)
+    }
+
+    fn wants_parameters(&self) -> bool {
+        self.sink.wants_parameters()
     }
 }
 
