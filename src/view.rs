@@ -103,6 +103,41 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// Every field's bits: two cameras with equal bits are the same camera to every rounding
+    /// (`==` takes `0.0` and `-0.0` as equal).
+    pub(crate) fn bits(&self) -> [u32; 22] {
+        let f = |x: f32| x.to_bits();
+        let (kind, extra) = match self.projection {
+            Projection::Perspective { fov_y_degrees } => (0, f(fov_y_degrees)),
+            Projection::Orthographic { height } => (1, f(height)),
+        };
+        let [e, d, r, u] = [self.eye, self.forward, self.right, self.up].map(|v| v.map(f));
+        [
+            e[0],
+            e[1],
+            e[2],
+            d[0],
+            d[1],
+            d[2],
+            r[0],
+            r[1],
+            r[2],
+            u[0],
+            u[1],
+            u[2],
+            kind,
+            extra,
+            f(self.near),
+            self.viewport[0],
+            self.viewport[1],
+            f(self.focal),
+            f(self.slope[0]),
+            f(self.slope[1]),
+            f(self.side_norm[0]),
+            f(self.side_norm[1]),
+        ]
+    }
+
     /// A camera at `eye` looking at `target`, with `up` giving the screen's vertical.
     ///
     /// `near` is the distance of the near clipping plane (perspective: positive; orthographic:

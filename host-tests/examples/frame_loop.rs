@@ -1,21 +1,34 @@
 //! One view's frames in a loop, for a profiler or for timing two builds against each other:
 //! the teapot at 1024x768, 1 px, eye (6,-6,4), baked at `BAKE_REL` (default 2.5e-4) of its
-//! diagonal. `FRAMES` frames (default 200), each an update and an indexed write. With
-//! `ORBIT=1` the eye goes around the model a degree a frame (frames are history-free, so this
-//! differs from the fixed view only in the views). Prints the last frame's triangles and the
-//! best and mean frame times. The bake happens before the loop and is not timed (a profile of
-//! the whole run includes it).
+//! diagonal. `FRAMES` frames (default 200), each an update and an indexed write, each a cold
+//! one (a new tessellator on the same storage: a view equal to the last would keep its mesh).
+//! With `ORBIT=1` the eye goes around the model a degree a frame. Prints the last frame's
+//! triangles and the best and mean frame times. The bake happens before the loop and is not
+//! timed (a profile of the whole run includes it).
+//!
+//! With `TABLE=1`, a table instead: for each camera view of the error table
+//! (`host_tests::screen::ERROR_VIEWS`, each model baked at `BAKE_REL`, default 1e-3 there as in
+//! the error table): a cold frame of the view (median of 21) and, with `GLU_PEER` set,
+//! libGLU's NURBS tessellator on the same camera (best of five, its peer's own figure); then
+//! an orbit of 48 steps from the view (the eye a degree further around the target's vertical
+//! each), each step's view as a cold frame (best of three, median over the steps) and as a step
+//! from the one before (the tessellator kept; median over the steps); and the same view again
+//! (median of 21). All in this one run; a frame is an update and an indexed write.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example frame_loop
 //! ORBIT=1 BAKE_REL=1e-3 cargo run --release -p host-tests --example frame_loop
+//! TABLE=1 GLU_PEER=target/glu/glu_peer cargo run --release -p host-tests --example frame_loop
 //! perf record -g target/release/examples/frame_loop
 //! ```
 
 use std::time::Instant;
 
+use host_tests::glu::run_glu;
 use host_tests::model_file::ModelFile;
+use host_tests::reference::RefPatch;
 use host_tests::runtime::{BakedHierarchy, VecStorage};
+use host_tests::screen::ERROR_VIEWS;
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
@@ -28,6 +41,10 @@ fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
 }
 
 fn main() {
+    if std::env::var("TABLE").is_ok_and(|v| v == "1") {
+        table();
+        return;
+    }
     let rel: f32 = env("BAKE_REL", 2.5e-4);
     let frames: usize = env("FRAMES", 200).max(1);
     let path = host_tests::models_dir().join("teapot.bpt");
@@ -73,6 +90,10 @@ fn main() {
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
         for k in 1..=frames {
             let view = view_at(k);
+            if !orbit {
+                // A cold frame: a view equal to the last keeps its mesh.
+                selection = storage.tessellator(tree);
+            }
             let start = Instant::now();
             let stats = selection.update(&view).unwrap();
             selection
@@ -86,6 +107,134 @@ fn main() {
         println!(
             "triangles {count} best {best:.3} ms mean {:.3} ms",
             total / frames as f64
+        );
+    }
+}
+
+/// The median of `v` (sorted in place).
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// The table of `TABLE=1` (see the module docs).
+fn table() {
+    let rel: f32 = env("BAKE_REL", 1e-3);
+    let peer = std::env::var("GLU_PEER").ok();
+    const REPEATS: usize = 21;
+    const STEPS: usize = 48;
+    println!(
+        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | orbit: cold ms | orbit: step ms | step / cold | same view again ms |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut baked: Vec<(&str, ModelFile, BakedHierarchy)> = Vec::new();
+    for v in ERROR_VIEWS {
+        if !baked.iter().any(|(m, ..)| *m == v.model) {
+            let path = host_tests::models_dir().join(v.model);
+            let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
+            let settings = BakeSettings {
+                tolerance: Tolerance::Relative(rel),
+                ..BakeSettings::default()
+            };
+            let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
+            baked.push((v.model, file, bake));
+        }
+        let (_, file, bake) = baked.iter().find(|(m, ..)| *m == v.model).expect("baked");
+        let diag = file.patches().aabb().expect("patches").diagonal();
+        let near = 0.01 * diag;
+        let target = Vec3::from_array(v.target);
+        let view_at = |degrees: f32| {
+            let (s, c) = degrees.to_radians().sin_cos();
+            let d = Vec3::from_array(v.eye) - target;
+            let eye = target + Vec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
+            let camera = Camera::new(
+                eye,
+                target,
+                Vec3::Z,
+                Projection::Perspective {
+                    fov_y_degrees: 40.0,
+                },
+                near,
+                v.viewport,
+            )
+            .expect("a valid camera");
+            View::Screen {
+                camera,
+                tolerance_px: v.tol,
+            }
+        };
+        let tree = bake.tree();
+        let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
+        let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
+        let mut vertices = vec![Vertex::default(); 1 << 20];
+        let mut triangles = vec![[0u32; 3]; 1 << 21];
+        let view = view_at(0.0);
+        let mut frame = |selection: &mut spline_tess::Tessellator<'_, '_>, view: &View| {
+            let start = Instant::now();
+            let stats = selection.update(view).expect("a valid view");
+            selection
+                .write_mesh(&mut vertices, &mut triangles, &mut remap)
+                .expect("room");
+            (start.elapsed().as_secs_f64() * 1e3, stats.triangles)
+        };
+        let mut cold = Vec::new();
+        let mut count = 0;
+        for _ in 0..REPEATS {
+            let mut selection = storage.tessellator(tree);
+            let (ms, n) = frame(&mut selection, &view);
+            cold.push(ms);
+            count = n;
+        }
+        // The orbit's views, each cold (best of three) and as a step from the one before.
+        let (mut orbit_cold, mut orbit) = (Vec::new(), Vec::new());
+        for k in 1..=STEPS {
+            let step_view = view_at(k as f32);
+            let best = (0..3)
+                .map(|_| frame(&mut storage.tessellator(tree), &step_view).0)
+                .fold(f64::INFINITY, f64::min);
+            orbit_cold.push(best);
+        }
+        let mut again = Vec::new();
+        {
+            let mut selection = storage.tessellator(tree);
+            frame(&mut selection, &view);
+            for _ in 0..REPEATS {
+                again.push(frame(&mut selection, &view).0);
+            }
+            for k in 1..=STEPS {
+                orbit.push(frame(&mut selection, &view_at(k as f32)).0);
+            }
+        }
+        let (cold, again) = (median(&mut cold), median(&mut again));
+        let (orbit_cold, orbit) = (median(&mut orbit_cold), median(&mut orbit));
+        let glu = peer.as_deref().map(|binary| {
+            let refs: Vec<RefPatch> = file
+                .patches()
+                .iter()
+                .map(|p| RefPatch::from_kernel(&p))
+                .collect();
+            run_glu(
+                binary,
+                &refs,
+                v.eye,
+                v.target,
+                v.viewport,
+                near,
+                v.tol as f64,
+            )
+        });
+        let (glu_tris, glu_ms, ratio) = match &glu {
+            Some(run) => (
+                run.triangles.len().to_string(),
+                format!("{:.2}", run.ms),
+                format!("{:.2}", cold / run.ms),
+            ),
+            None => ("-".into(), "-".into(), "-".into()),
+        };
+        println!(
+            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {orbit_cold:.2} | {orbit:.2} | {:.2} | {again:.3} |",
+            v.name,
+            orbit / orbit_cold
         );
     }
 }

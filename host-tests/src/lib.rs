@@ -7,6 +7,7 @@
 
 pub mod bintree;
 pub mod frame_checks;
+pub mod glu;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
 #[path = "../../examples/common/obj.rs"]

@@ -108,6 +108,14 @@ fn run_model(path: &std::path::Path) {
     for step in path {
         let what = format!("{label} {}", step.label);
         let stats = selection.update(&step.view).unwrap();
+        // The same view again keeps the mesh (the checks below, and the next step's against
+        // a fresh run time, see the kept one).
+        assert_eq!(
+            selection.update(&step.view).unwrap(),
+            stats,
+            "{}",
+            step.label
+        );
         let size = selection.mesh_size();
         let mut mesh = Mesh {
             vertices: vec![Vertex::default(); size.vertices],

@@ -162,6 +162,30 @@ pub struct Tessellator<'t, 's> {
     model_box: Option<crate::bound::Aabb>,
 }
 
+/// Whether two views are the same bit for bit (`==` on floats takes `0.0` and `-0.0` as
+/// equal, and they are not the same camera to every rounding).
+fn same_view(a: &View, b: &View) -> bool {
+    let bits = |v: &View| {
+        let mut out = [0u32; 24];
+        match v {
+            View::Screen {
+                camera,
+                tolerance_px,
+            } => {
+                out[0] = 1;
+                out[1] = tolerance_px.to_bits();
+                out[2..].copy_from_slice(&camera.bits());
+            }
+            View::Object { tolerance } => {
+                out[0] = 2;
+                out[1] = tolerance.to_bits();
+            }
+        }
+        out
+    };
+    bits(a) == bits(b)
+}
+
 /// Most walks of a frame for the leaves its stack had no room for. Each walk judges the
 /// leaves below the bake again (they have no bit), so a stack far too short for a frame deep
 /// below the bake could take many: past this many, the frame stops searching and reports the
@@ -418,10 +442,18 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// Finds the mesh of `view`: the coarsest conforming mesh of the hierarchy's triangles
     /// whose bounds are within the tolerance (see the [module docs](super)); a tolerance that
     /// is not a positive finite number is refused.
+    ///
+    /// The mesh depends on the view alone, so a view equal to the last one (the same camera
+    /// and tolerance, bit for bit) keeps the mesh it has, and costs nothing: a firmware that
+    /// redraws an unmoved view with another style need not track that itself. Any other view
+    /// is searched from the patches' roots.
     pub fn update(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
         let t = view.tolerance();
         if !(t > 0.0 && t.is_finite()) {
             return Err(UpdateError::BadTolerance);
+        }
+        if self.view.is_some_and(|last| same_view(&last, view)) {
+            return Ok(self.stats);
         }
         Ok(self.select(view))
     }
