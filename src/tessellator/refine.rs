@@ -85,20 +85,38 @@ fn start(key: u64, len: usize) -> usize {
     ((h >> 32) as usize) % len.max(1)
 }
 
-/// The pool of vertices below the bake: the caller's entries and how many are used.
+/// The pool of vertices below the bake: the caller's entries, how many are used, and whether
+/// all the others are known to be empty.
 #[derive(Debug)]
 pub(super) struct Pool<'s> {
     pub entries: &'s mut [PoolSlot],
     pub used: usize,
+    /// Every entry but the `used` ones is empty: the caller's entries are not, until the first
+    /// [`clear`](Self::clear).
+    pub clean: bool,
 }
 
 impl Pool<'_> {
-    /// Empties the pool.
+    /// The pool in the caller's `entries`, whatever they hold.
+    pub fn new(entries: &mut [PoolSlot]) -> Pool<'_> {
+        Pool {
+            entries,
+            used: 0,
+            clean: false,
+        }
+    }
+
+    /// Empties the pool: a pool that is empty already is not wiped again (a frame within the
+    /// bake makes no vertex, and the host's pools are large).
     pub fn clear(&mut self) {
+        if self.clean && self.used == 0 {
+            return;
+        }
         for e in self.entries.iter_mut() {
             e.key = EMPTY;
         }
         self.used = 0;
+        self.clean = true;
     }
 
     /// Whether the pool takes no more vertices (past seven eighths, to keep probes short).

@@ -235,10 +235,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         Ok(Tessellator {
             tree,
             bits,
-            pool: Pool {
-                entries: pool,
-                used: 0,
-            },
+            pool: Pool::new(pool),
             stack,
             len: 0,
             full: false,
