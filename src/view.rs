@@ -138,6 +138,36 @@ impl Camera {
         ]
     }
 
+    /// How far this camera is from `before`, for whatever lies within `sphere`: an upper
+    /// bound of how far any point of the sphere moves in view coordinates between the two
+    /// (`[0]`, model units), and of how far any direction of unit length turns (`[1]`: the
+    /// Frobenius norm of the difference of the two rotations, at least its largest stretch).
+    ///
+    /// With `M` a camera's rows (right, up, forward) and `e` its eye, a point `p = c + q`
+    /// (`|q| <= r`) moves by `M'(p - e') - M(p - e) = (M' - M) q + (M'(c - e') - M(c - e))`,
+    /// at most `‖M' - M‖ r + |to_view'(c) - to_view(c)|`; a direction `d` turns by
+    /// `(M' - M) d`. Both are rounded up past their own roundings (a relative `2^-16`, and
+    /// `2^-19` of the distances involved for the moves into view coordinates).
+    pub(crate) fn moved_from(
+        &self,
+        before: &Camera,
+        sphere: &crate::bound::BoundingSphere,
+    ) -> [f32; 2] {
+        let rows = |c: &Camera| [c.right, c.up, c.forward].map(Vec3::from_array);
+        let (a, b) = (rows(before), rows(self));
+        let squares: f32 = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (*y - *x).length_squared())
+            .sum();
+        let rho = crate::math::sqrt_above(squares) * (1.0 + 1.0 / 65536.0);
+        let c = sphere.center;
+        let shift = (self.to_view(c) - before.to_view(c)).length();
+        let reach = (c - self.eye()).length() + (c - before.eye()).length() + sphere.radius;
+        let delta = (rho * sphere.radius + shift) * (1.0 + 1.0 / 65536.0) + reach / 524_288.0;
+        [delta, rho]
+    }
+
     /// A camera at `eye` looking at `target`, with `up` giving the screen's vertical.
     ///
     /// `near` is the distance of the near clipping plane (perspective: positive; orthographic:

@@ -124,9 +124,9 @@ fn table() {
     const REPEATS: usize = 21;
     const STEPS: usize = 48;
     println!(
-        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | orbit: cold ms | orbit: step ms | step / cold | same view again ms |"
+        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | judgements kept | same view again ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baked: Vec<(&str, ModelFile, BakedHierarchy)> = Vec::new();
     for v in ERROR_VIEWS {
         if !baked.iter().any(|(m, ..)| *m == v.model) {
@@ -205,6 +205,30 @@ fn table() {
                 orbit.push(frame(&mut selection, &view_at(k as f32)).0);
             }
         }
+        // The same orbit with the judgements kept from step to step.
+        let (mut reused, mut kept, mut judged) = (Vec::new(), 0, 0);
+        {
+            let mut judgements =
+                vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
+            let mut selection = storage
+                .tessellator(tree)
+                .with_reuse(&mut judgements)
+                .expect("slots for every node");
+            frame(&mut selection, &view);
+            for k in 1..=STEPS {
+                let step_view = view_at(k as f32);
+                let start = Instant::now();
+                let stats = selection.update(&step_view).expect("a valid view");
+                selection
+                    .write_mesh(&mut vertices, &mut triangles, &mut remap)
+                    .expect("room");
+                reused.push(start.elapsed().as_secs_f64() * 1e3);
+                kept += stats.kept;
+                judged += stats.judged;
+            }
+        }
+        let reused = median(&mut reused);
+        let kept_share = kept as f64 / (kept + judged).max(1) as f64;
         let (cold, again) = (median(&mut cold), median(&mut again));
         let (orbit_cold, orbit) = (median(&mut orbit_cold), median(&mut orbit));
         let glu = peer.as_deref().map(|binary| {
@@ -232,9 +256,10 @@ fn table() {
             None => ("-".into(), "-".into(), "-".into()),
         };
         println!(
-            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {orbit_cold:.2} | {orbit:.2} | {:.2} | {again:.3} |",
+            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {:.0}% | {again:.3} |",
             v.name,
-            orbit / orbit_cold
+            reused / orbit_cold,
+            100.0 * kept_share
         );
     }
 }

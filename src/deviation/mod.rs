@@ -63,6 +63,7 @@
 
 use crate::math::max;
 
+pub(crate) mod certificate;
 pub(crate) mod kept;
 pub(crate) mod lattice;
 mod patch_bounds;

@@ -76,7 +76,7 @@ use crate::view::{Camera, Projection};
 const CLIPPED: usize = 8;
 
 /// Relative enlargement of the computed bound, for its own few roundings.
-const SCREEN_SLACK: f32 = 1.0 + 1.0 / 1024.0;
+pub(crate) const SCREEN_SLACK: f32 = 1.0 + 1.0 / 1024.0;
 
 /// A convex polygon in view coordinates, clipped one plane at a time.
 struct Polygon {
@@ -297,14 +297,20 @@ pub(crate) fn isotropic_bound_on_screen(
     m: f32,
     slack: f32,
 ) -> f32 {
-    let focal = camera.focal();
     if let Projection::Orthographic { .. } = camera.projection() {
-        return focal * (m * SCREEN_SLACK + 16.0 * EPS * m);
+        return camera.focal() * (m * SCREEN_SLACK + 16.0 * EPS * m);
     }
     let size = view_extent(&corners);
+    let z_corner = corners.iter().map(|v| v.z).fold(f32::INFINITY, min);
+    isotropic_from(camera, z_corner, size, m, slack)
+}
+
+/// [`isotropic_bound_on_screen`] (perspective) from the corners' least depth `z_corner` and
+/// their [`view_extent`] `size`: in exact arithmetic it falls as `z_corner` grows and rises
+/// with `size` (see `certificate`, which bounds it for corners moved by a camera step).
+pub(crate) fn isotropic_from(camera: &Camera, z_corner: f32, size: f32, m: f32, slack: f32) -> f32 {
     let eta = slack + 16.0 * EPS * size;
     let near = camera.near() - eta;
-    let z_corner = corners.iter().map(|v| v.z).fold(f32::INFINITY, min);
     let z_f = max(z_corner, near);
     let z = z_f - eta;
     if near.is_nan() || near <= 0.0 || z.is_nan() || z <= 0.0 || !m.is_finite() {

@@ -32,24 +32,37 @@ pub(super) struct Judged {
     /// The bound; unless judged `exact`, only a value over the tolerance where the bound is.
     pub bound: f32,
     pub hidden: bool,
+    /// Where certificates were asked for (see `reuse`): the largest of the steps asked for
+    /// over which this judgement (over the tolerance or not) is certain, by its index.
+    pub lasting: Option<(bool, usize)>,
+}
+
+impl Judged {
+    /// A judgement with no certificate.
+    const fn bare(bound: f32, hidden: bool) -> Judged {
+        Judged {
+            bound,
+            hidden,
+            lasting: None,
+        }
+    }
 }
 
 /// Judges `h` in `view`: by its node's kept vectors, or below the bake by its own lattice
 /// (see `refine`). Not `exact`, a bound over the tolerance may be given as any value over it
 /// that the bound is at least (the directional bound stops as soon as it is over: most
-/// triangles judged over are halved, and need no more).
+/// triangles judged over are halved, and need no more). With `budgets` (camera steps, see
+/// `reuse`), the judgement comes with the largest of them it is certain over.
 pub(super) fn judge(
     selection: &Tessellator<'_, '_>,
     view: &View,
     h: &Pending,
     exact: bool,
+    budgets: &[[f32; 2]],
 ) -> Judged {
     if selection.is_culled(h.tri.patch) {
         // A patch facing away (see `cull`): nothing of it shows.
-        return Judged {
-            bound: 0.0,
-            hidden: true,
-        };
+        return Judged::bare(0.0, true);
     }
     let stop = if exact {
         f32::INFINITY
@@ -66,7 +79,15 @@ pub(super) fn judge(
             View::Object { .. } => node.longest(),
             View::Screen { .. } => node.longest_quantised(),
         };
-        let j = judge_vectors(view, corners, || node.kept(), big, node.remainder, stop);
+        let j = judge_vectors(
+            view,
+            corners,
+            || node.kept(),
+            big,
+            node.remainder,
+            stop,
+            budgets,
+        );
         // A leaf of the bake keeps one bound, no vector: where it is over, the run time's
         // own lattice (with `refine`) may be within, as it is for a triangle below the bake.
         if !(leaf && cfg!(feature = "refine") && !j.hidden && j.bound > view.tolerance()) {
@@ -79,10 +100,7 @@ pub(super) fn judge(
         .filter(|_| cfg!(feature = "refine"));
     let Some(patch) = patch else {
         // (A build without refinement makes no triangle below the bake.)
-        return baked.unwrap_or(Judged {
-            bound: f32::INFINITY,
-            hidden: false,
-        });
+        return baked.unwrap_or(Judged::bare(f32::INFINITY, false));
     };
     let grid = h.tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
     let (vectors, remainder) = deviation_vectors::<RUN_TIME_STEPS, RUN_TIME_POINTS>(
@@ -93,12 +111,9 @@ pub(super) fn judge(
     );
     let big = longest_of(&vectors);
     if !(big.is_finite() && remainder.is_finite()) {
-        return baked.unwrap_or(Judged {
-            bound: f32::INFINITY,
-            hidden: false,
-        });
+        return baked.unwrap_or(Judged::bare(f32::INFINITY, false));
     }
-    let own = judge_vectors(view, corners, || vectors, big, remainder, stop);
+    let own = judge_vectors(view, corners, || vectors, big, remainder, stop, budgets);
     // Two bounds of one leaf: the smaller holds. Whether it is hidden stays the bake's
     // bound's say, so that a build without `refine` writes the same triangles.
     match baked {
@@ -109,6 +124,13 @@ pub(super) fn judge(
                 b.bound
             },
             hidden: b.hidden,
+            // Within while either bound is; over while both are (the baked one is over
+            // here: it was asked for the lattice's only then).
+            lasting: match (own.lasting, b.lasting) {
+                (Some((false, k)), _) => Some((false, k)),
+                (Some((true, k)), Some((true, l))) => Some((true, k.min(l))),
+                _ => None,
+            },
         },
         None => own,
     }
@@ -116,7 +138,8 @@ pub(super) fn judge(
 
 /// Judges the flat triangle `corners` whose deviation lies in the hull of zero and the
 /// vectors `vectors` gives (none longer than `big`) widened by `remainder`; a directional
-/// bound over `stop` may stop there (see [`judge`]).
+/// bound over `stop` may stop there (see [`judge`]), and with `budgets` the judgement comes
+/// with its certificate.
 fn judge_vectors<const K: usize>(
     view: &View,
     corners: [Vec3; 3],
@@ -124,36 +147,49 @@ fn judge_vectors<const K: usize>(
     big: f32,
     remainder: f32,
     stop: f32,
+    budgets: &[[f32; 2]],
 ) -> Judged {
     match view {
-        View::Object { .. } => Judged {
-            bound: big + remainder,
-            hidden: false,
-        },
+        View::Object { .. } => Judged::bare(big + remainder, false),
         View::Screen { camera, .. } => {
             let viewed = corners.map(|p| camera.to_view(p));
             if beyond_one_plane(camera, viewed, big + remainder) {
-                return Judged {
-                    bound: 0.0,
-                    hidden: true,
-                };
+                return Judged::bare(0.0, true);
             }
+            let tolerance = view.tolerance();
             // Most triangles a frame judges are within the tolerance by the isotropic bound
             // already, which needs no vectors; the others take the directional one.
             let m = big + remainder;
             let isotropic = isotropic_bound_on_screen(camera, viewed, m, remainder);
-            if isotropic <= view.tolerance() {
-                return Judged {
-                    bound: isotropic,
-                    hidden: false,
-                };
+            let budgets = if cfg!(feature = "reuse") {
+                budgets
+            } else {
+                &[]
+            };
+            let certify = |e: &[Vec3]| {
+                crate::deviation::certificate::lasting(
+                    camera, viewed, e, big, remainder, remainder, tolerance, budgets,
+                )
+            };
+            if isotropic <= tolerance {
+                let mut j = Judged::bare(isotropic, false);
+                if !budgets.is_empty() {
+                    let e = vectors().map(|v| camera.rotate_to_view(v));
+                    j.lasting = certify(&e);
+                }
+                return j;
             }
             let e = vectors().map(|v| camera.rotate_to_view(v));
+            let bound = bound_on_screen(
+                camera, viewed, &e, big, remainder, remainder, sqrt_above, stop,
+            );
             Judged {
-                bound: bound_on_screen(
-                    camera, viewed, &e, big, remainder, remainder, sqrt_above, stop,
-                ),
+                bound,
                 hidden: false,
+                lasting: match budgets.is_empty() {
+                    true => None,
+                    false => certify(&e),
+                },
             }
         }
     }

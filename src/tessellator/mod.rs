@@ -59,6 +59,7 @@ mod judge;
 mod output;
 pub(crate) mod quantize;
 mod refine;
+mod reuse;
 mod select;
 mod storage;
 
@@ -69,6 +70,7 @@ pub use budget::{BudgetError, BudgetFit};
 pub use format::{model_fingerprint, FormatError, Part, FORMAT_VERSION, MAGIC};
 pub use hierarchy::{Hierarchy, HierarchyError, PatchInfo};
 pub use refine::PoolSlot;
+pub use reuse::{Judgement, LEVELS as REUSE_LEVELS};
 pub use select::{FrameStats, Tessellator, TessellatorError, UpdateError};
 pub use storage::{StackSlot, TessellatorStorage};
 

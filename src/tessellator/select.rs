@@ -36,6 +36,9 @@ use super::bits::{bit, set, Layout};
 use super::hierarchy::{walk, walk_patches, Hierarchy, Pending, RUN_TIME};
 use super::judge::judge;
 use super::refine::{key, Pool, PoolSlot};
+#[cfg(feature = "reuse")]
+use super::reuse::Judgement;
+use super::reuse::Reuse;
 use super::storage::{StackSlot, TessellatorStorage};
 use crate::deviation::PatchBounds;
 use crate::math::max;
@@ -51,6 +54,9 @@ pub struct FrameStats {
     pub triangles: usize,
     /// Triangles judged.
     pub judged: usize,
+    /// Triangles whose judgement was kept from a frame before, certified to hold (see
+    /// [`Tessellator::with_reuse`]): not judged again, and not counted in `judged`.
+    pub kept: usize,
     /// Triangles left out for lying beyond a plane of the view.
     pub hidden: usize,
     /// Vertices made below the bake (a view finer than the bake).
@@ -60,7 +66,8 @@ pub struct FrameStats {
     pub left_over: usize,
     /// An upper bound of every written triangle's bound, in the view's units (pixels or
     /// model units): at most the tolerance when nothing is left over, and what the frame
-    /// honours when something is.
+    /// honours when something is. (A frame that kept a triangle's judgement knows only that
+    /// its bound is within the tolerance: the tolerance is then this bound.)
     pub worst_bound: f32,
     /// Walks of the mesh made for leaves the stack had no room for.
     pub sweeps: usize,
@@ -86,6 +93,11 @@ pub enum TessellatorError {
         /// Entries needed.
         needed: usize,
     },
+    /// The judgements for reuse are fewer than [`Hierarchy::judgement_slots`].
+    JudgementsTooShort {
+        /// Slots needed.
+        needed: usize,
+    },
 }
 
 impl fmt::Display for TessellatorError {
@@ -96,6 +108,9 @@ impl fmt::Display for TessellatorError {
             }
             TessellatorError::StackTooShort { needed } => {
                 write!(f, "stack too short: {needed} entries needed")
+            }
+            TessellatorError::JudgementsTooShort { needed } => {
+                write!(f, "judgement storage too short: {needed} slots needed")
             }
         }
     }
@@ -155,6 +170,8 @@ pub struct Tessellator<'t, 's> {
     /// The sphere around the model's control points, where patches can be culled for facing
     /// away (see `cull`).
     pub(super) sphere: Option<crate::bound::BoundingSphere>,
+    /// Judgements kept from frame to frame, if the caller gave room for them.
+    reuse: Option<Reuse<'s>>,
     pub(super) stats: FrameStats,
     /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
     /// asks for it every frame.
@@ -247,10 +264,44 @@ impl<'t, 's> Tessellator<'t, 's> {
             layout: Layout::of(&tree),
             view: None,
             sphere: tree.culling_sphere(),
+            reuse: None,
             stats: FrameStats::default(),
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
         })
+    }
+
+    /// This tessellator, keeping each frame's judgements in `judgements` (at least
+    /// [`Hierarchy::judgement_slots`], emptied here) with certificates of how far the camera
+    /// may move before they can change, so that a camera step judges again only the
+    /// triangles whose certificates ran out (see `reuse` and `deviation/certificate.rs`).
+    /// Every frame is still the view's unique mesh, the same a tessellator without them
+    /// finds; only [`FrameStats::judged`], [`FrameStats::kept`] and
+    /// [`FrameStats::worst_bound`] tell them apart.
+    ///
+    /// ```
+    /// # use spline_tess::tessellator::{Hierarchy, Judgement, Tessellator, TessellatorStorage};
+    /// # fn run(tree: Hierarchy<'_>, views: &[spline_tess::View]) {
+    /// let mut storage = TessellatorStorage::<1024, 64, 0>::new();
+    /// let mut judgements = vec![Judgement::NONE; tree.judgement_slots()];
+    /// let mut tessellator = Tessellator::new(tree, &mut storage)
+    ///     .and_then(|t| t.with_reuse(&mut judgements))
+    ///     .expect("storage sized for the hierarchy");
+    /// for view in views {
+    ///     let stats = tessellator.update(view).expect("a valid tolerance");
+    ///     println!("{} judged, {} kept", stats.judged, stats.kept);
+    /// }
+    /// # }
+    /// ```
+    #[cfg(feature = "reuse")]
+    pub fn with_reuse(mut self, judgements: &'s mut [Judgement]) -> Result<Self, TessellatorError> {
+        let needed = self.tree.judgement_slots();
+        if judgements.len() < needed {
+            return Err(TessellatorError::JudgementsTooShort { needed });
+        }
+        self.reuse = crate::bound::BoundingSphere::of_points(self.tree.model.points())
+            .map(|sphere| Reuse::new(judgements, sphere));
+        Ok(self)
     }
 
     /// The model's box, kept from [`new`](Self::new).
@@ -462,6 +513,9 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.pool.clear();
         self.stats = FrameStats::default();
         self.vertices = None;
+        if let Some(reuse) = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse")) {
+            reuse.advance(self.view.as_ref(), view);
+        }
         self.view = Some(*view);
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         self.dropped_patches = 0;
@@ -521,7 +575,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
-            let j = judge(self, view, h, true);
+            let j = judge(self, view, h, true, &[]);
             if !j.hidden {
                 worst = max(worst, j.bound);
                 over += usize::from(j.bound > tolerance || j.bound.is_nan());
@@ -551,29 +605,59 @@ impl<'t, 's> Tessellator<'t, 's> {
         if h.node != RUN_TIME {
             set(&mut self.bits[layout.judged..], h.node);
         }
-        self.stats.judged += 1;
         // A triangle that cannot be halved is judged in full: its bound is the frame's when
         // over. (One that can stops once over.)
         let baked = self.tree.baked_first_half(&h).is_some();
         let halvable = baked || (cfg!(feature = "refine") && !self.pool.is_full());
-        let j = judge(self, view, &h, !halvable);
-        if j.hidden {
-            if h.node != RUN_TIME {
-                set(&mut self.bits[layout.hidden..], h.node);
+        // A judgement kept from a frame before, certified to hold at this one (never for a
+        // culled patch: culling comes first, as in `judge`).
+        let reuse = self.reuse.as_ref().filter(|_| cfg!(feature = "reuse"));
+        let kept = match reuse {
+            Some(r) if h.node != RUN_TIME && !self.is_culled(h.tri.patch) => r.kept(h.node),
+            _ => None,
+        };
+        // Over the tolerance: with the bound in full where it was judged so.
+        let over_by = match kept {
+            Some(over) => {
+                self.stats.kept += 1;
+                if !over {
+                    // (Its bound is within the tolerance; which bound, it does not know.)
+                    self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
+                    self.count_leaf(&h);
+                    return;
+                }
+                None
             }
-            self.stats.hidden += 1;
-            return;
-        }
-        if j.bound <= tolerance {
-            self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
-            self.count_leaf(&h);
-            return;
-        }
+            None => {
+                self.stats.judged += 1;
+                let budgets = match reuse {
+                    Some(r) if h.node != RUN_TIME => r.budgets(),
+                    _ => &[],
+                };
+                let j = judge(self, view, &h, !halvable, budgets);
+                if let (Some(r), Some((over, level))) = (&mut self.reuse, j.lasting) {
+                    r.keep(h.node, over, level);
+                }
+                if j.hidden {
+                    if h.node != RUN_TIME {
+                        set(&mut self.bits[layout.hidden..], h.node);
+                    }
+                    self.stats.hidden += 1;
+                    return;
+                }
+                if j.bound <= tolerance {
+                    self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+                    self.count_leaf(&h);
+                    return;
+                }
+                (!halvable).then_some(j.bound)
+            }
+        };
         if !self.split(&h, 0) {
-            // (Its bound in full, where the judgement stopped once it was over.)
-            let bound = match halvable {
-                true => judge(self, view, &h, true).bound,
-                false => j.bound,
+            // (Its bound in full, where the judgement stopped once it was over or was kept.)
+            let bound = match over_by {
+                Some(b) => b,
+                None => judge(self, view, &h, true, &[]).bound,
             };
             self.stats.left_over += 1;
             self.stats.worst_bound = max(self.stats.worst_bound, bound);

@@ -1,0 +1,159 @@
+//! Frame-to-frame reuse (`Tessellator::with_reuse`): along camera paths of small and large
+//! steps (orbits of a quarter, one and four degrees, a dolly, a turn of the head, a change of
+//! tolerance, a jump), every frame of a tessellator that keeps its judgements is the mesh a
+//! fresh tessellator finds for the view, bit for bit (positions, normals, parameters,
+//! triangles) and with the same triangle and leftover counts; and the judgements are kept
+//! (the path exercises the reuse). On the bake's records and on its compact bytes.
+
+use host_tests::model_file::{BakedHierarchy, ModelFile};
+use std::path::Path;
+
+use host_tests::models_dir;
+use host_tests::runtime::{indexed, VecStorage};
+use spline_tess::bake::{BakeSettings, Tolerance};
+use spline_tess::tessellator::Judgement;
+use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
+
+fn bake(path: &Path, relative: f32) -> BakedHierarchy {
+    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    let settings = BakeSettings {
+        tolerance: Tolerance::Relative(relative),
+        ..BakeSettings::default()
+    };
+    BakedHierarchy::bake(&file, &settings).unwrap()
+}
+
+/// The path: from `(1, -1.3, 0.7)` diagonals off the centre, orbits around the vertical of
+/// 24 steps of 0.25°, 24 of 1° and 6 of 4°, a dolly in by 2% a frame, a turn of the head
+/// (the target moving sideways), half the tolerance (all kept judgements dropped), more
+/// quarter-degree steps, and a jump to the other side.
+fn path(tree: &Hierarchy<'_>) -> Vec<(String, View)> {
+    let b = tree.model().aabb().unwrap();
+    let (c, d) = (b.center(), b.diagonal());
+    let view = |eye: Vec3, target: Vec3, tolerance_px: f32| {
+        let camera = Camera::new(
+            eye,
+            target,
+            Vec3::Z,
+            Projection::Perspective {
+                fov_y_degrees: 40.0,
+            },
+            0.01 * d,
+            [320, 240],
+        )
+        .unwrap();
+        View::Screen {
+            camera,
+            tolerance_px,
+        }
+    };
+    let around = |degrees: f32, distance: f32| {
+        let (s, k) = degrees.to_radians().sin_cos();
+        let r = Vec3::new(1.0, -1.3, 0.0) * distance * d;
+        c + Vec3::new(k * r.x - s * r.y, s * r.x + k * r.y, 0.7 * distance * d)
+    };
+    let mut views = Vec::new();
+    let mut angle = 0.0f32;
+    for (steps, step) in [(24, 0.25), (24, 1.0), (6, 4.0)] {
+        for _ in 0..steps {
+            angle += step;
+            views.push((format!("orbit {angle}°"), view(around(angle, 1.0), c, 1.0)));
+        }
+    }
+    for k in 1..=10 {
+        let distance = 0.98f32.powi(k);
+        views.push((
+            format!("dolly {distance}"),
+            view(around(angle, distance), c, 1.0),
+        ));
+    }
+    let eye = around(angle, 0.98f32.powi(10));
+    for k in 1..=10 {
+        let target = c + Vec3::new(0.004 * k as f32 * d, 0.0, 0.0);
+        views.push((format!("turn {k}"), view(eye, target, 1.0)));
+    }
+    let target = c + Vec3::new(0.04 * d, 0.0, 0.0);
+    views.push(("half the tolerance".into(), view(eye, target, 0.5)));
+    for k in 1..=8 {
+        let eye = target + (eye - target) * (1.0 + 0.001 * k as f32);
+        views.push((format!("at 0.5 px {k}"), view(eye, target, 0.5)));
+    }
+    views.push(("jump".into(), view(around(angle + 180.0, 1.5), c, 1.0)));
+    views
+}
+
+/// Along the path, a tessellator keeping its judgements gives a fresh one's frames; returns
+/// the judgements kept and made.
+fn follow(name: &str, tree: Hierarchy<'_>) -> (usize, usize) {
+    let mut storage = VecStorage::new(&tree, 256, 1 << 14);
+    let mut fresh_storage = VecStorage::new(&tree, 256, 1 << 14);
+    let mut judgements = vec![Judgement::NONE; tree.judgement_slots()];
+    let mut kept = storage
+        .tessellator(tree)
+        .with_reuse(&mut judgements)
+        .unwrap();
+    let (mut kept_count, mut judged) = (0, 0);
+    for (label, view) in path(&tree) {
+        let stats = kept.update(&view).unwrap();
+        kept_count += stats.kept;
+        judged += stats.judged;
+        let mut fresh = fresh_storage.tessellator(tree);
+        let expected = fresh.update(&view).unwrap();
+        assert_eq!(stats.triangles, expected.triangles, "{name} {label}");
+        assert_eq!(stats.left_over, expected.left_over, "{name} {label}");
+        assert_eq!(stats.refined, expected.refined, "{name} {label}");
+        assert_eq!(
+            stats.kept + stats.judged,
+            expected.judged,
+            "{name} {label}: the same triangles looked at"
+        );
+        assert!(
+            stats.worst_bound <= view.tolerance() || stats.left_over > 0,
+            "{name} {label}"
+        );
+        assert_eq!(
+            indexed(&mut kept),
+            indexed(&mut fresh),
+            "{name} {label}: the mesh"
+        );
+    }
+    (kept_count, judged)
+}
+
+#[test]
+fn kept_judgements_give_the_fresh_frames() {
+    for (model, relative) in [
+        ("teapot.bpt", 1e-3),
+        ("teaspoon.bpt", 2e-3),
+        ("gumbo.bpt", 2e-3),
+    ] {
+        let baked = bake(&models_dir().join(model), relative);
+        let (kept, judged) = follow(model, baked.tree());
+        // Most of the small steps' judgements carry over.
+        assert!(kept > judged / 2, "{model}: {kept} kept, {judged} judged");
+    }
+    // The compact bytes, as a firmware reads them.
+    let baked = bake(&models_dir().join("teapot.bpt"), 2e-3);
+    let bytes = baked.encoded();
+    let (kept, judged) = follow("teapot bytes", baked.tree_from(&bytes));
+    assert!(
+        kept > judged / 2,
+        "teapot bytes: {kept} kept, {judged} judged"
+    );
+}
+
+#[test]
+fn too_few_judgement_slots_are_refused() {
+    let baked = bake(&models_dir().join("teaspoon.bpt"), 1e-2);
+    let tree = baked.tree();
+    let mut storage = VecStorage::new(&tree, 64, 0);
+    let mut short = vec![Judgement::NONE; tree.judgement_slots() - 1];
+    assert_eq!(
+        storage.tessellator(tree).with_reuse(&mut short).err(),
+        Some(
+            spline_tess::tessellator::TessellatorError::JudgementsTooShort {
+                needed: tree.judgement_slots()
+            }
+        )
+    );
+}

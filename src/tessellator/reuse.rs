@@ -1,0 +1,163 @@
+//! Frame-to-frame reuse: judgements kept with a certificate of how far the camera may move
+//! before they can change (`deviation/certificate.rs` derives it), so that a camera step
+//! judges again only the triangles whose certificates ran out.
+//!
+//! # The odometer
+//!
+//! Each frame, the camera's step from the frame before is measured for the model's sphere
+//! ([`Camera::moved_from`](crate::Camera::moved_from)): a bound `δ` of how far any point of
+//! the model moves in view coordinates and `ρ` of how far a unit direction turns. Both add up
+//! along a path (the triangle inequality), so the odometer `S`, the sum of each step's
+//! `max(δ / R, ρ)` (`R` the sphere's radius), bounds the move between any two frames by the
+//! difference of its readings: `δ <= R ΔS`, `ρ <= ΔS`.
+//!
+//! A triangle judged at reading `S₀` with a certificate for steps up to `s` (of
+//! [`LEVELS`]: `δ <= s R`, `ρ <= s`) keeps its judgement while the reading is at most
+//! `S₀ + s`. Its slot holds that expiry and the judgement; the search reads it where it
+//! would judge (see `select`), and a frame's mesh is what a search judging every triangle
+//! would find: exactly the view's unique mesh.
+//!
+//! A view with another projection, viewport, near plane or tolerance (or none before, or an
+//! odometer past [`RESET`]) empties every slot and starts the odometer again: such a frame
+//! costs a cold one, and a little more for the certificates it writes.
+//!
+//! # Storage
+//!
+//! One [`Judgement`] per node of the hierarchy, the caller's
+//! ([`Tessellator::with_reuse`](super::Tessellator::with_reuse)): 8 bytes a node. A
+//! tessellator without them judges every triangle of every frame.
+
+use super::hierarchy::Hierarchy;
+use crate::bound::BoundingSphere;
+use crate::view::{Camera, View};
+
+/// The steps a certificate may cover, in odometer units (radians of turn, or sphere radii of
+/// move), smallest first: a judgement is certified for the largest it holds over.
+pub const LEVELS: [f32; 3] = [1.0 / 32.0, 1.0 / 8.0, 1.0 / 2.0];
+
+/// The odometer reading past which every slot is emptied and it starts again (so that its
+/// sums keep their precision).
+pub const RESET: f32 = 64.0;
+
+/// One node's kept judgement: opaque, the caller only provides room for them
+/// ([`Tessellator::with_reuse`](super::Tessellator::with_reuse)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Judgement {
+    /// The odometer reading it holds to.
+    expires: f32,
+    /// Over the tolerance (else within).
+    over: bool,
+}
+
+impl Judgement {
+    /// No judgement.
+    pub const NONE: Judgement = Judgement {
+        expires: f32::NEG_INFINITY,
+        over: false,
+    };
+}
+
+impl Default for Judgement {
+    fn default() -> Self {
+        Judgement::NONE
+    }
+}
+
+impl Hierarchy<'_> {
+    /// [`Judgement`]s a tessellator of this hierarchy keeps for frame-to-frame reuse: one per
+    /// node.
+    pub fn judgement_slots(&self) -> usize {
+        self.node_count()
+    }
+}
+
+/// A tessellator's kept judgements, its odometer, and the sphere it measures steps by.
+#[derive(Debug)]
+pub(super) struct Reuse<'s> {
+    slots: &'s mut [Judgement],
+    reading: f32,
+    sphere: BoundingSphere,
+    /// `LEVELS` as camera steps `(δ, ρ)`.
+    budgets: [[f32; 2]; LEVELS.len()],
+}
+
+impl<'s> Reuse<'s> {
+    /// Reuse over the model within `sphere`, in `slots` (emptied).
+    #[cfg_attr(not(feature = "reuse"), allow(dead_code))]
+    pub fn new(slots: &'s mut [Judgement], sphere: BoundingSphere) -> Reuse<'s> {
+        slots.fill(Judgement::NONE);
+        // (The hierarchy's points are rounded, and a step's bound counts from the centre:
+        // a little more radius covers both.)
+        let sphere = BoundingSphere {
+            radius: sphere.radius * (1.0 + 1.0 / 256.0),
+            ..sphere
+        };
+        Reuse {
+            slots,
+            reading: 0.0,
+            sphere,
+            budgets: LEVELS.map(|s| [s * sphere.radius, s]),
+        }
+    }
+
+    /// The steps certificates are asked for.
+    pub fn budgets(&self) -> &[[f32; 2]] {
+        &self.budgets
+    }
+
+    /// Moves the odometer from `last` (the frame before, if any) to `view`, or empties the
+    /// slots where the judgements cannot carry over.
+    pub fn advance(&mut self, last: Option<&View>, view: &View) {
+        let step = match (last, view) {
+            (
+                Some(View::Screen {
+                    camera: before,
+                    tolerance_px: t0,
+                }),
+                View::Screen {
+                    camera,
+                    tolerance_px: t1,
+                },
+            ) if t0.to_bits() == t1.to_bits() && same_lens(before, camera) => {
+                let [delta, rho] = camera.moved_from(before, &self.sphere);
+                let s = crate::math::max(delta / self.sphere.radius, rho);
+                Some(s * (1.0 + 1.0 / 65536.0))
+            }
+            _ => None,
+        };
+        match step {
+            Some(s) if (self.reading + s) * (1.0 + 1.0 / 4_194_304.0) <= RESET => {
+                self.reading = (self.reading + s) * (1.0 + 1.0 / 4_194_304.0);
+            }
+            _ => {
+                self.slots.fill(Judgement::NONE);
+                self.reading = 0.0;
+            }
+        }
+    }
+
+    /// Node `node`'s kept judgement (over the tolerance or not), if it holds at this reading.
+    pub fn kept(&self, node: u32) -> Option<bool> {
+        let j = self.slots.get(node as usize)?;
+        (self.reading <= j.expires).then_some(j.over)
+    }
+
+    /// Keeps node `node`'s judgement (`over`), certified for steps of `LEVELS[level]`.
+    pub fn keep(&mut self, node: u32, over: bool, level: usize) {
+        let Some(s) = LEVELS.get(level) else {
+            return;
+        };
+        let expires = (self.reading + s) * (1.0 - 1.0 / 4_194_304.0);
+        if let Some(j) = self.slots.get_mut(node as usize) {
+            *j = Judgement { expires, over };
+        }
+    }
+}
+
+/// Whether two cameras project alike: the same projection, viewport and near plane.
+fn same_lens(a: &Camera, b: &Camera) -> bool {
+    let (x, y) = (a.bits(), b.bits());
+    // Projection, near plane, viewport, focal length, slopes: every field after the frame.
+    x[12..] == y[12..]
+}
