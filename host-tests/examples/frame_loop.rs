@@ -2,7 +2,8 @@
 //! the teapot at 1024x768, 1 px, eye (6,-6,4), baked at `BAKE_REL` (default 2.5e-4) of its
 //! diagonal. `FRAMES` frames (default 200), each an update and an indexed write, each a cold
 //! one (a new tessellator on the same storage: a view equal to the last would keep its mesh).
-//! With `ORBIT=1` the eye goes around the model a degree a frame. Prints the last frame's
+//! With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
+//! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). Prints the last frame's
 //! triangles and the best and mean frame times. The bake happens before the loop and is not
 //! timed (a profile of the whole run includes it).
 //!
@@ -83,14 +84,20 @@ fn main() {
         let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
         let tree = bake.tree();
         let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
+        let reuse = std::env::var("REUSE").is_ok_and(|v| v == "1");
+        let mut judgements =
+            vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
         let mut selection = storage.tessellator(tree);
+        if reuse {
+            selection = selection.with_reuse(&mut judgements).expect("slots");
+        }
         let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
         for k in 1..=frames {
             let view = view_at(k);
-            if !orbit {
+            if !orbit && !reuse {
                 // A cold frame: a view equal to the last keeps its mesh.
                 selection = storage.tessellator(tree);
             }

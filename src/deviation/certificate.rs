@@ -88,22 +88,17 @@ pub(crate) fn lasting(
         return None;
     }
     // Per corner: its ray, `t = √(1 + |τ|²)`, and the largest `φ` of the vectors (plain
-    // square roots: the lower bounds take them down by the margin's share).
+    // square roots: the lower bounds take them down by the margin's share), found once the
+    // isotropic bounds alone do not decide.
     let mut rays = [([0.0f32; 2], 0.0f32, 0.0f32); 3];
     for (ray, v) in rays.iter_mut().zip(&corners) {
         if v.z.is_nan() || v.z <= 0.0 {
             return None;
         }
         let (tx, ty) = (v.x / v.z, v.y / v.z);
-        let phi = e
-            .iter()
-            .map(|d| {
-                let (a, b) = (d.x - tx * d.z, d.y - ty * d.z);
-                a * a + b * b
-            })
-            .fold(0.0f32, max);
-        *ray = ([tx, ty], sqrt(1.0 + tx * tx + ty * ty), sqrt(phi));
+        *ray = ([tx, ty], sqrt(1.0 + tx * tx + ty * ty), f32::NAN);
     }
+    let mut phis_found = false;
     let z_low = corners.iter().map(|v| v.z).fold(f32::INFINITY, min);
     let z_high = corners.iter().map(|v| v.z).fold(0.0f32, max);
     let ([sx, sy], [nx, ny]) = camera.side_planes();
@@ -123,6 +118,27 @@ pub(crate) fn lasting(
         if !(inside && keeps_rounding && z_low - delta - eta_up > 0.0) {
             break;
         }
+        let i_up = isotropic_from(camera, z_low - delta, size + 3.0 * delta, m, slack);
+        if i_up <= tolerance * (1.0 - MARGIN) {
+            match found {
+                Some((true, _)) => break,
+                _ => found = Some((false, k)),
+            }
+            continue;
+        }
+        if !phis_found {
+            for ([tx, ty], _, phi) in rays.iter_mut() {
+                let worst = e
+                    .iter()
+                    .map(|d| {
+                        let (a, b) = (d.x - *tx * d.z, d.y - *ty * d.z);
+                        a * a + b * b
+                    })
+                    .fold(0.0f32, max);
+                *phi = sqrt(worst);
+            }
+            phis_found = true;
+        }
         let (mut g_up, mut g_low) = (0.0f32, 0.0f32);
         for (&([tx, ty], t, phi), v) in rays.iter().zip(&corners) {
             let z = v.z;
@@ -140,7 +156,6 @@ pub(crate) fn lasting(
         let z_min_high = max(near, z_low + delta - m - slack);
         let d_up = focal / z_min_low * g_up * SCREEN_SLACK;
         let d_low = focal / z_min_high * g_low;
-        let i_up = isotropic_from(camera, z_low - delta, size + 3.0 * delta, m, slack);
         let i_low = isotropic_from(
             camera,
             z_low + delta,

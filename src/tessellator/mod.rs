@@ -42,6 +42,15 @@
 //! still over the tolerance is reported ([`FrameStats::left_over`], with the bound it has
 //! in [`FrameStats::worst_bound`], and a full pool in [`FrameStats::pool_full`]), not hidden.
 //!
+//! # Reuse from frame to frame
+//!
+//! A view equal to the last keeps its mesh. With room for a judgement per node
+//! ([`Tessellator::with_reuse`], feature `reuse`), a tessellator keeps each triangle's
+//! judgement with a certificate of how far the camera may move before it can change (derived
+//! in `deviation/certificate.rs`; `reuse` keeps the odometer that measures the camera's
+//! steps): the search takes a kept judgement where it would judge, so a camera step judges
+//! again only the triangles whose certificates ran out, and finds the same unique mesh.
+//!
 //! # Storage
 //!
 //! A tessellator keeps nothing of its own: bits for its hierarchy, a stack of triangles
