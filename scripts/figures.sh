@@ -47,6 +47,8 @@ cargo run -q --release --example fw_eval --target "$T" >"$out/fw_eval.txt"
 cargo run -q --release --example fw_bisect --target "$T" >"$out/fw_bisect.txt"
 arm-none-eabi-size -A "target/$T/release/examples/fw_eval" |
     awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}' >"$out/fw_eval_sizes.md"
+step "fw_teapot per part class"
+scripts/parts.sh >"$out/parts.md"
 step "footprint of fw_teapot"
 scripts/footprint.sh "$out/text_by_module.md" >"$out/footprint.md"
 step "teapot main job"
@@ -109,6 +111,7 @@ again_s = float(read("teapot_again_s.txt"))
 blocks = {
     "teapot-picture": picture,
     "teapot-table": teapot_table,
+    "parts": read("parts.md") + f"\n\n*{stamp}*",
 }
 readme = open("README.md").read()
 for name, body in blocks.items():
@@ -261,6 +264,16 @@ what a frame-to-frame update would have to change, where the top-down search jud
 triangle of the mesh and the triangles it is cut from each frame (*judged*).
 
 {read("orbit_changes.md")}
+
+## `fw_teapot` per part class
+
+`scripts/parts.sh` (run by this script): frame 0 a cold frame, frame 1 an orbit step from it
+with the wireframe drawn; the ARMv6-M build (no FPU) runs on QEMU's `mps2-an385`, whose
+Cortex-M3 executes v6-M code, so the count is what such a part runs, soft-float calls
+included. Flash counts the kernel's `.text` at opt-level "s" as the footprint below does, and
+the teapot's hierarchy and patches.
+
+{read("parts.md")}
 
 ## Footprint of the display demo (`fw_teapot`)
 

@@ -20,9 +20,17 @@ import collections
 import subprocess
 import sys
 
-ELF = "target/thumbv7em-none-eabihf/release/examples/fw_teapot"
+# `FW_TARGET=thumbv6m-none-eabi` profiles the ARMv6-M build (no FPU: `cargo build --release
+# --example fw_teapot --target thumbv6m-none-eabi --no-default-features`), run as its runner
+# in `.cargo/config.toml` runs it: on `mps2-an385` with a Cortex-M3.
+import os
+
+TARGET = os.environ.get("FW_TARGET", "thumbv7em-none-eabihf")
+ELF = f"target/{TARGET}/release/examples/fw_teapot"
+CPU, MACHINE = (("cortex-m3", "mps2-an385") if TARGET.startswith("thumbv6m")
+                else ("cortex-m4", "mps2-an386"))
 QEMU = [
-    "qemu-system-arm", "-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic",
+    "qemu-system-arm", "-cpu", CPU, "-machine", MACHINE, "-nographic",
     "-icount", "shift=0", "-semihosting-config", "enable=on,target=native",
     "-d", "in_asm,exec,nochain", "-D", "/dev/stderr", "-kernel",
 ]
@@ -111,7 +119,7 @@ def main():
     total = sum(charged.values())
     if total == 0:
         sys.exit(f"no {what} of frame {frame} found")
-    print(f"fw_teapot frame {frame} {what}: {total} instructions")
+    print(f"fw_teapot ({TARGET}) frame {frame} {what}: {total} instructions")
     print("\nby part:")
     parts = collections.Counter()
     for symbol, n in charged.items():
