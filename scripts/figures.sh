@@ -241,11 +241,16 @@ alone; every frame here is a cold one, a new tessellator on the same storage):
 Cold frames, orbit steps and libGLU, side by side: `TABLE=1 GLU_PEER=target/glu/glu_peer cargo
 run --release -p host-tests --example frame_loop` (`BAKE_REL` for the bake; see the example's
 docs for what each column times). A frame is an update and an indexed write; GLU's is its
-tessellation alone, at its nominal tolerance (it is not sound: see the error table). The run
-time keeps no work from one view to the next but for a view equal to the last (*same view
-again*: the indexed write alone), so an orbit step costs what a cold frame of its view costs,
-to this machine's noise. On the firmware, `fw_teapot`'s frame 1 is an orbit step from frame 0
-(its figures are in the display demo's section below).
+tessellation alone, at its nominal tolerance (it is not sound: see the error table). Without
+reuse a tessellator keeps no work from one view to the next but for a view equal to the last
+(*same view again*: the indexed write alone), so an orbit step costs what a cold frame of its
+view costs, to this machine's noise. With `Tessellator::with_reuse` (*step with reuse*) it
+keeps the judgements whose certificates still hold (*judgements kept*: of all the triangles
+the steps looked at) and walks the mesh again: that saves most where judging is dear (at
+1e-3, where the bake's leaves are judged by run-time lattices), and little at 2.5e-4, where
+the walk is most of a frame and the certificates cost about what they save. On the firmware,
+`fw_teapot`'s frame 1 is an orbit step from frame 0 (its figures are in the display demo's
+section below; it has no RAM for the reuse's slots).
 
 Each model baked at 1e-3 of its diagonal (the error table's bake; the 0.5 px views and the
 close-up go below it, where the run time refines):
