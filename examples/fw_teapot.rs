@@ -17,8 +17,10 @@
 //! below the bake is empty.
 //!
 //! Runs under QEMU `mps2-an386` and exits 0 when every frame matches bit for bit and pushes
-//! each pixel of the screen exactly once. Per frame it prints integers only (instructions from
-//! QEMU `-icount shift=0`):
+//! each pixel of the screen exactly once; also for ARMv6-M (`--target thumbv6m-none-eabi`, on
+//! `mps2-an385`) and RISC-V (`--target riscv32imc-unknown-none-elf`, on `virt`), the runners
+//! in `.cargo/config.toml`. Per frame it prints integers only (instructions from QEMU
+//! `-icount shift=0`, through SysTick on the Cortex-M and `minstret` on RISC-V):
 //!
 //! ```text
 //! fw_teapot: frame K triangles T update_instructions U render_instructions R pixels_pushed P bit-identical
@@ -212,15 +214,69 @@ fn run(
     all
 }
 
-#[cfg(target_os = "none")]
+#[cfg(all(target_os = "none", target_arch = "arm"))]
 #[path = "common/firmware.rs"]
 mod firmware;
 
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+#[path = "common/firmware_riscv.rs"]
+mod firmware;
+
+/// The firmware's frames and report, once its clock runs: `print` writes a line to the host
+/// (semihosting). Never returns: exits QEMU with the check's outcome.
 #[cfg(target_os = "none")]
+fn firmware_main(_print: impl Fn(core::fmt::Arguments<'_>)) -> ! {
+    use firmware::{finish, instructions, repaint_stack, stack_used_below, static_ram};
+    if cfg!(fw_baseline) {
+        // Size baseline: the start-up, clock and exit code without the kernel.
+        finish(true);
+    }
+    let mut sp = 0;
+    let ok = run(
+        |_k, _m, _ok| {
+            #[cfg(not(fw_quiet))]
+            {
+                _print(format_args!(
+                    "fw_teapot: frame {} triangles {} update_instructions {} render_instructions {} pixels_pushed {} {}",
+                    _k,
+                    _m.triangles,
+                    _m.update,
+                    _m.render,
+                    _m.pushed,
+                    if _ok { "bit-identical" } else { "DIFFERENT" }
+                ));
+                _print(format_args!(
+                    "fw_teapot: frame {} render listed {} list_slots {} passes {} windows {} pixels_drawn {}",
+                    _k,
+                    _m.listed,
+                    _m.list_slots,
+                    _m.passes,
+                    _m.windows,
+                    _m.pixels
+                ));
+            }
+        },
+        instructions,
+        || sp = repaint_stack(),
+    );
+    let _stack = stack_used_below(sp);
+    let _static = static_ram();
+    #[cfg(not(fw_quiet))]
+    _print(format_args!(
+        "fw_teapot: ram total {} storage {} bands {} stack {} static {} list {}",
+        STORAGE_BYTES + BAND_BYTES + _stack + _static + LIST_BYTES,
+        STORAGE_BYTES,
+        BAND_BYTES,
+        _stack,
+        _static,
+        LIST_BYTES,
+    ));
+    finish(ok)
+}
+
+#[cfg(all(target_os = "none", target_arch = "arm"))]
 mod device {
-    use super::firmware::{
-        finish, instructions, repaint_stack, stack_used_below, start_clock, static_ram,
-    };
+    use super::firmware::{finish, start_clock};
     use cortex_m_rt::entry;
     #[cfg(not(fw_quiet))]
     use cortex_m_semihosting::hprintln;
@@ -240,51 +296,33 @@ mod device {
             finish(false)
         };
         start_clock(cp.SYST);
-        if cfg!(fw_baseline) {
-            // Size baseline: the start-up, clock and exit code without the kernel.
-            finish(true);
-        }
-        let mut sp = 0;
-        let ok = super::run(
-            |_k, _m, _ok| {
-                #[cfg(not(fw_quiet))]
-                {
-                    hprintln!(
-                        "fw_teapot: frame {} triangles {} update_instructions {} render_instructions {} pixels_pushed {} {}",
-                        _k,
-                        _m.triangles,
-                        _m.update,
-                        _m.render,
-                        _m.pushed,
-                        if _ok { "bit-identical" } else { "DIFFERENT" }
-                    );
-                    hprintln!(
-                        "fw_teapot: frame {} render listed {} list_slots {} passes {} windows {} pixels_drawn {}",
-                        _k,
-                        _m.listed,
-                        _m.list_slots,
-                        _m.passes,
-                        _m.windows,
-                        _m.pixels
-                    );
-                }
-            },
-            instructions,
-            || sp = repaint_stack(),
-        );
-        let _stack = stack_used_below(sp);
-        let _static = static_ram();
+        super::firmware_main(|_line| {
+            #[cfg(not(fw_quiet))]
+            hprintln!("{}", _line);
+        })
+    }
+}
+
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+mod device {
+    use super::firmware::{finish, start_clock};
+    use riscv as _; // (its critical section)
+
+    /// A panic exits QEMU with failure (printed where the build prints).
+    #[panic_handler]
+    fn panic(_info: &core::panic::PanicInfo) -> ! {
         #[cfg(not(fw_quiet))]
-        hprintln!(
-            "fw_teapot: ram total {} storage {} bands {} stack {} static {} list {}",
-            super::STORAGE_BYTES + super::BAND_BYTES + _stack + _static + super::LIST_BYTES,
-            super::STORAGE_BYTES,
-            super::BAND_BYTES,
-            _stack,
-            _static,
-            super::LIST_BYTES,
-        );
-        finish(ok)
+        riscv_semihosting::hprintln!("fw_teapot: {}", _info);
+        finish(false)
+    }
+
+    #[riscv_rt::entry]
+    fn main() -> ! {
+        start_clock();
+        super::firmware_main(|_line| {
+            #[cfg(not(fw_quiet))]
+            riscv_semihosting::hprintln!("{}", _line);
+        })
     }
 }
 

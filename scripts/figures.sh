@@ -275,8 +275,9 @@ triangle of the mesh and the triangles it is cut from each frame (*judged*).
 `scripts/parts.sh` (run by this script): frame 0 a cold frame, frame 1 an orbit step from it
 with the wireframe drawn; the ARMv6-M build (no FPU) runs on QEMU's `mps2-an385`, whose
 Cortex-M3 executes v6-M code, so the count is what such a part runs, soft-float calls
-included. Flash counts the kernel's `.text` at opt-level "s" as the footprint below does, and
-the teapot's hierarchy and patches.
+included; the RV32IMC build (no FPU) on QEMU's `virt`, counted by `minstret` under `-icount`.
+Flash counts the kernel's `.text` at opt-level "s" as the footprint below does, and the
+teapot's hierarchy and patches. Every run is bit-identical to the host's frames.
 
 {read("parts.md")}
 

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # `fw_teapot` on each class of part it builds for, under QEMU with `-icount shift=0` (one
-# instruction a nanosecond): instructions of frame 0 (a cold frame) and frame 1 (an orbit step
-# from it, with the wireframe), RAM as the firmware measures it, and flash (the kernel's
-# `.text` at opt-level "s", as `scripts/footprint.sh` counts it, plus the model's hierarchy and
-# patches). Each run checks every frame against the host's checksums (its exit code).
+# instruction a nanosecond; RISC-V reads `minstret`): instructions of frame 0 (a cold frame)
+# and frame 1 (an orbit step from it, with the wireframe), RAM as the firmware measures it,
+# and flash (the kernel's `.text` at opt-level "s", as `scripts/footprint.sh` counts it, plus
+# the model's hierarchy and patches). Each run checks every frame against the host's checksums
+# (its exit code).
 # Prints a Markdown table, which `scripts/figures.sh` puts into README.md and BENCHMARKS.md.
 #
 #   scripts/parts.sh
@@ -11,15 +12,18 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
-for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
+for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; do
     rustup target list --installed | grep -qx "$t" || rustup target add "$t"
 done
-if ! command -v qemu-system-arm >/dev/null || ! command -v arm-none-eabi-size >/dev/null; then
+if ! command -v qemu-system-arm >/dev/null || ! command -v qemu-system-riscv32 >/dev/null; then
     as_root apt-get update -q
-    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -q qemu-system-arm binutils-arm-none-eabi
+    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -q qemu-system-arm qemu-system-misc
 fi
 FEATURES=--no-default-features
-section() { arm-none-eabi-size -A "$1" | awk -v s="$2" '$1 == s {print $2}'; }
+# Size in bytes of section $2 of ELF $1 (any architecture).
+section() {
+    printf '%d\n' "0x$(readelf -SW "$1" | sed -n "s/.*\] $2 *[A-Z_]* *[0-9a-f]* [0-9a-f]* \([0-9a-f]*\) .*/\1/p")"
+}
 val() { sed -n "s/.* $1 \([0-9][0-9]*\).*/\1/p" <<<"$2" | head -1; }
 # Update and render instructions of frame $1 in output $2.
 frame() { sed -n "s/^fw_teapot: frame $1 triangles .* update_instructions \([0-9]*\) render_instructions \([0-9]*\) .*/\1 \2/p" <<<"$2"; }
@@ -53,3 +57,4 @@ echo "| Part class | Target | QEMU | Frame 0: update + render | Frame 1 (orbit s
 echo "|---|---|---|---|---|---|---|"
 row "Cortex-M4F (STM32F4 class), FPU" thumbv7em-none-eabihf "\`mps2-an386\`, Cortex-M4"
 row "Cortex-M0+ (RP2040 class), no FPU" thumbv6m-none-eabi "\`mps2-an385\`, Cortex-M3 running v6-M code"
+row "RV32IMC (ESP32-C3 class), no FPU" riscv32imc-unknown-none-elf "\`virt\`, RV32"
