@@ -29,7 +29,7 @@ use host_tests::glu::run_glu;
 use host_tests::model_file::ModelFile;
 use host_tests::reference::RefPatch;
 use host_tests::runtime::{BakedHierarchy, VecStorage};
-use host_tests::screen::ERROR_VIEWS;
+use host_tests::screen::{camera_40, ERROR_VIEWS};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
 use spline_tess::{Camera, Projection, Vec3, Vertex, View};
@@ -154,19 +154,8 @@ fn table() {
             let (s, c) = degrees.to_radians().sin_cos();
             let d = Vec3::from_array(v.eye) - target;
             let eye = target + Vec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
-            let camera = Camera::new(
-                eye,
-                target,
-                Vec3::Z,
-                Projection::Perspective {
-                    fov_y_degrees: 40.0,
-                },
-                near,
-                v.viewport,
-            )
-            .expect("a valid camera");
             View::Screen {
-                camera,
+                camera: camera_40(eye, target, near, v.viewport),
                 tolerance_px: v.tol,
             }
         };

@@ -71,6 +71,19 @@ pub fn name(path: &std::path::Path) -> String {
     path.file_name().unwrap().to_string_lossy().into_owned()
 }
 
+/// The model file at `path` baked at `relative` of its diagonal (the tests' one call).
+///
+/// # Panics
+/// Where the file cannot be read or baked.
+pub fn bake_relative(path: &std::path::Path, relative: f32) -> model_file::BakedHierarchy {
+    let file = model_file::ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
+    let settings = spline_tess::bake::BakeSettings {
+        tolerance: spline_tess::bake::Tolerance::Relative(relative),
+        ..spline_tess::bake::BakeSettings::default()
+    };
+    model_file::BakedHierarchy::bake(&file, &settings).expect("a bake")
+}
+
 /// Storage of a BPT model parsed by the kernel.
 pub struct KernelBpt {
     /// Patch headers.

@@ -479,3 +479,27 @@ pub const ERROR_VIEWS: [ScreenView; 8] = [
         tol: 1.0,
     },
 ];
+
+/// The kernel's camera of the figures and tests: at `eye` looking at `target`, up `+z`, a
+/// perspective of 40 degrees vertically, the near plane at `near`, `viewport` pixels.
+///
+/// # Panics
+/// Where the camera is not valid (the eye at the target, a zero viewport).
+pub fn camera_40(
+    eye: spline_tess::Vec3,
+    target: spline_tess::Vec3,
+    near: f32,
+    viewport: [u32; 2],
+) -> spline_tess::Camera {
+    spline_tess::Camera::new(
+        eye,
+        target,
+        spline_tess::Vec3::Z,
+        spline_tess::Projection::Perspective {
+            fov_y_degrees: 40.0,
+        },
+        near,
+        viewport,
+    )
+    .expect("a valid camera")
+}

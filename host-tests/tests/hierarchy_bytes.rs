@@ -3,23 +3,11 @@
 //! model of the repository; and bytes that are not a hierarchy of the model are refused with
 //! what is wrong, never a panic.
 
-use host_tests::model_file::{BakedHierarchy, ModelFile};
-use std::path::Path;
-
+use host_tests::bake_relative as bake;
 use host_tests::runtime::{indexed, VecStorage};
 use host_tests::{bpt_models, models_dir, nurbs_fixtures};
-use spline_tess::bake::{BakeSettings, Tolerance};
 use spline_tess::tessellator::{FormatError, FORMAT_VERSION};
 use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
-
-fn bake(path: &Path, relative: f32) -> BakedHierarchy {
-    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
-    let settings = BakeSettings {
-        tolerance: Tolerance::Relative(relative),
-        ..BakeSettings::default()
-    };
-    BakedHierarchy::bake(&file, &settings).unwrap()
-}
 
 /// Views of a model: in model units within and below the bake, and two cameras.
 fn views(tree: &Hierarchy<'_>) -> Vec<View> {

@@ -6,23 +6,12 @@
 //! (the path exercises the reuse). On the bake's records of every model of the repository,
 //! and on the teapot's compact bytes.
 
-use host_tests::model_file::{BakedHierarchy, ModelFile};
-use std::path::Path;
-
+use host_tests::bake_relative as bake;
 use host_tests::runtime::{indexed, VecStorage};
+use host_tests::screen::camera_40;
 use host_tests::{bpt_models, models_dir, name, nurbs_fixtures};
-use spline_tess::bake::{BakeSettings, Tolerance};
 use spline_tess::tessellator::Judgement;
-use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
-
-fn bake(path: &Path, relative: f32) -> BakedHierarchy {
-    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
-    let settings = BakeSettings {
-        tolerance: Tolerance::Relative(relative),
-        ..BakeSettings::default()
-    };
-    BakedHierarchy::bake(&file, &settings).unwrap()
-}
+use spline_tess::{Hierarchy, Vec3, View};
 
 /// The path: from `(1, -1.3, 0.7)` diagonals off the centre, orbits around the vertical of
 /// 24 steps of 0.25°, 24 of 1° and 6 of 4°, a dolly in by 2% a frame, a turn of the head
@@ -31,22 +20,9 @@ fn bake(path: &Path, relative: f32) -> BakedHierarchy {
 fn path(tree: &Hierarchy<'_>) -> Vec<(String, View)> {
     let b = tree.model().aabb().unwrap();
     let (c, d) = (b.center(), b.diagonal());
-    let view = |eye: Vec3, target: Vec3, tolerance_px: f32| {
-        let camera = Camera::new(
-            eye,
-            target,
-            Vec3::Z,
-            Projection::Perspective {
-                fov_y_degrees: 40.0,
-            },
-            0.01 * d,
-            [320, 240],
-        )
-        .unwrap();
-        View::Screen {
-            camera,
-            tolerance_px,
-        }
+    let view = |eye: Vec3, target: Vec3, tolerance_px: f32| View::Screen {
+        camera: camera_40(eye, target, 0.01 * d, [320, 240]),
+        tolerance_px,
     };
     let around = |degrees: f32, distance: f32| {
         let (s, k) = degrees.to_radians().sin_cos();

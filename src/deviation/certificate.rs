@@ -299,6 +299,45 @@ mod tests {
         .ok()
     }
 
+    /// A random case of the tests below: a camera, a flat triangle (model space) `spread`
+    /// about its target, deviation vectors no longer than `big`, and a remainder.
+    struct Case {
+        eye: Vec3,
+        target: Vec3,
+        camera: Camera,
+        corners: [Vec3; 3],
+        vectors: [Vec3; 4],
+        big: f32,
+        r: f32,
+    }
+
+    /// Case `k`, from `unit` (a random value in `-scale..=scale`); `None` for an invalid
+    /// camera.
+    fn random_case(unit: &mut impl FnMut(f32) -> f32, k: usize, spread: f32) -> Option<Case> {
+        let target = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
+        let eye = Vec3::new(unit(10.0), unit(10.0), 6.0 + unit(4.0));
+        let camera = camera(eye, target)?;
+        let reach = [0.3, 1.5, 4.0][k % 3];
+        let centre = target + Vec3::new(unit(spread), unit(spread), unit(spread));
+        let corners: [Vec3; 3] =
+            core::array::from_fn(|_| centre + Vec3::new(unit(reach), unit(reach), unit(reach)));
+        let big = [2e-3, 2e-2, 0.2][k % 3] * (1.0 + unit(0.5));
+        let vectors: [Vec3; 4] = core::array::from_fn(|_| {
+            Vec3::new(unit(1.0), unit(1.0), unit(1.0)).normalize_or_zero()
+                * big
+                * (0.5 + unit(0.5)).abs()
+        });
+        Some(Case {
+            eye,
+            target,
+            camera,
+            corners,
+            vectors,
+            big,
+            r: big * 0.05,
+        })
+    }
+
     /// Random triangles, vectors and cameras, the tolerance near each one's bound: wherever a
     /// certificate is given for a step, every camera within that step judges the triangle
     /// the same (the cameras tried are scaled down from a random move until they fit, so
@@ -310,22 +349,18 @@ mod tests {
         let budgets_of = |radius: f32| LEVELS_FOR_TESTS.map(|s| [s * radius, s]);
         let (mut certified, mut tried, mut over) = (0, 0, 0);
         for k in 0..6000 {
-            let target = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
-            let eye = Vec3::new(unit(10.0), unit(10.0), 6.0 + unit(4.0));
-            let Some(c0) = camera(eye, target) else {
+            let Some(Case {
+                eye,
+                target,
+                camera: c0,
+                corners,
+                vectors,
+                big,
+                r,
+            }) = random_case(&mut unit, k, 1.5)
+            else {
                 continue;
             };
-            let reach = [0.3, 1.5, 4.0][k % 3];
-            let centre = target + Vec3::new(unit(1.5), unit(1.5), unit(1.5));
-            let corners: [Vec3; 3] =
-                core::array::from_fn(|_| centre + Vec3::new(unit(reach), unit(reach), unit(reach)));
-            let big = [2e-3, 2e-2, 0.2][k % 3] * (1.0 + unit(0.5));
-            let vectors: [Vec3; 4] = core::array::from_fn(|_| {
-                Vec3::new(unit(1.0), unit(1.0), unit(1.0)).normalize_or_zero()
-                    * big
-                    * (0.5 + unit(0.5)).abs()
-            });
-            let r = big * 0.05;
             let viewed = corners.map(|p| c0.to_view(p));
             let e = vectors.map(|v| c0.rotate_to_view(v));
             // The tolerance within a factor of two of the bound, either side.
@@ -406,22 +441,18 @@ mod tests {
         let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
         let (mut checked, mut closest_up, mut closest_low) = (0, 0.0f32, f32::INFINITY);
         for k in 0..3000 {
-            let target = Vec3::new(unit(1.0), unit(1.0), unit(1.0));
-            let eye = Vec3::new(unit(10.0), unit(10.0), 6.0 + unit(4.0));
-            let Some(c0) = camera(eye, target) else {
+            let Some(Case {
+                eye,
+                target,
+                camera: c0,
+                corners,
+                vectors,
+                big,
+                r,
+            }) = random_case(&mut unit, k, 1.0)
+            else {
                 continue;
             };
-            let reach = [0.3, 1.5, 4.0][k % 3];
-            let centre = target + Vec3::new(unit(1.0), unit(1.0), unit(1.0));
-            let corners: [Vec3; 3] =
-                core::array::from_fn(|_| centre + Vec3::new(unit(reach), unit(reach), unit(reach)));
-            let big = [2e-3, 2e-2, 0.2][k % 3] * (1.0 + unit(0.5));
-            let vectors: [Vec3; 4] = core::array::from_fn(|_| {
-                Vec3::new(unit(1.0), unit(1.0), unit(1.0)).normalize_or_zero()
-                    * big
-                    * (0.5 + unit(0.5)).abs()
-            });
-            let r = big * 0.05;
             let (viewed, e) = (
                 corners.map(|p| c0.to_view(p)),
                 vectors.map(|v| c0.rotate_to_view(v)),
