@@ -3,7 +3,7 @@
 //! (which include this file).
 
 use spline_tess::bake::{
-    bake_hierarchy_with_progress, BakeBuffers, BakeError, BakeProgress, BakeScratch, BakeSettings,
+    bake_hierarchy_with, BakeBuffers, BakeError, BakeProgress, BakeScratch, BakeSettings, Parallel,
 };
 use spline_tess::parse::{self, NurbsJsonBuffers};
 use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
@@ -175,7 +175,7 @@ impl BakedHierarchy {
             let mut p = vec![HierarchyPatch::default(); count];
             let mut s = vec![BakeScratch::default(); nodes];
             let result = file.with_model(|m| {
-                bake_hierarchy_with_progress(
+                bake_hierarchy_with(
                     m,
                     settings,
                     BakeBuffers {
@@ -185,6 +185,7 @@ impl BakedHierarchy {
                         scratch: &mut s,
                     },
                     progress,
+                    &Parallel,
                 )
             })?;
             match result {

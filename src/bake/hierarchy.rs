@@ -5,6 +5,7 @@
 
 use core::fmt;
 
+use super::runner::{BakeRunner, InOrder};
 use super::Tolerance;
 use crate::deviation::kept::keep;
 use crate::deviation::lattice::{coarse, deviation_vectors, POINTS, STEPS};
@@ -69,6 +70,11 @@ pub struct BakeBuffers<'a> {
 pub struct BakeScratch {
     tri: Tri,
     pub(super) corners: [u32; 3],
+    /// A batch's job ([`BakeRunner`]): the triangle across a diamond, where its bound is
+    /// the diamond's.
+    partner: Option<(Tri, [u32; 3])>,
+    /// And its result.
+    bound: HierarchyNode,
 }
 
 /// How much a bake wrote.
@@ -176,6 +182,20 @@ pub fn bake_hierarchy_with_progress(
     out: BakeBuffers<'_>,
     progress: &mut dyn FnMut(BakeProgress),
 ) -> Result<BakeSize, BakeError> {
+    bake_hierarchy_with(model, settings, out, progress, &InOrder)
+}
+
+/// [`bake_hierarchy_with_progress`], with the triangles' bounds (most of a bake's time)
+/// computed by `runner`: one after another ([`InOrder`]), or on all cores (`Parallel`, feature
+/// `std`). Each bound depends on its triangle alone, so the hierarchy is the same bit for bit
+/// whatever runs it.
+pub fn bake_hierarchy_with(
+    model: &Model<'_>,
+    settings: &BakeSettings,
+    out: BakeBuffers<'_>,
+    progress: &mut dyn FnMut(BakeProgress),
+    runner: &dyn BakeRunner,
+) -> Result<BakeSize, BakeError> {
     let count = model.patches.len();
     if count == 0 {
         return Err(BakeError::NoPatches);
@@ -219,21 +239,29 @@ pub fn bake_hierarchy_with_progress(
             baker.push_node(tri, tri.corners.map(|g| cell_corner(&rec, g)))?;
         }
     }
-    let mut i = 0;
+    // The bounds of the triangles made so far in one batch (each depends on its triangle
+    // alone), then each halved or not in order (which makes the next batch).
+    let (mut i, mut bounded) = (0, 0);
     while i < baker.node_count {
+        if i == bounded {
+            bounded = baker.node_count;
+            baker.bound_batch(i..bounded, runner);
+        }
         if i % 4096 == 4095 {
             progress(BakeProgress {
                 recorded: i + 1,
                 made: baker.node_count,
             });
         }
-        baker.record(i);
+        let bound = baker.scratch[i].bound;
+        let node = &mut baker.nodes[i];
+        (node.vectors, node.scale, node.remainder) = (bound.vectors, bound.scale, bound.remainder);
         if baker.nodes[i].children == 0 && baker.object_bound(i) > tolerance {
             baker.split(i, 0)?;
         }
         i += 1;
     }
-    baker.share_diamonds();
+    baker.share_diamonds(runner);
     let (n, v) = (baker.node_count, baker.vertex_count);
     // A leaf keeps one bound: the bake's tolerance (rounded up), or its own where that is
     // larger (a leaf at the depth limit). The bytes keep the first once and the others apart.
@@ -276,6 +304,75 @@ struct Baker<'m, 'o> {
     node_count: usize,
     vertex_count: usize,
     max_depth: u8,
+}
+
+/// What a triangle's bound is computed from: the model, the vertices made so far, and the
+/// grids the bound is rounded to. Read only: the jobs of a batch share it.
+struct BoundSource<'a, 'm> {
+    model: &'a Model<'m>,
+    vertices: &'a [HierarchyVertex],
+    scales: LogGrid,
+    bounds: LogGrid,
+}
+
+impl BoundSource<'_, '_> {
+    /// The lattice of triangle `tri` with corners `corners`: its deviation vectors and
+    /// remainder (`None` where not finite).
+    fn lattice(&self, tri: Tri, corners: [u32; 3]) -> Option<([Vec3; POINTS], f32)> {
+        let patch = self.model.patches.patch(tri.patch as usize)?;
+        let points = corners.map(|v| self.vertices[v as usize].position);
+        let grid = tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
+        let (vectors, remainder) =
+            deviation_vectors::<STEPS, POINTS>(&patch, grid, ONE as u32, points);
+        let finite = remainder.is_finite() && vectors.iter().all(|v| v.is_finite());
+        finite.then_some((vectors, remainder))
+    }
+
+    /// The record of a bound from `vectors` (keeping a few of `candidates`) and `remainder`.
+    fn bound_of(&self, vectors: &[Vec3], candidates: &[Vec3], remainder: f32) -> HierarchyNode {
+        let scales = self.scales;
+        let k = keep(vectors, candidates, |s| scales.round_up(s));
+        HierarchyNode {
+            vectors: k.vectors,
+            scale: k.scale,
+            remainder: self
+                .bounds
+                .round_up((remainder + k.widening) * (1.0 + 1.0 / 1024.0)),
+            ..HierarchyNode::default()
+        }
+    }
+
+    /// The bound of triangle `tri` with corners `corners`: its kept deviation vectors.
+    fn triangle(&self, tri: Tri, corners: [u32; 3]) -> HierarchyNode {
+        match self.lattice(tri, corners) {
+            Some((vectors, remainder)) => self.bound_of(&vectors, &coarse(&vectors), remainder),
+            None => HierarchyNode {
+                remainder: f32::INFINITY,
+                ..HierarchyNode::default()
+            },
+        }
+    }
+
+    /// The one bound of a diamond's two triangles `a` and `b` (each with its corners): the
+    /// vectors kept from both lattices, the widening covering both, the larger remainder.
+    fn diamond(&self, a: (Tri, [u32; 3]), b: (Tri, [u32; 3])) -> HierarchyNode {
+        match (self.lattice(a.0, a.1), self.lattice(b.0, b.1)) {
+            (Some((a, ra)), Some((b, rb))) => {
+                let mut vectors = [Vec3::ZERO; 2 * POINTS];
+                vectors[..POINTS].copy_from_slice(&a);
+                vectors[POINTS..].copy_from_slice(&b);
+                let (ca, cb) = (coarse(&a), coarse(&b));
+                let mut candidates = [Vec3::ZERO; 2 * COARSE];
+                candidates[..COARSE].copy_from_slice(&ca);
+                candidates[COARSE..].copy_from_slice(&cb);
+                self.bound_of(&vectors, &candidates, ra.max(rb))
+            }
+            _ => HierarchyNode {
+                remainder: f32::INFINITY,
+                ..HierarchyNode::default()
+            },
+        }
+    }
 }
 
 impl Baker<'_, '_> {
@@ -486,56 +583,37 @@ impl Baker<'_, '_> {
             vertex: NO_VERTEX,
             ..HierarchyNode::default()
         };
-        self.scratch[n] = BakeScratch { tri, corners };
+        self.scratch[n] = BakeScratch {
+            tri,
+            corners,
+            ..BakeScratch::default()
+        };
         self.node_count += 1;
         Ok(n)
     }
 
-    /// Node `i`'s lattice: its deviation vectors and remainder (`None` where not finite).
-    fn lattice(&self, i: usize) -> Option<([Vec3; POINTS], f32)> {
-        let BakeScratch { tri, corners } = self.scratch[i];
-        let patch = self.model.patches.patch(tri.patch as usize)?;
-        let points = corners.map(|v| self.vertices[v as usize].position);
-        let grid = tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
-        let (vectors, remainder) =
-            deviation_vectors::<STEPS, POINTS>(&patch, grid, ONE as u32, points);
-        let finite = remainder.is_finite() && vectors.iter().all(|v| v.is_finite());
-        finite.then_some((vectors, remainder))
-    }
-
-    /// The record of a bound from `vectors` (keeping a few of `candidates`) and `remainder`.
-    fn bound_of(&self, vectors: &[Vec3], candidates: &[Vec3], remainder: f32) -> HierarchyNode {
-        let scales = self.scales;
-        let k = keep(vectors, candidates, |s| scales.round_up(s));
-        HierarchyNode {
-            vectors: k.vectors,
-            scale: k.scale,
-            remainder: self
-                .bounds
-                .round_up((remainder + k.widening) * (1.0 + 1.0 / 1024.0)),
-            ..HierarchyNode::default()
-        }
-    }
-
-    /// Records node `i`'s kept deviation vectors.
-    fn record(&mut self, i: usize) {
-        let bound = match self.lattice(i) {
-            Some((vectors, remainder)) => self.bound_of(&vectors, &coarse(&vectors), remainder),
-            None => HierarchyNode {
-                remainder: f32::INFINITY,
-                ..HierarchyNode::default()
-            },
+    /// The bounds of nodes `range` (made, not yet bounded) into their scratch, by `runner`.
+    fn bound_batch(&mut self, range: core::ops::Range<usize>, runner: &dyn BakeRunner) {
+        let source = BoundSource {
+            model: self.model,
+            vertices: &self.vertices[..self.vertex_count],
+            scales: self.scales,
+            bounds: self.bounds,
         };
-        let node = &mut self.nodes[i];
-        (node.vectors, node.scale, node.remainder) = (bound.vectors, bound.scale, bound.remainder);
+        runner.run(&mut self.scratch[range], &|job| {
+            job.bound = source.triangle(job.tri, job.corners);
+        });
     }
 
     /// Gives the two halved triangles of each diamond (halved at one vertex, across their
     /// hypotenuse) one bound, which holds for both: the vectors kept from both lattices, the
     /// widening covering both, the larger remainder. Where either is split the other is too,
     /// so little changes; the bytes keep one bound a diamond.
-    fn share_diamonds(&mut self) {
+    fn share_diamonds(&mut self, runner: &dyn BakeRunner) {
+        // Each diamond's pair, found in order, is a job of its first triangle's scratch.
+        let mut pairs = 0;
         for i in 0..self.node_count {
+            self.scratch[i].partner = None;
             if self.nodes[i].children == 0 {
                 continue;
             }
@@ -551,25 +629,31 @@ impl Baker<'_, '_> {
                 && self.scratch[j].tri == n
                 && self.nodes[j].children != 0
                 && self.nodes[j].vertex == self.nodes[i].vertex;
-            if !partner {
-                continue;
+            if partner {
+                self.scratch[i].partner = Some((n, self.scratch[j].corners));
+                pairs += 1;
             }
-            let bound = match (self.lattice(i), self.lattice(j)) {
-                (Some((a, ra)), Some((b, rb))) => {
-                    let mut vectors = [Vec3::ZERO; 2 * POINTS];
-                    vectors[..POINTS].copy_from_slice(&a);
-                    vectors[POINTS..].copy_from_slice(&b);
-                    let (ca, cb) = (coarse(&a), coarse(&b));
-                    let mut candidates = [Vec3::ZERO; 2 * COARSE];
-                    candidates[..COARSE].copy_from_slice(&ca);
-                    candidates[COARSE..].copy_from_slice(&cb);
-                    self.bound_of(&vectors, &candidates, ra.max(rb))
-                }
-                _ => HierarchyNode {
-                    remainder: f32::INFINITY,
-                    ..HierarchyNode::default()
-                },
+        }
+        if pairs == 0 {
+            return;
+        }
+        let source = BoundSource {
+            model: self.model,
+            vertices: &self.vertices[..self.vertex_count],
+            scales: self.scales,
+            bounds: self.bounds,
+        };
+        runner.run(&mut self.scratch[..self.node_count], &|job| {
+            if let Some(across) = job.partner {
+                job.bound = source.diamond((job.tri, job.corners), across);
+            }
+        });
+        for i in 0..self.node_count {
+            let Some((n, _)) = self.scratch[i].partner else {
+                continue;
             };
+            let j = self.locate(&n);
+            let bound = self.scratch[i].bound;
             // Shared only where it costs little: the diamond's bound in model units at most
             // SHARED_SLACK over the larger of its triangles' own.
             let own = self.nodes[i]
@@ -646,7 +730,7 @@ impl Baker<'_, '_> {
             };
         }
         for k in [Some(i), across].into_iter().flatten() {
-            let BakeScratch { tri, corners } = self.scratch[k];
+            let BakeScratch { tri, corners, .. } = self.scratch[k];
             let [a, b, c] = corners;
             let [h0, h1] = tri.children();
             let first = self.push_node(h0, [v, a, b])?;

@@ -6,13 +6,17 @@ mod cells;
 mod encode;
 mod hierarchy;
 mod orientation;
+mod runner;
 mod rust_source;
 
 pub use encode::{encode_hierarchy, encode_scratch_len, EncodeError};
 pub use hierarchy::{
-    bake_hierarchy, bake_hierarchy_with_progress, BakeBuffers, BakeError, BakeProgress,
-    BakeScratch, BakeSettings, BakeSize,
+    bake_hierarchy, bake_hierarchy_with, bake_hierarchy_with_progress, BakeBuffers, BakeError,
+    BakeProgress, BakeScratch, BakeSettings, BakeSize,
 };
+#[cfg(feature = "std")]
+pub use runner::Parallel;
+pub use runner::{BakeRunner, InOrder};
 pub use rust_source::write_rust_source;
 
 /// The bake tolerance: the deviation at which halving stops.

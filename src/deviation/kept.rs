@@ -12,10 +12,14 @@
 //! remainder `R + δ`.
 //!
 //! `δ` is bounded from above by a point of `H`: the distance from `e_k` to any point of `H` is
-//! at least its distance to `H`. Frank-Wolfe steps from the nearest kept vector find a good
-//! point; each step is a convex combination of the last point and a vertex of `H`, computed
-//! in `f32`, so the point is within `3 ε` of `H` per step times the vertices' largest length
-//! (the three roundings of `x + γ (s - x)`), which is added.
+//! at least its distance to `H`. The point taken is the nearest one, found among few
+//! candidates (see [`Hull`]): `H` has at most five vertices, and the point of a convex hull
+//! nearest `e` is a vertex, or the projection of `e` on an edge, a triangle or (inside) a
+//! tetrahedron of them that falls in its own simplex. Each candidate is computed in `f32`
+//! from barycentric weights checked to be at least 0 and to sum to at most 1, so it lies
+//! within a few `ε` of the longest vertex of `H`; that drift is added, and the distance's own
+//! roundings are covered by `1 + 4ε`. (Frank-Wolfe steps found such points before, about
+//! five times slower for bounds as large or larger.)
 //!
 //! Vectors are kept farthest from the kept ones' hull first: the longest, then the one the
 //! hull reaches least, and so on.
@@ -29,11 +33,6 @@ use crate::math::{length, max};
 /// of step 1/12 (a remainder a quarter of the 1/6 lattice's), four give about the triangles
 /// eight do (CHANGELOG.md has the measurement).
 pub const KEPT: usize = 4;
-
-/// Frank-Wolfe steps per distance: while choosing the vectors to keep, and for the widening.
-const CHOOSING_STEPS: usize = 16;
-const FIRST_STEPS: usize = 4;
-const STEPS: usize = 64;
 
 /// Largest quantised coordinate: six bits a coordinate (what the compact bytes keep). Against
 /// eight bits (127), the firmware teapot's frames take -0.4% to +0.8% triangles (the rounding
@@ -56,112 +55,224 @@ pub(crate) fn dequantize(q: &[[i8; 3]; KEPT], scale: f32) -> [Vec3; KEPT] {
     q.map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32) * scale)
 }
 
-/// An upper bound of the distance from `e` to `conv{0, hull}`: the distance to a point of
-/// it that `steps` pairwise Frank-Wolfe steps reach from the nearest vertex (each moves
-/// weight from the vertex farthest along the gradient to the one farthest against it, which
-/// converges on a polytope where plain steps crawl). Stops early once the bound is at most
-/// `enough`.
-fn distance_to_hull(e: Vec3, hull: &[Vec3], steps: usize, enough: f32) -> f32 {
-    let mut vertices = [Vec3::ZERO; KEPT + 1];
-    let n = hull.len().min(KEPT) + 1;
-    vertices[1..n].copy_from_slice(&hull[..n - 1]);
-    let vertices = &vertices[..n];
-    let mut weights = [0.0f32; KEPT + 1];
-    let (mut near, mut best) = (0, f32::INFINITY);
-    let mut big = 0.0f32;
-    for (k, &v) in vertices.iter().enumerate() {
-        let d = length(e - v);
-        if d < best {
-            (near, best) = (k, d);
-        }
-        big = max(big, length(v));
-    }
-    weights[near] = 1.0;
-    let mut x = vertices[near];
-    let drift = (n as f32 + 4.0) * EPS * big;
-    for _ in 0..steps {
-        let g = x - e;
-        if (length(g) + 2.0 * drift) * (1.0 + 4.0 * EPS) <= enough {
-            break;
-        }
-        let (mut to, mut away) = (0, None::<usize>);
-        let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
-        for (k, &v) in vertices.iter().enumerate() {
-            let d = g.dot(v);
-            if d < low {
-                (low, to) = (d, k);
-            }
-            if weights[k] > 0.0 && d > high {
-                (high, away) = (d, Some(k));
-            }
-        }
-        let Some(away) = away else { break };
-        let d = vertices[to] - vertices[away];
-        let (dd, gain) = (d.dot(d), high - low);
-        if to == away || dd <= 0.0 || gain <= 0.0 {
-            break;
-        }
-        let step = (gain / dd).clamp(0.0, weights[away]);
-        weights[to] += step;
-        weights[away] = max(weights[away] - step, 0.0);
-        x += d * step;
-    }
-    // The point of the weights, normalised: a point of the hull up to the roundings of its
-    // sum (at most `n + 2` of `ε` times the longest vertex).
-    let total: f32 = weights[..n].iter().sum();
-    let mut point = Vec3::ZERO;
-    for (w, v) in weights.iter().zip(vertices) {
-        point += *v * (*w / total);
-    }
-    (length(e - point) + drift) * (1.0 + 4.0 * EPS)
+/// Most vertices of `conv{0, kept}`.
+const VERTICES: usize = KEPT + 1;
+/// Its edges, triangles and tetrahedra: pairs, triples and quadruples of vertices.
+const PAIRS: usize = VERTICES * (VERTICES - 1) / 2;
+const TRIPLES: usize = PAIRS * (VERTICES - 2) / 3;
+const QUADRUPLES: usize = TRIPLES * (VERTICES - 3) / 4;
+
+/// One simplex of the hull's vertices (an edge, a triangle or a tetrahedron) ready to take a
+/// point's barycentric coordinates: `λ_i = rows[i] · (e - origin)` are the weights of its
+/// other vertices `origin + sides[i]` (exact for a point of its affine hull, in exact
+/// arithmetic), the origin's weight `1 - Σ λ_i`.
+#[derive(Clone, Copy)]
+struct Simplex<const D: usize> {
+    origin: Vec3,
+    sides: [Vec3; D],
+    rows: [Vec3; D],
 }
 
-/// Lazy search for the vector farthest from a hull that only grows (or, between searches,
-/// moves by a known amount): each vector keeps an upper bound of its distance, and of the
-/// vectors whose bound is largest only the first is measured against the current hull, until
-/// the largest bound is a measured one.
+impl<const D: usize> Simplex<D> {
+    const EMPTY: Self = Simplex {
+        origin: Vec3::ZERO,
+        sides: [Vec3::ZERO; D],
+        rows: [Vec3::ZERO; D],
+    };
+
+    /// The point of the simplex that `e`'s coordinates name, where they are all at least 0
+    /// and sum to at most 1 (the projection of `e` on its affine hull lies in it): its
+    /// squared distance from `e`.
+    #[inline(always)]
+    fn distance2(&self, e: Vec3) -> Option<f32> {
+        let p = e - self.origin;
+        let mut point = self.origin;
+        let mut total = 0.0f32;
+        for (row, side) in self.rows.iter().zip(&self.sides) {
+            let l = row.dot(p);
+            // (NaN is not at least 0 either.)
+            if l.is_nan() || l < 0.0 {
+                return None;
+            }
+            total += l;
+            point += *side * l;
+        }
+        let d = e - point;
+        (total <= 1.0).then(|| d.dot(d))
+    }
+}
+
+/// `conv{0, kept}` ready for [`distance_to_hull`]: its vertices, zero first, every edge,
+/// triangle and tetrahedron of them set up to project a point, and the drift allowed for the
+/// roundings of a point of it (from its longest vertex); all computed once for the vectors
+/// measured against it.
+///
+/// The point of a convex hull nearest `e` lies in a face of it, a vertex, an edge or a
+/// triangle whose projection of `e` is that point, or inside it (in a tetrahedron of its
+/// vertices). So the least distance over the vertices and over the projections that fall in
+/// their own edge, triangle or tetrahedron is the distance to the hull; with the projections
+/// computed in `f32`, each candidate is still a point of the hull up to the drift, and its
+/// distance an upper bound of the distance up to that (see [`distance_to_hull`]).
+struct Hull {
+    vertices: [Vec3; VERTICES],
+    n: usize,
+    edges: [Simplex<1>; PAIRS],
+    triangles: [Simplex<2>; TRIPLES],
+    tetrahedra: [Simplex<3>; QUADRUPLES],
+    counts: [usize; 3],
+    drift: f32,
+}
+
+impl Hull {
+    fn new(hull: &[Vec3]) -> Hull {
+        let mut h = Hull {
+            vertices: [Vec3::ZERO; VERTICES],
+            n: hull.len().min(KEPT) + 1,
+            edges: [Simplex::EMPTY; PAIRS],
+            triangles: [Simplex::EMPTY; TRIPLES],
+            tetrahedra: [Simplex::EMPTY; QUADRUPLES],
+            counts: [0; 3],
+            drift: 0.0,
+        };
+        let n = h.n;
+        h.vertices[1..n].copy_from_slice(&hull[..n - 1]);
+        let v = h.vertices;
+        let mut big = 0.0f32;
+        for &x in &v[..n] {
+            big = max(big, length(x));
+        }
+        // The candidates' roundings: the sides (one each), the weights' products and sums
+        // (a few each, with weights at most 1, and the origin's weight `1 - Σ` at least
+        // `-2ε` where the computed sum is at most 1), within `16 ε` of the longest vertex.
+        h.drift = 16.0 * EPS * big;
+        for i in 0..n {
+            for j in i + 1..n {
+                let u = v[j] - v[i];
+                let uu = u.dot(u);
+                if uu > 0.0 && uu.is_finite() {
+                    h.edges[h.counts[0]] = Simplex {
+                        origin: v[i],
+                        sides: [u],
+                        rows: [u / uu],
+                    };
+                    h.counts[0] += 1;
+                }
+                for k in j + 1..n {
+                    let w = v[k] - v[i];
+                    let (uw, ww) = (u.dot(w), w.dot(w));
+                    let det = uu * ww - uw * uw;
+                    if det > 0.0 && det.is_finite() {
+                        let ru = (u * ww - w * uw) / det;
+                        let rw = (w * uu - u * uw) / det;
+                        h.triangles[h.counts[1]] = Simplex {
+                            origin: v[i],
+                            sides: [u, w],
+                            rows: [ru, rw],
+                        };
+                        h.counts[1] += 1;
+                    }
+                    for l in k + 1..n {
+                        let z = v[l] - v[i];
+                        let det = u.dot(w.cross(z));
+                        if det != 0.0 && det.is_finite() {
+                            h.tetrahedra[h.counts[2]] = Simplex {
+                                origin: v[i],
+                                sides: [u, w, z],
+                                rows: [w.cross(z) / det, z.cross(u) / det, u.cross(w) / det],
+                            };
+                            h.counts[2] += 1;
+                        }
+                    }
+                }
+            }
+        }
+        h
+    }
+}
+
+/// An upper bound of the distance from `e` to `hull` (`conv{0, kept}`): the least distance
+/// from `e` to the candidates of [`Hull`], plus the drift of a computed candidate from the
+/// hull, with the few roundings of the distance itself covered by `1 + 4ε`. Where the
+/// vertices alone put it at most `enough`, that bound (the others can only lower it).
+fn distance_to_hull(e: Vec3, hull: &Hull, enough: f32) -> f32 {
+    let bound = |d2: f32| (crate::math::sqrt(d2) + hull.drift) * (1.0 + 4.0 * EPS);
+    let mut best = f32::INFINITY;
+    for &v in &hull.vertices[..hull.n] {
+        let d = (e - v).dot(e - v);
+        if d < best {
+            best = d;
+        }
+    }
+    if bound(best) <= enough {
+        return bound(best);
+    }
+    // A squared distance at most `close` puts the bound at most `enough` (the root's and the
+    // sum's roundings given a margin): then the other candidates need not be looked at.
+    let t = enough / (1.0 + 8.0 * EPS) - hull.drift;
+    let close = if t > 0.0 {
+        t * t * (1.0 - 1.0 / (1u32 << 20) as f32)
+    } else {
+        -1.0
+    };
+    // Inside first (most vectors are: their distance is all but 0), then the triangles and
+    // edges.
+    let tetrahedra = hull.tetrahedra[..hull.counts[2]]
+        .iter()
+        .map(|s| s.distance2(e));
+    let triangles = hull.triangles[..hull.counts[1]]
+        .iter()
+        .map(|s| s.distance2(e));
+    let edges = hull.edges[..hull.counts[0]].iter().map(|s| s.distance2(e));
+    for d in tetrahedra.chain(triangles).chain(edges).flatten() {
+        if d < best {
+            best = d;
+            if best <= close {
+                break;
+            }
+        }
+    }
+    bound(best)
+}
+
+/// Search for the vector farthest from a hull that only grows: each vector keeps an upper
+/// bound of its distance (its distance from a smaller hull is one), and only vectors whose
+/// bound is above the farthest measured so far are measured.
 struct Farthest {
     /// Upper bound of each vector's distance to the hull.
     bound: [f32; MAX_VECTORS],
-    /// Whether the bound was measured against the current hull.
-    measured: [bool; MAX_VECTORS],
 }
 
 impl Farthest {
-    /// The vector farthest from `conv{0, hull}` as `steps` steps measure it, and that bound,
-    /// or `None` when every bound is 0.
-    fn next(&mut self, vectors: &[Vec3], hull: &[Vec3], steps: usize) -> Option<(usize, f32)> {
+    /// The vector farthest from `conv{0, hull}` and that distance's bound (each bound lowered
+    /// to its measurement), or `None` when every bound is 0. The vector with the largest
+    /// bound is measured first, so that the others are mostly measured only until they are
+    /// below it.
+    fn next(&mut self, vectors: &[Vec3], hull: &[Vec3]) -> Option<(usize, f32)> {
+        let hull = Hull::new(hull);
         let bounds = &mut self.bound[..vectors.len()];
-        let mut best = (0.0f32, None);
+        let mut top = (0.0f32, None);
         for (k, &b) in bounds.iter().enumerate() {
-            if self.measured[k] && b > best.0 {
-                best = (b, Some(k));
+            if b > top.0 {
+                top = (b, Some(k));
             }
         }
-        loop {
-            // The unmeasured vector with the largest bound above the best measured one.
-            let mut top = (best.0, None);
-            for (k, &b) in bounds.iter().enumerate() {
-                if !self.measured[k] && b > top.0 {
-                    top = (b, Some(k));
+        let first = top.1?;
+        bounds[first] = bounds[first].min(distance_to_hull(vectors[first], &hull, 0.0));
+        let mut best = (0.0f32, None);
+        if bounds[first] > 0.0 {
+            best = (bounds[first], Some(first));
+        }
+        for (k, (b, e)) in bounds.iter_mut().zip(vectors).enumerate() {
+            if k != first && *b > best.0 {
+                // Measured only as far as it matters: a bound at most the best one's is
+                // enough.
+                *b = b.min(distance_to_hull(*e, &hull, best.0));
+                if *b > best.0 {
+                    best = (*b, Some(k));
                 }
             }
-            let Some(k) = top.1 else {
-                return best.1.map(|k| (k, best.0));
-            };
-            // Measured only as far as it matters: a bound at most the best one's is enough.
-            let d = distance_to_hull(vectors[k], hull, steps, best.0);
-            bounds[k] = bounds[k].min(d);
-            self.measured[k] = true;
-            if bounds[k] > best.0 {
-                best = (bounds[k], Some(k));
-            }
         }
-    }
-
-    /// The hull changed: no bound is a measured one any more.
-    fn forget(&mut self) {
-        self.measured = [false; MAX_VECTORS];
+        best.1.map(|k| (k, best.0))
     }
 }
 
@@ -182,7 +293,6 @@ pub(crate) fn keep(
     let candidates = &candidates[..candidates.len().min(MAX_VECTORS)];
     let mut far = Farthest {
         bound: [0.0; MAX_VECTORS],
-        measured: [false; MAX_VECTORS],
     };
     for (b, e) in far.bound.iter_mut().zip(candidates) {
         *b = length(*e);
@@ -190,12 +300,11 @@ pub(crate) fn keep(
     let mut chosen = [Vec3::ZERO; KEPT];
     let mut n = 0;
     while n < KEPT {
-        match far.next(candidates, &chosen[..n], CHOOSING_STEPS) {
+        match far.next(candidates, &chosen[..n]) {
             Some((k, _)) => {
                 chosen[n] = candidates[k];
                 far.bound[k] = 0.0;
                 n += 1;
-                far.forget();
             }
             None => break,
         }
@@ -222,11 +331,27 @@ pub(crate) fn keep(
     let hull = dequantize(&q, scale);
     // A first bound of every vector's distance (a few steps), then the largest ones
     // measured closely.
-    for (b, e) in far.bound.iter_mut().zip(vectors) {
-        *b = distance_to_hull(*e, &hull[..n], FIRST_STEPS, 0.0);
+    // Every vector's distance bounded from the kept vertices alone, then the largest ones
+    // measured in full until the largest measured one is above every other bound.
+    let kept = Hull::new(&hull[..n]);
+    let mut near = [0.0f32; MAX_VECTORS];
+    let near = &mut near[..vectors.len()];
+    let mut top = (0.0f32, 0);
+    for (k, (b, e)) in near.iter_mut().zip(vectors).enumerate() {
+        *b = distance_to_hull(*e, &kept, f32::INFINITY);
+        if *b > top.0 {
+            top = (*b, k);
+        }
     }
-    far.forget();
-    let widening = far.next(vectors, &hull[..n], STEPS).map_or(0.0, |(_, d)| d);
+    let mut widening = match vectors.get(top.1) {
+        Some(e) => distance_to_hull(*e, &kept, 0.0),
+        None => 0.0,
+    };
+    for (b, e) in near.iter().zip(vectors) {
+        if *b > widening {
+            widening = max(widening, distance_to_hull(*e, &kept, widening));
+        }
+    }
     Kept {
         vectors: q,
         scale,
@@ -290,6 +415,122 @@ mod tests {
             assert!(lower <= k.widening, "{lower} > {}", k.widening);
         }
         assert!(k.widening < 0.5, "{}", k.widening);
+    }
+}
+
+#[cfg(test)]
+mod distance_tests {
+    use super::*;
+    use crate::test_rng::TestRng;
+
+    /// The distance from `e` to `conv{0, hull}` in `f64`, by another method: pairwise
+    /// Frank-Wolfe steps with exact line search, with the duality gap's certificate. Returns
+    /// a lower and an upper bound of the distance.
+    fn reference(e: Vec3, hull: &[Vec3]) -> (f64, f64) {
+        let mut all = [[0.0f64; 3]; KEPT + 1];
+        for (a, h) in all[1..].iter_mut().zip(hull) {
+            *a = [h.x as f64, h.y as f64, h.z as f64];
+        }
+        let v = &all[..hull.len() + 1];
+        let e = [e.x as f64, e.y as f64, e.z as f64];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let mut w = [0.0f64; KEPT + 1];
+        w[0] = 1.0;
+        let point = |w: &[f64]| {
+            let mut x = [0.0; 3];
+            for (wi, vi) in w.iter().zip(v) {
+                for k in 0..3 {
+                    x[k] += wi * vi[k];
+                }
+            }
+            x
+        };
+        let mut lower = 0.0f64;
+        for _ in 0..4000 {
+            let x = point(&w);
+            let g = sub(x, e);
+            let f = dot(g, g);
+            let mut along = [0.0f64; KEPT + 1];
+            for (a, &vi) in along.iter_mut().zip(v) {
+                *a = dot(g, vi);
+            }
+            let to = (0..v.len())
+                .min_by(|&a, &b| along[a].total_cmp(&along[b]))
+                .unwrap();
+            // The duality gap: f - f* <= 2 <g, x - v_to>.
+            let gap = 2.0 * (dot(g, x) - along[to]);
+            lower = lower.max(f - gap);
+            let away = (0..v.len())
+                .filter(|&k| w[k] > 0.0)
+                .max_by(|&a, &b| along[a].total_cmp(&along[b]))
+                .unwrap();
+            let d = sub(v[to], v[away]);
+            let dd = dot(d, d);
+            if dd == 0.0 || gap <= 0.0 {
+                break;
+            }
+            let step = ((along[away] - along[to]) / dd).clamp(0.0, w[away]);
+            w[to] += step;
+            w[away] -= step;
+        }
+        let x = point(&w);
+        let g = sub(x, e);
+        (lower.max(0.0).sqrt(), dot(g, g).sqrt())
+    }
+
+    /// Random hulls (flat, thin, with repeated and zero vectors among them) and points
+    /// inside, near and far from them: every bound is at least the reference's lower bound,
+    /// and within `1e-5` of the hull's size (and a millionth) of its upper one.
+    #[test]
+    fn the_distance_bound_covers_the_distance_and_is_tight() {
+        let mut rng = TestRng::new(0xd157_a4ce_2026);
+        let unit = |rng: &mut TestRng| rng.signed(1 << 20) as f32 / (1 << 20) as f32;
+        let mut cases = 0;
+        for case in 0..3000 {
+            let n = 1 + case % KEPT;
+            let scale = [1e-4, 0.03, 1.0, 250.0][case % 4];
+            let mut hull = [Vec3::ZERO; KEPT];
+            for h in &mut hull[..n] {
+                *h = Vec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * scale;
+            }
+            match case % 7 {
+                // Flat: every vector in one plane, or along one line.
+                0 => hull[..n].iter_mut().for_each(|h| h.z = 0.0),
+                1 => hull[..n].iter_mut().for_each(|h| *h = Vec3::X * h.x),
+                // Repeated vectors.
+                2 if n > 1 => hull[1] = hull[0],
+                _ => {}
+            }
+            let h = Hull::new(&hull[..n]);
+            for k in 0..8 {
+                // A point of the hull moved off it by up to its size times a factor.
+                let mut w = [0.0f32; KEPT];
+                for x in &mut w[..n] {
+                    *x = unit(&mut rng).abs() / n as f32;
+                }
+                let inside = hull[..n]
+                    .iter()
+                    .zip(&w)
+                    .fold(Vec3::ZERO, |p, (v, x)| p + *v * *x);
+                let off = [0.0, 0.01, 0.3, 2.0][k % 4] * scale;
+                let e = inside + Vec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * off;
+                let got = distance_to_hull(e, &h, 0.0) as f64;
+                let (low, high) = reference(e, &hull[..n]);
+                assert!(got >= low, "case {case}: {got} < {low}");
+                // (A candidate's weights are as good as its simplex is well shaped: in a thin
+                // one, the point they rebuild is off the projection by more than the drift,
+                // though still a point of the hull up to it.)
+                let within = high * (1.0 + 1e-6) + 1e-5 * scale as f64;
+                assert!(
+                    got <= within,
+                    "case {case}.{k}: {got} > {high} (+{})",
+                    h.drift
+                );
+                cases += 1;
+            }
+        }
+        assert_eq!(cases, 24_000);
     }
 }
 

@@ -104,6 +104,21 @@ pub struct PatchSet<'a> {
 }
 
 impl<'a> PatchSet<'a> {
+    /// A set of patches already validated by [`new`](Self::new) (the same slices, which the
+    /// caller kept unchanged): no check again.
+    #[cfg(feature = "std")]
+    pub(crate) fn validated(
+        headers: &'a [PatchHeader],
+        points: &'a [[f32; 3]],
+        weights: Option<&'a [f32]>,
+    ) -> Self {
+        PatchSet {
+            headers,
+            points,
+            weights,
+        }
+    }
+
     /// Validates every patch: degrees, ranges, finite points and positive weights, and the
     /// model's extent (a bounding box whose diagonal `f32` holds).
     /// `weights = None` means all weights are 1.
