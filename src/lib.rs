@@ -32,7 +32,9 @@
 //!
 //! ## On a host
 //!
-//! Load, bake, tessellate, write: one bicubic patch here, a model file the same way.
+//! With feature `std`, `spline_tess::host` does each step in one call and owns the buffers. Without it,
+//! load, bake, tessellate, write into buffers of one's own: one bicubic patch here, a model
+//! file the same way.
 //!
 //! ```
 //! use spline_tess::bake::{bake_hierarchy, BakeBuffers, BakeError, BakeScratch, BakeSettings};
@@ -177,6 +179,8 @@
 //! - `large-viewports` (default): the renderer draws viewports up to `render::MAX_VIEWPORT`
 //!   = 2^20 pixels across, with 64-bit edge functions where corners lie far out. Without it,
 //!   up to 256 pixels, in 32-bit arithmetic only.
+//! - `std`: `spline_tess::host`: models read from files or bytes, bakes on all cores (with rayon, the
+//!   same bytes as one core: `bake::Parallel`), a view's frame as an owned mesh, OBJ and PLY.
 //! - `defmt`: every public type implements `defmt::Format`.
 //! - `embedded-graphics`: `render`, a band-by-band, z-buffered rasteriser that draws a
 //!   tessellator's frame (streamed, no mesh buffer) or an indexed mesh onto any
@@ -195,6 +199,9 @@
 #![deny(missing_debug_implementations)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+#[cfg(feature = "std")]
+extern crate std;
+
 pub mod bake;
 mod basis;
 mod bound;
@@ -203,6 +210,8 @@ mod defmt_impls;
 mod deviation;
 mod facing;
 mod frame;
+#[cfg(feature = "std")]
+pub mod host;
 mod math;
 mod model;
 mod nurbs;

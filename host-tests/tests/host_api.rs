@@ -1,0 +1,193 @@
+//! The host API (`spline_tess::host`, feature `std`): a bake on any number of threads is the
+//! same bytes, a cached bake reads back as the same bake, and a frame's owned mesh is the
+//! kernel's own frame written into caller buffers.
+
+use host_tests::models_dir;
+use spline_tess::bake::{
+    bake_hierarchy_with, BakeBuffers, BakeRunner, BakeScratch, BakeSettings, InOrder, Parallel,
+    Tolerance,
+};
+use spline_tess::host::{HostError, Surfaces};
+use spline_tess::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
+use spline_tess::{Camera, Projection, Vec3, View};
+
+/// The records of a bake of `surfaces` by `runner`, and their compact bytes.
+fn bake_with(surfaces: &Surfaces, settings: &BakeSettings, runner: &dyn BakeRunner) -> Vec<u8> {
+    let n = 1 << 16;
+    let mut nodes = vec![HierarchyNode::default(); n];
+    let mut vertices = vec![HierarchyVertex::default(); n];
+    let mut patches = vec![HierarchyPatch::default(); surfaces.patches().len()];
+    let mut scratch = vec![BakeScratch::default(); n];
+    let buffers = BakeBuffers {
+        nodes: &mut nodes,
+        vertices: &mut vertices,
+        patches: &mut patches,
+        scratch: &mut scratch,
+    };
+    let size = surfaces
+        .with_model(|m| bake_hierarchy_with(m, settings, buffers, &mut |_| {}, runner))
+        .expect("a model")
+        .expect("a bake");
+    let tree = spline_tess::Hierarchy::new(
+        surfaces.patches(),
+        &nodes[..size.nodes],
+        &vertices[..size.vertices],
+        &patches,
+    )
+    .expect("a hierarchy");
+    let mut work = vec![0u32; spline_tess::bake::encode_scratch_len(size.nodes, size.vertices)];
+    let mut out = vec![0u8; 64 * (size.nodes + size.vertices + patches.len() + 1)];
+    let len = spline_tess::bake::encode_hierarchy(&tree, &mut work, &mut out).expect("bytes");
+    out.truncate(len);
+    out
+}
+
+fn relative(t: f32) -> BakeSettings {
+    BakeSettings {
+        tolerance: Tolerance::Relative(t),
+        ..BakeSettings::default()
+    }
+}
+
+/// One thread, one thread of rayon, three threads of rayon: the same bytes, on a BPT model
+/// with shared curves and poles (the diamonds' bounds run in batches too) and a NURBS one.
+#[test]
+fn a_bake_is_the_same_on_any_number_of_threads() {
+    for (file, tolerance) in [
+        ("teapot.bpt", 1e-3),
+        ("teaspoon.bpt", 5e-4),
+        ("nurbs/rational_torus.json", 2e-3),
+    ] {
+        let surfaces = Surfaces::read(models_dir().join(file)).expect("a model");
+        let settings = relative(tolerance);
+        let alone = bake_with(&surfaces, &settings, &InOrder);
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a pool");
+            let parallel = pool.install(|| bake_with(&surfaces, &settings, &Parallel));
+            assert!(alone == parallel, "{file}: {threads} threads");
+        }
+        // And the host API's bake is that bake.
+        let host = surfaces.bake(&settings).expect("a bake");
+        assert!(host.to_bytes().expect("bytes") == alone, "{file}");
+    }
+}
+
+/// `bake_cached` writes the bake once and reads it back: the same bytes and the same frames;
+/// a cache of other settings or of damaged bytes is baked again (and rewritten).
+#[test]
+fn a_cached_bake_reads_back() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("host_api");
+    std::fs::create_dir_all(&dir).expect("a folder");
+    let path = dir.join("teaspoon.bake");
+    let _ = std::fs::remove_file(&path);
+    let surfaces = Surfaces::read(models_dir().join("teaspoon.bpt")).expect("a model");
+    let settings = relative(1e-3);
+    let fresh = surfaces.bake_cached(&settings, &path).expect("a bake");
+    let written = std::fs::read(&path).expect("a cache file");
+    let cached = surfaces
+        .bake_cached(&settings, &path)
+        .expect("a cached bake");
+    assert_eq!(fresh.to_bytes().unwrap(), cached.to_bytes().unwrap());
+    assert_eq!(cached.settings(), &settings);
+    let view = View::Object { tolerance: 2e-3 };
+    assert_eq!(
+        fresh.tessellate(&view).unwrap(),
+        cached.tessellate(&view).unwrap()
+    );
+    // Other settings: baked again, and the file now holds them.
+    let coarser = relative(4e-3);
+    let other = surfaces.bake_cached(&coarser, &path).expect("a bake");
+    assert_eq!(other.settings(), &coarser);
+    assert_ne!(std::fs::read(&path).unwrap(), written);
+    // Damaged bytes (the checksum fails): baked again.
+    let mut bad = std::fs::read(&path).unwrap();
+    let last = bad.len() - 1;
+    bad[last] ^= 0x40;
+    std::fs::write(&path, &bad).unwrap();
+    let again = surfaces.bake_cached(&coarser, &path).expect("a bake");
+    assert_eq!(again.to_bytes().unwrap(), other.to_bytes().unwrap());
+    assert_ne!(std::fs::read(&path).unwrap(), bad);
+    // Bytes of another model are not this one's bake.
+    let teapot = Surfaces::read(models_dir().join("teapot.bpt")).expect("a model");
+    let wrong = spline_tess::host::Baked::from_bytes(teapot, again.to_bytes().unwrap());
+    assert!(matches!(wrong, Err(HostError::Format(_))));
+}
+
+/// The owned mesh is the kernel's frame: the same vertices and triangles as `write_mesh`
+/// into caller buffers (the examples' path), each face with its patch and parameters, and its
+/// OBJ and PLY texts count them.
+#[test]
+fn a_frames_mesh_is_the_kernels_frame() {
+    let path = models_dir().join("teapot.bpt");
+    let surfaces = Surfaces::read(&path).expect("a model");
+    let camera = Camera::new(
+        Vec3::new(6.0, -6.0, 4.0),
+        Vec3::new(0.0, 0.0, 1.5),
+        Vec3::Z,
+        Projection::Perspective {
+            fov_y_degrees: 40.0,
+        },
+        0.05,
+        [1024, 768],
+    )
+    .unwrap();
+    let view = View::Screen {
+        camera,
+        tolerance_px: 0.5,
+    };
+    let mesh = surfaces
+        .bake(&BakeSettings::default())
+        .unwrap()
+        .tessellate(&view)
+        .unwrap();
+    let one_call = spline_tess::host::tessellate(&std::fs::read(&path).unwrap(), &view).unwrap();
+    assert_eq!(mesh, one_call);
+    assert!(mesh.stats.worst_bound <= 0.5 && mesh.stats.left_over == 0);
+    assert!(mesh.stats.refined > 0, "below the default bake");
+    // The kernel's own frame of the same bake.
+    let baked = host_tests::bake_relative(&path, 1e-3);
+    let tree = baked.tree();
+    let mut storage = host_tests::runtime::VecStorage::new(&tree, 4096, 1 << 16);
+    let mut t = storage.tessellator(tree);
+    assert_eq!(t.update(&view).unwrap(), mesh.stats);
+    let kernel = host_tests::runtime::indexed(&mut t);
+    assert_eq!(mesh.triangles, kernel.triangles);
+    assert_eq!(mesh.positions.len(), kernel.vertices.len());
+    for (k, v) in kernel.vertices.iter().enumerate() {
+        assert_eq!(mesh.positions[k], v.position);
+        assert_eq!(mesh.normals[k], v.normal);
+    }
+    assert_eq!(mesh.faces.len(), mesh.triangles.len());
+    for (f, t) in mesh.faces.iter().zip(&mesh.triangles) {
+        assert!(f.patch < 32);
+        for (uv, &v) in f.uv.iter().zip(t) {
+            assert!(uv.iter().all(|x| (0.0..=1.0).contains(x)));
+            // A corner of a face of this patch has these parameters on it.
+            let p = surfaces
+                .patches()
+                .patch(f.patch as usize)
+                .unwrap()
+                .position(uv[0], uv[1]);
+            let q = Vec3::from_array(mesh.positions[v as usize]);
+            assert!((p - q).length() < 1e-3, "{p} {q}");
+        }
+    }
+    let mut obj = Vec::new();
+    mesh.write_obj(&mut obj).unwrap();
+    let obj = String::from_utf8(obj).unwrap();
+    let count = |prefix: &str| obj.lines().filter(|l| l.starts_with(prefix)).count();
+    assert_eq!(count("v "), mesh.positions.len());
+    assert_eq!(count("vn "), mesh.normals.len());
+    assert_eq!(count("f "), mesh.triangles.len());
+    let mut ply = Vec::new();
+    mesh.write_ply(&mut ply).unwrap();
+    let ply = String::from_utf8(ply).unwrap();
+    let body = ply.split("end_header\n").nth(1).unwrap();
+    assert_eq!(
+        body.lines().count(),
+        mesh.positions.len() + mesh.triangles.len()
+    );
+}

@@ -1,0 +1,228 @@
+//! A model's bake in owned storage: its records from a fresh bake, or its compact bytes from a
+//! cache file; and a view's frame of it as an owned mesh.
+
+use std::vec;
+use std::vec::Vec;
+
+use super::{Face, HostError, Mesh, Surfaces};
+use crate::bake::{
+    bake_hierarchy_with, encode_hierarchy, encode_scratch_len, BakeBuffers, BakeError, BakeScratch,
+    BakeSettings, Parallel, Tolerance,
+};
+use crate::tessellator::{
+    Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex, PoolSlot, StackSlot,
+};
+use crate::{Tessellator, Vertex, View};
+
+/// A model's bake: the surfaces, the settings and the hierarchy (see [`bake`](crate::bake)).
+#[derive(Clone, Debug)]
+pub struct Baked {
+    surfaces: Surfaces,
+    settings: BakeSettings,
+    store: Store,
+}
+
+#[derive(Clone, Debug)]
+enum Store {
+    /// A fresh bake's records.
+    Records {
+        nodes: Vec<HierarchyNode>,
+        vertices: Vec<HierarchyVertex>,
+        patches: Vec<HierarchyPatch>,
+    },
+    /// Compact bytes, checked against the surfaces ([`Hierarchy::from_bytes`]).
+    Bytes(Vec<u8>),
+}
+
+/// A cache file's first bytes, before the settings and the hierarchy's bytes.
+const CACHE_MAGIC: &[u8; 16] = b"spline-tess bake";
+
+/// Entries a bake starts with: the repository's models at 2.5e-4 of their diagonal fit.
+const FIRST_NODES: usize = 1 << 17;
+const FIRST_VERTICES: usize = 1 << 16;
+
+/// Stack entries and vertices below the bake a frame starts with, and the most vertices it
+/// grows its pool to (4 times at a time) while the pool fills up.
+const STACK: usize = 4096;
+const FIRST_POOL: usize = 1 << 16;
+const MAX_POOL: usize = 1 << 22;
+
+impl Baked {
+    /// Bakes `surfaces` with `settings` on all cores, growing the buffers until the hierarchy
+    /// fits.
+    pub(super) fn bake(surfaces: &Surfaces, settings: &BakeSettings) -> Result<Baked, HostError> {
+        let count = surfaces.patches().len();
+        let (mut nodes, mut vertices) = (FIRST_NODES, FIRST_VERTICES);
+        loop {
+            let mut n = vec![HierarchyNode::default(); nodes];
+            let mut v = vec![HierarchyVertex::default(); vertices];
+            let mut p = vec![HierarchyPatch::default(); count];
+            let mut s = vec![BakeScratch::default(); nodes];
+            let buffers = BakeBuffers {
+                nodes: &mut n,
+                vertices: &mut v,
+                patches: &mut p,
+                scratch: &mut s,
+            };
+            let baked = surfaces.with_model(|m| {
+                bake_hierarchy_with(m, settings, buffers, &mut |_| {}, &Parallel)
+            })?;
+            match baked {
+                Ok(size) => {
+                    n.truncate(size.nodes);
+                    v.truncate(size.vertices);
+                    return Ok(Baked {
+                        surfaces: surfaces.clone(),
+                        settings: *settings,
+                        store: Store::Records {
+                            nodes: n,
+                            vertices: v,
+                            patches: p,
+                        },
+                    });
+                }
+                Err(BakeError::NodesFull { .. }) => nodes *= 2,
+                Err(BakeError::VerticesFull { .. }) => vertices *= 2,
+                Err(e) => return Err(e.into()),
+            }
+        }
+    }
+
+    /// A bake of `surfaces` from its compact bytes ([`to_bytes`](Self::to_bytes)), checked
+    /// to be a hierarchy of these surfaces. (The bytes do not say which settings made them:
+    /// [`settings`](Self::settings) are then the defaults.)
+    pub fn from_bytes(surfaces: Surfaces, bytes: Vec<u8>) -> Result<Baked, HostError> {
+        Hierarchy::from_bytes(surfaces.patches(), &bytes)?;
+        Ok(Baked {
+            surfaces,
+            settings: BakeSettings::default(),
+            store: Store::Bytes(bytes),
+        })
+    }
+
+    /// The surfaces.
+    pub fn surfaces(&self) -> &Surfaces {
+        &self.surfaces
+    }
+
+    /// The settings of the bake.
+    pub fn settings(&self) -> &BakeSettings {
+        &self.settings
+    }
+
+    /// The hierarchy, to hand a [`Tessellator`] (for frames with buffers of one's own, or a
+    /// renderer).
+    pub fn hierarchy(&self) -> Result<Hierarchy<'_>, HostError> {
+        let patches = self.surfaces.patches();
+        Ok(match &self.store {
+            Store::Records {
+                nodes,
+                vertices,
+                patches: records,
+            } => Hierarchy::new(patches, nodes, vertices, records)?,
+            Store::Bytes(bytes) => Hierarchy::from_bytes(patches, bytes)?,
+        })
+    }
+
+    /// The hierarchy's compact bytes ([`encode_hierarchy`]): what a firmware keeps in flash
+    /// ([`write_rust_source`](crate::bake::write_rust_source), or `include_bytes!`).
+    pub fn to_bytes(&self) -> Result<Vec<u8>, HostError> {
+        if let Store::Bytes(bytes) = &self.store {
+            return Ok(bytes.clone());
+        }
+        let tree = self.hierarchy()?;
+        let (nodes, vertices) = (tree.node_count(), tree.vertex_count());
+        let mut scratch = vec![0u32; encode_scratch_len(nodes, vertices)];
+        let patches = self.surfaces.patches().len();
+        let mut out = vec![0u8; 64 + 64 * (nodes + vertices + patches)];
+        let len = encode_hierarchy(&tree, &mut scratch, &mut out)?;
+        out.truncate(len);
+        Ok(out)
+    }
+
+    /// A cache file's bytes: a magic, the settings, then [`to_bytes`](Self::to_bytes).
+    pub(super) fn cache_bytes(&self) -> Result<Vec<u8>, HostError> {
+        let mut out = CACHE_MAGIC.to_vec();
+        out.extend_from_slice(&settings_bytes(&self.settings));
+        out.extend_from_slice(&self.to_bytes()?);
+        Ok(out)
+    }
+
+    /// The bake a cache file's bytes hold, where they hold one of `surfaces` with `settings`
+    /// (its bytes checked as [`from_bytes`](Self::from_bytes) checks them).
+    pub fn read_cache(surfaces: &Surfaces, settings: &BakeSettings, bytes: &[u8]) -> Option<Baked> {
+        let rest = bytes.strip_prefix(CACHE_MAGIC)?;
+        let rest = rest.strip_prefix(&settings_bytes(settings)[..])?;
+        let mut baked = Baked::from_bytes(surfaces.clone(), rest.to_vec()).ok()?;
+        baked.settings = *settings;
+        Some(baked)
+    }
+
+    /// The frame of `view`: the coarsest mesh of the hierarchy within the view's tolerance
+    /// (see [`Tessellator::update`]), refined below the bake into a pool of vertices that
+    /// grows until the frame is within it (or reaches 4M vertices; the frame's
+    /// [`stats`](Mesh::stats) then report the bound it keeps).
+    pub fn tessellate(&self, view: &View) -> Result<Mesh, HostError> {
+        let tree = self.hierarchy()?;
+        let mut bits = vec![0u32; tree.bit_words()];
+        let mut stack = vec![StackSlot::default(); STACK];
+        let mut pool_len = FIRST_POOL;
+        loop {
+            let mut pool = vec![PoolSlot::default(); pool_len];
+            let mut t = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)?;
+            let stats = t.update(view)?;
+            if stats.pool_full && pool_len < MAX_POOL {
+                pool_len *= 4;
+                continue;
+            }
+            return self.mesh(&mut t, stats);
+        }
+    }
+
+    /// The mesh of `t`'s frame, whose stats are `stats`.
+    fn mesh(
+        &self,
+        t: &mut Tessellator<'_, '_>,
+        stats: crate::FrameStats,
+    ) -> Result<Mesh, HostError> {
+        let size = t.mesh_size();
+        let mut vertices = vec![Vertex::default(); size.vertices];
+        let mut triangles = vec![[0u32; 3]; size.triangles];
+        let mut remap = vec![0u32; t.remap_len()];
+        t.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
+        let domains = self.surfaces.domains();
+        let mut faces = Vec::with_capacity(triangles.len());
+        t.stream_with_info(|info, _| {
+            let domain = domains.get(info.patch as usize).copied();
+            faces.push(Face {
+                patch: info.patch,
+                uv: info.uv.map(|uv| domain.map_or(uv, |d| d.map(uv))),
+            });
+        });
+        Ok(Mesh {
+            positions: vertices.iter().map(|v| v.position).collect(),
+            normals: vertices.iter().map(|v| v.normal).collect(),
+            triangles,
+            faces,
+            stats,
+        })
+    }
+}
+
+/// The settings as a cache file keeps them.
+fn settings_bytes(settings: &BakeSettings) -> [u8; 7] {
+    let (kind, tolerance) = match settings.tolerance {
+        Tolerance::Absolute(t) => (0, t),
+        Tolerance::Relative(t) => (1, t),
+    };
+    let t = tolerance.to_bits().to_le_bytes();
+    [
+        kind,
+        t[0],
+        t[1],
+        t[2],
+        t[3],
+        settings.max_depth,
+        settings.max_cell_level,
+    ]
+}
