@@ -47,6 +47,8 @@ cargo run -q --release --example fw_eval --target "$T" >"$out/fw_eval.txt"
 cargo run -q --release --example fw_bisect --target "$T" >"$out/fw_bisect.txt"
 arm-none-eabi-size -A "target/$T/release/examples/fw_eval" |
     awk '$1 ~ /^\.(vector_table|text|rodata|data|bss|uninit)$/ {printf "| `%s` | %s |\n", $1, $2}' >"$out/fw_eval_sizes.md"
+step "bake speed, one thread and all"
+scripts/bake_speed.sh >"$out/bake_speed.md"
 step "fw_teapot per part class"
 scripts/parts.sh >"$out/parts.md"
 step "footprint of fw_teapot"
@@ -112,6 +114,7 @@ blocks = {
     "teapot-picture": picture,
     "teapot-table": teapot_table,
     "parts": read("parts.md") + f"\n\n*{stamp}*",
+    "bake": read("bake_speed.md") + f"\n\n*`scripts/bake_speed.sh`. {stamp}*",
 }
 readme = open("README.md").read()
 for name, body in blocks.items():

@@ -11,7 +11,8 @@
 //! vertices the bytes hold (the records' copies of cell corners left out). *Records* are the
 //! bake's records at their in-memory sizes (nodes, vertices and patch records: what a firmware
 //! kept in flash before the bytes, and what `Hierarchy::new` reads in RAM); *ratio* is bytes
-//! over records. *Bake s* is one run on one core (the bake and its encoding).
+//! over records. *Bake s* is one run on all cores (the bake and its encoding;
+//! `scripts/bake_speed.sh` compares one thread with all).
 
 use std::time::Instant;
 
