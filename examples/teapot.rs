@@ -33,13 +33,13 @@ use std::time::Instant;
 use common::framebuffer::Framebuffer;
 use common::hierarchy_file::cached;
 use common::image::Image;
-use common::model_file::ModelFile;
-use common::obj::{frame_faces, write_obj};
+use common::model_file::{write_obj, ModelFile};
 use embedded_graphics::pixelcolor::Rgb888;
 use spline_tess::bake::{BakeProgress, BakeSettings, Tolerance};
+use spline_tess::host::Mesh;
 use spline_tess::render::{ListSlot, Renderer, Shading, Style, Wireframe};
 use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
-use spline_tess::{Camera, Projection, Vec3, Vertex, View};
+use spline_tess::{Camera, FrameStats, Projection, Vec3, View};
 
 const USAGE: &str = "usage: teapot [--model FILE] [--tolerance PX] [--budget N] [--frames N] \
                      [--size WxH] [--out DIR] [--name NAME] [--flat] [--no-wireframe] \
@@ -142,7 +142,6 @@ fn path(frames: usize, center: Vec3, radius: f32) -> Vec<(Vec3, f32)> {
 fn run() -> Result<(), String> {
     let args = parse_args()?;
     let file = ModelFile::read(&args.model)?;
-    let nurbs = args.model.ends_with(".json");
     let name = args.name.clone().unwrap_or_else(|| {
         std::path::Path::new(&args.model)
             .file_stem()
@@ -227,6 +226,7 @@ fn run() -> Result<(), String> {
     // triangles), so that each is projected once per frame.
     let mut list = vec![ListSlot::default(); 1 << 16];
     let mut thumbnails = Vec::new();
+    let mut last = FrameStats::default();
     for (k, (eye, distance)) in path(args.frames, center, radius).into_iter().enumerate() {
         let camera = Camera::new(
             eye,
@@ -257,6 +257,7 @@ fn run() -> Result<(), String> {
             ),
         };
         let update_ms = start.elapsed().as_secs_f64() * 1e3;
+        last = stats;
         let mut image = Image::new(w, h, Rgb888::new(0, 0, 0));
         let start = Instant::now();
         let mut target = Framebuffer::new(&mut image.pixels, w, h).ok_or("framebuffer")?;
@@ -276,15 +277,10 @@ fn run() -> Result<(), String> {
     let sheet =
         Image::contact_sheet(&thumbnails, 6, 4, Rgb888::new(8, 8, 12)).ok_or("no frames")?;
     sheet.write_png(&args.out.join(format!("{name}_contact.png")))?;
-    let size = tess.mesh_size();
-    let mut vertices = vec![Vertex::default(); size.vertices];
-    let mut triangles = vec![[0u32; 3]; size.triangles];
-    let mut remap = vec![0u32; tess.remap_len()];
-    tess.write_mesh(&mut vertices, &mut triangles, &mut remap)
+    let mesh = Mesh::of_frame(&mut tess, &file.surfaces(), last)
         .map_err(|e| format!("last frame: {e}"))?;
-    let faces = frame_faces(&tess, &triangles);
     let obj = args.out.join(format!("{name}.obj"));
-    write_obj(&obj.to_string_lossy(), &file, nurbs, &vertices, &faces)?;
+    write_obj(&obj.to_string_lossy(), &mesh)?;
     println!(
         "# wrote {}/{name}_000.png .. {name}_{:03}.png, {name}_contact.png, {name}.obj",
         args.out.display(),

@@ -32,12 +32,12 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use common::hierarchy_file;
-use common::model_file::{BakedHierarchy, ModelFile};
-use common::obj::{frame_faces, write_obj};
+use common::model_file::{write_obj, BakedHierarchy, ModelFile};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
+use spline_tess::host::Mesh;
 use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
-use spline_tess::{Camera, Projection, Vec3, Vertex, View};
+use spline_tess::{Camera, FrameStats, Projection, Vec3, Vertex, View};
 
 const USAGE: &str = "usage: tessellate MODEL(.bpt|.json) (--object-tolerance EPS | --tolerance PX \
                      --eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG --viewport WxH) \
@@ -186,7 +186,7 @@ fn views(a: &Args, diag: f32) -> Result<Vec<View>, String> {
 }
 
 /// Bakes the model's hierarchy (or reads the one `--baked` names) and writes the frames.
-fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Result<(), String> {
+fn run_frames(args: &Args, file: &ModelFile, views: &[View]) -> Result<(), String> {
     let bake = match &args.baked {
         Some(path) => {
             let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
@@ -208,6 +208,7 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
         .map_err(|e| format!("run time: {e}"))?;
     let mut remap = vec![0u32; selection.remap_len()];
     let (mut vertices, mut triangles) = (Vec::new(), Vec::<[u32; 3]>::new());
+    let mut last = FrameStats::default();
     for (frame, view) in views.iter().enumerate() {
         let start = Instant::now();
         let (s, tolerance) = match args.budget {
@@ -224,6 +225,7 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
                 view.tolerance(),
             ),
         };
+        last = s;
         let size = selection.mesh_size();
         vertices.resize(size.vertices, Vertex::default());
         triangles.resize(size.triangles, [0; 3]);
@@ -238,8 +240,9 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View], nurbs: bool) -> Res
             s.triangles, size.vertices, s.judged, s.hidden, s.refined, s.left_over, s.worst_bound
         );
     }
-    let faces = frame_faces(&selection, &triangles);
-    write_obj(&args.obj, file, nurbs, &vertices, &faces)
+    let mesh = Mesh::of_frame(&mut selection, &file.surfaces(), last)
+        .map_err(|e| format!("last frame: {e}"))?;
+    write_obj(&args.obj, &mesh)
 }
 
 fn run() -> Result<(), String> {
@@ -251,8 +254,7 @@ fn run() -> Result<(), String> {
         return Err("--split bakes the split model on the fly: drop --baked".into());
     }
     let file = if args.split { read.split()?.0 } else { read };
-    let nurbs = args.model.ends_with(".json");
-    run_frames(&args, &file, &views(&args, diag)?, nurbs)
+    run_frames(&args, &file, &views(&args, diag)?)
 }
 
 fn main() -> ExitCode {

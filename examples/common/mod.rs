@@ -6,4 +6,3 @@ pub mod framebuffer;
 pub mod hierarchy_file;
 pub mod image;
 pub mod model_file;
-pub mod obj;

@@ -5,9 +5,9 @@
 use spline_tess::bake::{
     bake_hierarchy_with, BakeBuffers, BakeError, BakeProgress, BakeScratch, BakeSettings, Parallel,
 };
-use spline_tess::parse::{self, NurbsJsonBuffers};
+use spline_tess::host::{Mesh, Surfaces};
 use spline_tess::tessellator::{Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex};
-use spline_tess::{BoundaryCurve, EdgeLink, Model, NurbsSurface, ParamRect, PatchHeader, PatchSet};
+use spline_tess::{BoundaryCurve, EdgeLink, Model, ParamRect, PatchHeader, PatchSet};
 
 /// A model's patches in owned storage. A NURBS surface is decomposed into its rational Bezier
 /// pieces; `domains[k]` is piece `k`'s rectangle of the surface's parameters.
@@ -24,66 +24,37 @@ pub struct ModelFile {
 }
 
 impl ModelFile {
-    /// Reads `path`: NURBS JSON when it ends in `.json`, BPT otherwise.
+    /// Reads `path`: NURBS JSON when its text starts with `{`, BPT otherwise
+    /// ([`Surfaces::read`]).
     pub fn read(path: &str) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-        let parsed = if path.ends_with(".json") {
-            Self::from_nurbs_json(&text)
-        } else {
-            Self::from_bpt(&text)
-        };
-        parsed.map_err(|e| format!("{path}: {e}"))
+        Surfaces::read(path)
+            .map(ModelFile::from)
+            .map_err(|e| format!("{path}: {e}"))
     }
 
     /// Parses BPT text.
     pub fn from_bpt(text: &str) -> Result<Self, String> {
-        let size = parse::bpt_size(text).map_err(|e| e.to_string())?;
-        let mut headers = vec![PatchHeader::default(); size.patches];
-        let mut points = vec![[0.0; 3]; size.points];
-        parse::parse_bpt(text, &mut headers, &mut points).map_err(|e| e.to_string())?;
-        let unit = ParamRect {
-            u0: 0.0,
-            u1: 1.0,
-            v0: 0.0,
-            v1: 1.0,
-        };
-        Ok(ModelFile {
-            domains: vec![unit; headers.len()],
-            headers,
-            points,
-            weights: None,
-        })
+        Surfaces::from_bpt(text)
+            .map(ModelFile::from)
+            .map_err(|e| e.to_string())
     }
 
     /// Parses NURBS JSON text and decomposes the surface into rational Bezier patches.
     pub fn from_nurbs_json(text: &str) -> Result<Self, String> {
-        let size = parse::nurbs_json_size(text).map_err(|e| e.to_string())?;
-        let mut ku = vec![0.0; size.knots_u];
-        let mut kv = vec![0.0; size.knots_v];
-        let mut pts = vec![[0.0; 3]; size.points];
-        let mut w = vec![0.0; size.points];
-        let buffers = NurbsJsonBuffers {
-            knots_u: &mut ku,
-            knots_v: &mut kv,
-            points: &mut pts,
-            weights: &mut w,
-        };
-        let surface: NurbsSurface<'_> =
-            parse::parse_nurbs_json(text, buffers).map_err(|e| e.to_string())?;
-        let need = surface.decomposition_size();
-        let mut headers = vec![PatchHeader::default(); need.patches];
-        let mut points = vec![[0.0; 3]; need.points];
-        let mut weights = vec![0.0; need.points];
-        let mut domains = vec![ParamRect::default(); need.patches];
-        surface
-            .decompose(&mut headers, &mut points, &mut weights, &mut domains)
-            .map_err(|e| e.to_string())?;
-        Ok(ModelFile {
-            headers,
-            points,
-            weights: Some(weights),
-            domains,
-        })
+        Surfaces::from_nurbs_json(text)
+            .map(ModelFile::from)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The model as the crate's host API holds it.
+    pub fn surfaces(&self) -> Surfaces {
+        Surfaces::from_parts(
+            self.headers.clone(),
+            self.points.clone(),
+            self.weights.clone(),
+            Some(self.domains.clone()),
+        )
+        .expect("a model file's patches make surfaces")
     }
 
     /// The patches.
@@ -100,6 +71,29 @@ impl ModelFile {
         let model = Model::build(patches, &mut edges, &mut curves).map_err(|e| e.to_string())?;
         Ok(f(&model))
     }
+}
+
+impl From<Surfaces> for ModelFile {
+    fn from(s: Surfaces) -> Self {
+        ModelFile {
+            headers: s.headers().to_vec(),
+            points: s.points().to_vec(),
+            weights: s.weights().map(<[f32]>::to_vec),
+            domains: s.domains().to_vec(),
+        }
+    }
+}
+
+/// Writes `mesh` as OBJ ([`Mesh::write_obj`]) to `path`, creating its folder.
+pub fn write_obj(path: &str, mesh: &Mesh) -> Result<(), String> {
+    if let Some(dir) = std::path::Path::new(path).parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+    }
+    let file = std::fs::File::create(path).map_err(|e| format!("{path}: {e}"))?;
+    mesh.write_obj(&mut std::io::BufWriter::new(file))
+        .map_err(|e| format!("{path}: {e}"))
 }
 
 /// The rectangle `inner` of `outer`'s unit square, as a rectangle of what `outer` is in.

@@ -10,8 +10,6 @@ pub mod frame_checks;
 pub mod glu;
 #[path = "../../examples/common/model_file.rs"]
 pub mod model_file;
-#[path = "../../examples/common/obj.rs"]
-pub mod obj;
 pub mod peers;
 pub mod reference;
 pub mod runtime;

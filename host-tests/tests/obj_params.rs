@@ -1,4 +1,5 @@
-//! The OBJ that `tessellate` and `teapot` write keeps every face's own parameters.
+//! The OBJ that `host::Mesh::write_obj` writes (and `tessellate` and `teapot` with it) keeps
+//! every face's own parameters.
 //!
 //! For every face of every model in `examples/models` (the tea set and Gumbo, with their
 //! poles, and the NURBS fixtures, with their seams and poles), in object mode and in several
@@ -11,12 +12,12 @@
 use std::collections::{HashMap, HashSet};
 
 use host_tests::model_file::ModelFile;
-use host_tests::obj::{frame_faces, obj_text};
 use host_tests::reference::{self, RefNurbs, RefPatch, V3};
 use host_tests::runtime::{indexed, BakedHierarchy, VecStorage};
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
+use spline_tess::host::Mesh;
 use spline_tess::{Camera, Projection, Vec3, View};
 
 const BAKE: BakeSettings = BakeSettings {
@@ -134,6 +135,7 @@ fn every_face_corner_carries_its_own_parameters() {
         let text = std::fs::read_to_string(&path).unwrap();
         let nurbs = label.ends_with(".json");
         let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+        let surfaces = file.surfaces();
         let surface = if nurbs {
             Surface::Nurbs(RefNurbs::read(&text))
         } else {
@@ -147,10 +149,14 @@ fn every_face_corner_carries_its_own_parameters() {
         let mut storage = VecStorage::new(&tree, 1024, 1 << 16);
         let mut selection = storage.tessellator(tree);
         for (view_label, view) in views(center, diag) {
-            selection.update(&view).unwrap();
+            let stats = selection.update(&view).unwrap();
             let mesh = indexed(&mut selection);
-            let faces = frame_faces(&selection, &mesh.triangles);
-            let obj = parse(&obj_text(&file, nurbs, &mesh.vertices, &faces));
+            let mut text = Vec::new();
+            Mesh::of_frame(&mut selection, &surfaces, stats)
+                .unwrap()
+                .write_obj(&mut text)
+                .unwrap();
+            let obj = parse(&String::from_utf8(text).unwrap());
             let at = format!("{label}, {view_label}");
             assert_eq!(obj.v.len(), mesh.vertices.len(), "{at}: one v per vertex");
             assert_eq!(obj.vn, mesh.vertices.len(), "{at}: one vn per vertex");

@@ -4,7 +4,7 @@
 use std::vec;
 use std::vec::Vec;
 
-use super::{Face, HostError, Mesh, Surfaces};
+use super::{HostError, Mesh, Surfaces};
 use crate::bake::{
     bake_hierarchy_with, encode_hierarchy, encode_scratch_len, BakeBuffers, BakeError, BakeScratch,
     BakeSettings, Parallel, Tolerance,
@@ -12,7 +12,7 @@ use crate::bake::{
 use crate::tessellator::{
     Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex, PoolSlot, StackSlot,
 };
-use crate::{Tessellator, Vertex, View};
+use crate::{Tessellator, View};
 
 /// A model's bake: the surfaces, the settings and the hierarchy (see [`bake`](crate::bake)).
 #[derive(Clone, Debug)]
@@ -175,37 +175,8 @@ impl Baked {
                 pool_len *= 4;
                 continue;
             }
-            return self.mesh(&mut t, stats);
+            return Mesh::of_frame(&mut t, &self.surfaces, stats);
         }
-    }
-
-    /// The mesh of `t`'s frame, whose stats are `stats`.
-    fn mesh(
-        &self,
-        t: &mut Tessellator<'_, '_>,
-        stats: crate::FrameStats,
-    ) -> Result<Mesh, HostError> {
-        let size = t.mesh_size();
-        let mut vertices = vec![Vertex::default(); size.vertices];
-        let mut triangles = vec![[0u32; 3]; size.triangles];
-        let mut remap = vec![0u32; t.remap_len()];
-        t.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
-        let domains = self.surfaces.domains();
-        let mut faces = Vec::with_capacity(triangles.len());
-        t.stream_with_info(|info, _| {
-            let domain = domains.get(info.patch as usize).copied();
-            faces.push(Face {
-                patch: info.patch,
-                uv: info.uv.map(|uv| domain.map_or(uv, |d| d.map(uv))),
-            });
-        });
-        Ok(Mesh {
-            positions: vertices.iter().map(|v| v.position).collect(),
-            normals: vertices.iter().map(|v| v.normal).collect(),
-            triangles,
-            faces,
-            stats,
-        })
     }
 }
 

@@ -16,6 +16,13 @@ pub enum HostError {
     Io(io::Error),
     /// The bytes are neither BPT text nor NURBS JSON (not UTF-8).
     NotText,
+    /// Patches of one's own came with a rectangle of parameters for other than each.
+    Domains {
+        /// Patches.
+        patches: usize,
+        /// Rectangles.
+        domains: usize,
+    },
     /// A BPT text does not parse.
     Bpt(BptError),
     /// A NURBS JSON text does not parse.
@@ -47,6 +54,9 @@ impl fmt::Display for HostError {
         match self {
             HostError::Io(e) => write!(f, "{e}"),
             HostError::NotText => write!(f, "the model is not text (BPT or NURBS JSON)"),
+            HostError::Domains { patches, domains } => {
+                write!(f, "{patches} patches with {domains} parameter rectangles")
+            }
             HostError::Bpt(e) => write!(f, "BPT: {e}"),
             HostError::NurbsJson(e) => write!(f, "NURBS JSON: {e}"),
             HostError::Decompose(e) => write!(f, "NURBS decomposition: {e}"),
@@ -67,7 +77,7 @@ impl std::error::Error for HostError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             HostError::Io(e) => Some(e),
-            HostError::NotText => None,
+            HostError::NotText | HostError::Domains { .. } => None,
             HostError::Bpt(e) => Some(e),
             HostError::NurbsJson(e) => Some(e),
             HostError::Decompose(e) => Some(e),

@@ -2,9 +2,11 @@
 
 use std::collections::HashMap;
 use std::io::{self, Write};
+use std::vec;
 use std::vec::Vec;
 
-use crate::{FrameStats, ParamRect};
+use super::{HostError, Surfaces};
+use crate::{FrameStats, ParamRect, Tessellator, Vertex};
 
 /// A frame's mesh ([`Baked::tessellate`](super::Baked::tessellate)): vertices shared by
 /// index (shared curves share theirs: no cracks), triangles counter-clockwise seen from
@@ -53,6 +55,39 @@ impl ParamRect {
 }
 
 impl Mesh {
+    /// The current frame of `tessellator` (of a hierarchy of `surfaces`), whose
+    /// [`update`](Tessellator::update) gave `stats`: what
+    /// [`Baked::tessellate`](super::Baked::tessellate) returns, for a tessellator of one's own
+    /// (one kept from frame to frame, say).
+    pub fn of_frame(
+        tessellator: &mut Tessellator<'_, '_>,
+        surfaces: &Surfaces,
+        stats: FrameStats,
+    ) -> Result<Mesh, HostError> {
+        let size = tessellator.mesh_size();
+        let mut vertices = vec![Vertex::default(); size.vertices];
+        let mut triangles = vec![[0u32; 3]; size.triangles];
+        let mut remap = vec![0u32; tessellator.remap_len()];
+        tessellator.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
+        let domains = surfaces.domains();
+        let mut faces = Vec::with_capacity(triangles.len());
+        // (The stream gives the triangles in the order `write_mesh` wrote them.)
+        tessellator.stream_with_info(|info, _| {
+            let domain = domains.get(info.patch as usize).copied();
+            faces.push(Face {
+                patch: info.patch,
+                uv: info.uv.map(|uv| domain.map_or(uv, |d| d.map(uv))),
+            });
+        });
+        Ok(Mesh {
+            positions: vertices.iter().map(|v| v.position).collect(),
+            normals: vertices.iter().map(|v| v.normal).collect(),
+            triangles,
+            faces,
+            stats,
+        })
+    }
+
     /// Texture coordinates per face corner, one per distinct (vertex, parameters): the list
     /// and each face corner's index in it.
     fn texture(&self) -> (Vec<[f32; 2]>, Vec<[usize; 3]>) {

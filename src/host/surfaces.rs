@@ -92,6 +92,46 @@ impl Surfaces {
         Ok(surfaces)
     }
 
+    /// Patches of one's own: their headers, control points and weights (`None`: all 1), and
+    /// each one's rectangle of the parameters a [`Face`](super::Face) gives (the unit square
+    /// for each: `None`), checked as [`PatchSet::new`] and [`Model::build`] check them.
+    pub fn from_parts(
+        headers: Vec<PatchHeader>,
+        points: Vec<[f32; 3]>,
+        weights: Option<Vec<f32>>,
+        domains: Option<Vec<ParamRect>>,
+    ) -> Result<Surfaces, HostError> {
+        let surfaces = Surfaces {
+            domains: domains.unwrap_or_else(|| vec![UNIT; headers.len()]),
+            headers,
+            points,
+            weights,
+        };
+        if surfaces.domains.len() != surfaces.headers.len() {
+            return Err(HostError::Domains {
+                patches: surfaces.headers.len(),
+                domains: surfaces.domains.len(),
+            });
+        }
+        surfaces.with_model(|_| ())?;
+        Ok(surfaces)
+    }
+
+    /// The patches' headers (degrees and where their control points start).
+    pub fn headers(&self) -> &[PatchHeader] {
+        &self.headers
+    }
+
+    /// The control points.
+    pub fn points(&self) -> &[[f32; 3]] {
+        &self.points
+    }
+
+    /// The control points' weights (`None`: all 1, as for BPT).
+    pub fn weights(&self) -> Option<&[f32]> {
+        self.weights.as_deref()
+    }
+
     /// The patches.
     pub fn patches(&self) -> PatchSet<'_> {
         // Validated when the surfaces were read, and kept unchanged since.
