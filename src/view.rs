@@ -291,6 +291,11 @@ impl Camera {
         )
     }
 
+    /// Direction `d` given in view coordinates, in model coordinates (the rotation back).
+    pub(crate) fn rotate_from_view(&self, d: Vec3) -> Vec3 {
+        Vec3::from_array(self.right) * d.x + Vec3::from_array(self.up) * d.y + self.forward() * d.z
+    }
+
     /// Pixel coordinates of `p` (x to the right, y down, origin at the top-left corner);
     /// `None` when `p` is closer than the near plane.
     pub fn project(&self, p: Vec3) -> Option<[f32; 2]> {

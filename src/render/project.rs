@@ -25,6 +25,11 @@ pub(super) struct Setup<'a> {
     /// when there is nothing to draw.
     pub depth: Option<(f32, f32)>,
     light: Vec3,
+    /// The light's direction in model coordinates, and the eye (perspective) or the view
+    /// direction turned back (orthographic): a vertex's shade from its model normal, with no
+    /// normal moved into view coordinates (see [`corner`](Self::corner)).
+    model_light: Vec3,
+    towards_eye: Vec3,
     perspective: bool,
 }
 
@@ -53,6 +58,12 @@ impl<'a> Setup<'a> {
             frustum: Frustum::new(near, camera.half_extent(), perspective),
             depth,
             light,
+            model_light: camera.rotate_from_view(light),
+            towards_eye: if perspective {
+                camera.eye()
+            } else {
+                -camera.forward()
+            },
             perspective,
         }
     }
@@ -75,17 +86,39 @@ impl<'a> Setup<'a> {
         quantize_depth(offset + scale * q)
     }
 
+    /// Shade of a vertex with model normal `n` at model position `p`, for Gouraud shading: as
+    /// [`shade`](Self::shade) in view coordinates (a rotation keeps dot products), without
+    /// moving the normal there. A unit normal (as a tessellator's vertices have: within a few
+    /// `ε` of 1) is taken as it is; another is normalised first, and zero gives the ambient.
+    fn vertex_shade(&self, n: Vec3, p: Vec3) -> f32 {
+        let length2 = n.dot(n);
+        let n = if (length2 - 1.0).abs() <= 1.0 / 1024.0 {
+            n
+        } else {
+            match normalize(n) {
+                Some(n) => n,
+                None => return self.style.light.ambient,
+            }
+        };
+        let towards_eye = if self.perspective {
+            self.towards_eye - p
+        } else {
+            self.towards_eye
+        };
+        let d = n.dot(self.model_light);
+        let d = if n.dot(towards_eye) < 0.0 { -d } else { d };
+        let a = self.style.light.ambient;
+        a + (1.0 - a) * max(d, 0.0)
+    }
+
     /// A vertex in view space, with its shade for Gouraud shading: the part of projecting a
     /// triangle that depends on one corner alone, which a renderer may keep
     /// for the triangles that share the vertex.
     pub fn corner(&self, v: &Vertex) -> ClipVertex {
-        let camera = self.camera;
-        let view = camera.to_view(Vec3::from_array(v.position));
+        let p = Vec3::from_array(v.position);
+        let view = self.camera.to_view(p);
         let shade = match self.style.shading {
-            Shading::Gouraud => {
-                let n = camera.rotate_to_view(Vec3::from_array(v.normal));
-                self.shade(n, view)
-            }
+            Shading::Gouraud => self.vertex_shade(Vec3::from_array(v.normal), p),
             Shading::Flat => 0.0,
         };
         ClipVertex { view, shade }
