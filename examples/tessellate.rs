@@ -10,7 +10,7 @@
 //! ```
 //!
 //! MODEL is `.bpt` or NURBS `.json`. Its hierarchy is baked on the fly (`--bake-tolerance`,
-//! relative to the bounding-box diagonal, default 1e-3), or read from the file `--baked` names
+//! relative to the bounding-box diagonal, default 2.5e-4: `host::BAKE`), or read from the file `--baked` names
 //! (written by the `bake` example from the same model). `--path FILE` holds one camera per
 //! line, `ex ey ez tx ty tz ux uy uz fov`, applied in order; the OBJ is the last frame.
 //! `--budget N` fits the tolerance to at most N triangles per frame. `--near D` sets the near
@@ -194,7 +194,7 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View]) -> Result<(), Strin
         }
         None => {
             let settings = BakeSettings {
-                tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(1e-3)),
+                tolerance: Tolerance::Relative(args.bake_tolerance.unwrap_or(2.5e-4)),
                 ..BakeSettings::default()
             };
             BakedHierarchy::bake(file, &settings).map_err(|e| format!("bake: {e}"))?

@@ -79,6 +79,12 @@ cargo run -q --release -p host-tests --example orbit_changes >"$out/orbit_change
 cargo run -q --release -p host-tests --example frame_loop >"$out/frame_loop.txt"
 TABLE=1 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example frame_loop >"$out/frame_table_1e-3.md"
 TABLE=1 BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example frame_loop >"$out/frame_table_2.5e-4.md"
+step "where a cold frame's time goes (perf)"
+if command -v perf >/dev/null; then
+    scripts/frame_profile.sh >"$out/frame_profile.md"
+else
+    echo "(\`perf\` is not installed on this machine: no profile.)" >"$out/frame_profile.md"
+fi
 step "oracle"
 cargo run -q --release -p host-tests --example oracle_saturated >"$out/oracle_saturated.md"
 cp "$out/teapot/teapot_020.png" docs/teapot_frame.png
@@ -240,6 +246,11 @@ alone; every frame here is a cold one, a new tessellator on the same storage):
 ```text
 {read("frame_loop.txt")}
 ```
+
+Where a cold frame's time goes: `scripts/frame_profile.sh` (`perf record` of 2,000 such
+frames, by function, inlined code counted in its caller, the bake's functions left out):
+
+{read("frame_profile.md")}
 
 Cold frames, orbit steps and libGLU, side by side: `TABLE=1 GLU_PEER=target/glu/glu_peer cargo
 run --release -p host-tests --example frame_loop` (`BAKE_REL` for the bake; see the example's

@@ -5,11 +5,11 @@
 //! that a host program needs one call a step:
 //!
 //! ```
-//! use spline_tess::host::Surfaces;
+//! use spline_tess::host::{self, Surfaces};
 //! use spline_tess::{Camera, Projection, Vec3, View};
 //!
 //! let teapot = Surfaces::read("examples/models/teapot.bpt")?;
-//! let baked = teapot.bake(&Default::default())?;
+//! let baked = teapot.bake(&host::BAKE)?;
 //! let camera = Camera::new(
 //!     Vec3::new(6.0, -6.0, 4.0),
 //!     Vec3::new(0.0, 0.0, 1.5),
@@ -37,11 +37,22 @@ pub use error::HostError;
 pub use mesh::{Face, Mesh};
 pub use surfaces::Surfaces;
 
-use crate::bake::BakeSettings;
+use crate::bake::{BakeSettings, Tolerance};
+use crate::tessellator::MAX_CELL_LEVEL;
 use crate::View;
 
+/// A host's bake: 2.5e-4 of the model's diagonal, four times finer than a firmware's default
+/// (`BakeSettings::default()`), so that views at a pixel or half of one on a large screen stay
+/// within it (below a bake, a frame evaluates and bounds its own triangles: slower). It takes
+/// half a second for the teapot on two cores (`scripts/bake_speed.sh`).
+pub const BAKE: BakeSettings = BakeSettings {
+    tolerance: Tolerance::Relative(2.5e-4),
+    max_depth: 24,
+    max_cell_level: MAX_CELL_LEVEL,
+};
+
 /// A view's frame of a model file's bytes (BPT text, or a NURBS surface's JSON), baked with
-/// the default settings on all cores: load, bake and tessellate in one call.
+/// [`BAKE`] on all cores: load, bake and tessellate in one call.
 ///
 /// ```
 /// use spline_tess::View;
@@ -52,7 +63,5 @@ use crate::View;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn tessellate(model: &[u8], view: &View) -> Result<Mesh, HostError> {
-    Surfaces::from_bytes(model)?
-        .bake(&BakeSettings::default())?
-        .tessellate(view)
+    Surfaces::from_bytes(model)?.bake(&BAKE)?.tessellate(view)
 }

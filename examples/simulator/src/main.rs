@@ -116,7 +116,7 @@ impl Scene {
     fn new(model: &str, width: u32) -> Result<Scene, String> {
         let surfaces = Surfaces::read(model).map_err(|e| format!("{model}: {e}"))?;
         let baked = surfaces
-            .bake(&Default::default())
+            .bake(&spline_tess::host::BAKE)
             .map_err(|e| format!("bake: {e}"))?;
         let bound = surfaces.patches().aabb().ok_or("the model is empty")?;
         let bits = vec![0; baked.hierarchy().map_err(|e| e.to_string())?.bit_words()];
