@@ -6,6 +6,16 @@
 
 use glam::{Vec3, Vec4};
 
+/// Whether the target computes `f32` in hardware: a host, an ARM target with the hard-float
+/// ABI (the Cortex-M4F's `eabihf`), a RISC-V one with the `F` extension. Elsewhere (ARMv6-M,
+/// RV32IMC) every operation is a library call of about a hundred instructions, and work
+/// that saves some is worth a little memory (see `Tessellator::viewed`).
+pub(crate) const HARD_FLOAT: bool = cfg!(any(
+    not(target_os = "none"),
+    target_abi = "eabihf",
+    target_feature = "f"
+));
+
 /// Square root (correctly rounded on every target).
 #[inline]
 pub(crate) fn sqrt(x: f32) -> f32 {

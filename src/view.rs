@@ -292,6 +292,7 @@ impl Camera {
     }
 
     /// Direction `d` given in view coordinates, in model coordinates (the rotation back).
+    #[cfg(feature = "embedded-graphics")]
     pub(crate) fn rotate_from_view(&self, d: Vec3) -> Vec3 {
         Vec3::from_array(self.right) * d.x + Vec3::from_array(self.up) * d.y + self.forward() * d.z
     }

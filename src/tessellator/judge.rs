@@ -81,7 +81,7 @@ pub(super) fn judge(
         };
         let j = judge_vectors(
             view,
-            corners,
+            |camera| viewed(selection, h, corners, camera),
             || node.kept(),
             big,
             node.remainder,
@@ -113,7 +113,15 @@ pub(super) fn judge(
     if !(big.is_finite() && remainder.is_finite()) {
         return baked.unwrap_or(Judged::bare(f32::INFINITY, false));
     }
-    let own = judge_vectors(view, corners, || vectors, big, remainder, stop, budgets);
+    let own = judge_vectors(
+        view,
+        |camera| viewed(selection, h, corners, camera),
+        || vectors,
+        big,
+        remainder,
+        stop,
+        budgets,
+    );
     // Two bounds of one leaf: the smaller holds. Whether it is hidden stays the bake's
     // bound's say, so that a build without `refine` writes the same triangles.
     match baked {
@@ -136,13 +144,28 @@ pub(super) fn judge(
     }
 }
 
-/// Judges the flat triangle `corners` whose deviation lies in the hull of zero and the
-/// vectors `vectors` gives (none longer than `big`) widened by `remainder`; a directional
-/// bound over `stop` may stop there (see [`judge`]), and with `budgets` the judgement comes
-/// with its certificate.
+/// `h`'s corners, at `corners`, in `camera`'s view coordinates: moved there, or (where `f32`
+/// is software) found in the tessellator's cache of the frame's last ones.
+#[inline(always)]
+fn viewed(
+    selection: &Tessellator<'_, '_>,
+    h: &Pending,
+    corners: [Vec3; 3],
+    camera: &Camera,
+) -> [Vec3; 3] {
+    if crate::math::HARD_FLOAT {
+        return corners.map(|p| camera.to_view(p));
+    }
+    [0, 1, 2].map(|k| selection.viewed(h.corners[k], corners[k], camera))
+}
+
+/// Judges the flat triangle whose corners `viewed` gives in a camera's view coordinates and
+/// whose deviation lies in the hull of zero and the vectors `vectors` gives (none longer than
+/// `big`) widened by `remainder`; a directional bound over `stop` may stop there (see
+/// [`judge`]), and with `budgets` the judgement comes with its certificate.
 fn judge_vectors<const K: usize>(
     view: &View,
-    corners: [Vec3; 3],
+    viewed: impl FnOnce(&Camera) -> [Vec3; 3],
     vectors: impl FnOnce() -> [Vec3; K],
     big: f32,
     remainder: f32,
@@ -152,7 +175,7 @@ fn judge_vectors<const K: usize>(
     match view {
         View::Object { .. } => Judged::bare(big + remainder, false),
         View::Screen { camera, .. } => {
-            let viewed = corners.map(|p| camera.to_view(p));
+            let viewed = viewed(camera);
             if beyond_one_plane(camera, viewed, big + remainder) {
                 return Judged::bare(0.0, true);
             }
