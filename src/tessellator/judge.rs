@@ -69,7 +69,11 @@ pub(super) fn judge(
     } else {
         view.tolerance()
     };
-    let corners = h.corners.map(|v| Vec3::from_array(selection.position(v)));
+    // The corners' points. (Where `f32` is software, most judgements read them in view
+    // coordinates only, kept for the frame's last vertices: they are found where needed.)
+    let points = || h.corners.map(|v| Vec3::from_array(selection.position(v)));
+    let eager = crate::math::HARD_FLOAT.then(points);
+    let corners = || eager.unwrap_or_else(points);
     let tree = &selection.tree;
     let mut baked = None;
     if let Some((node, leaf)) = tree.node_bound(h) {
@@ -81,7 +85,10 @@ pub(super) fn judge(
         };
         let j = judge_vectors(
             view,
-            |camera| viewed(selection, h, corners, camera),
+            |camera| match eager {
+                Some(corners) => corners.map(|p| camera.to_view(p)),
+                None => viewed(selection, h, camera),
+            },
             || node.kept(),
             big,
             node.remainder,
@@ -103,6 +110,7 @@ pub(super) fn judge(
         return baked.unwrap_or(Judged::bare(f32::INFINITY, false));
     };
     let grid = h.tri.corners.map(|p| [p[0] as u32, p[1] as u32]);
+    let corners = corners();
     let (vectors, remainder) = deviation_vectors::<RUN_TIME_STEPS, RUN_TIME_POINTS>(
         &patch,
         grid,
@@ -115,7 +123,7 @@ pub(super) fn judge(
     }
     let own = judge_vectors(
         view,
-        |camera| viewed(selection, h, corners, camera),
+        |camera| corners.map(|p| camera.to_view(p)),
         || vectors,
         big,
         remainder,
@@ -144,19 +152,12 @@ pub(super) fn judge(
     }
 }
 
-/// `h`'s corners, at `corners`, in `camera`'s view coordinates: moved there, or (where `f32`
-/// is software) found in the tessellator's cache of the frame's last ones.
+/// `h`'s corners in `camera`'s view coordinates, from the tessellator's cache of the frame's
+/// last ones where it has them (where `f32` is software), their points moved there otherwise.
 #[inline(always)]
-fn viewed(
-    selection: &Tessellator<'_, '_>,
-    h: &Pending,
-    corners: [Vec3; 3],
-    camera: &Camera,
-) -> [Vec3; 3] {
-    if crate::math::HARD_FLOAT {
-        return corners.map(|p| camera.to_view(p));
-    }
-    [0, 1, 2].map(|k| selection.viewed(h.corners[k], corners[k], camera))
+fn viewed(selection: &Tessellator<'_, '_>, h: &Pending, camera: &Camera) -> [Vec3; 3] {
+    let point = |v: u32| Vec3::from_array(selection.position(v));
+    h.corners.map(|v| selection.viewed(v, || point(v), camera))
 }
 
 /// Judges the flat triangle whose corners `viewed` gives in a camera's view coordinates and

@@ -432,11 +432,12 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
     }
 
-    /// Vertex `v`, at `p`, in `camera`'s view coordinates (`camera.to_view(p)`): kept for the
-    /// bake's vertices in a small cache, emptied by each frame (`camera` is the frame's).
-    pub(super) fn viewed(&self, v: u32, p: Vec3, camera: &Camera) -> Vec3 {
+    /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates
+    /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache, emptied by each
+    /// frame (`camera` is the frame's).
+    pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
         if crate::math::HARD_FLOAT || v as usize >= self.tree.vertex_count() {
-            return camera.to_view(p);
+            return camera.to_view(p());
         }
         // (`VIEWED` is a power of two.)
         let entry = &self.viewed.0[v as usize & (VIEWED - 1)];
@@ -444,7 +445,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         if key == v {
             return Vec3::from_array(at);
         }
-        let at = camera.to_view(p);
+        let at = camera.to_view(p());
         entry.set((v, at.to_array()));
         at
     }
