@@ -91,7 +91,7 @@ fn a_cached_bake_reads_back() {
         .bake_cached(&settings, &path)
         .expect("a cached bake");
     assert_eq!(fresh.to_bytes().unwrap(), cached.to_bytes().unwrap());
-    assert_eq!(cached.settings(), &settings);
+    assert_eq!(cached.settings(), Some(&settings));
     let view = View::Object { tolerance: 2e-3 };
     assert_eq!(
         fresh.tessellate(&view).unwrap(),
@@ -100,7 +100,7 @@ fn a_cached_bake_reads_back() {
     // Other settings: baked again, and the file now holds them.
     let coarser = relative(4e-3);
     let other = surfaces.bake_cached(&coarser, &path).expect("a bake");
-    assert_eq!(other.settings(), &coarser);
+    assert_eq!(other.settings(), Some(&coarser));
     assert_ne!(std::fs::read(&path).unwrap(), written);
     // Damaged bytes (the checksum fails): baked again.
     let mut bad = std::fs::read(&path).unwrap();
@@ -191,4 +191,72 @@ fn a_frames_mesh_is_the_kernels_frame() {
         body.lines().count(),
         mesh.positions.len() + mesh.triangles.len()
     );
+}
+
+/// A runner that leaves a job of every batch undone: the bake fails, it does not keep a
+/// triangle with a bound never measured.
+#[test]
+fn a_runner_that_skips_a_job_fails_the_bake() {
+    struct SkipsOne;
+    impl BakeRunner for SkipsOne {
+        fn run(&self, jobs: &mut [BakeScratch], work: &(dyn Fn(&mut BakeScratch) + Sync)) {
+            let n = jobs.len();
+            for job in jobs.iter_mut().take(n.saturating_sub(1)) {
+                work(job);
+            }
+        }
+    }
+    let surfaces = Surfaces::read(models_dir().join("teaspoon.bpt")).expect("a model");
+    let n = 1 << 14;
+    let mut nodes = vec![HierarchyNode::default(); n];
+    let mut vertices = vec![HierarchyVertex::default(); n];
+    let mut patches = vec![HierarchyPatch::default(); surfaces.patches().len()];
+    let mut scratch = vec![BakeScratch::default(); n];
+    let buffers = BakeBuffers {
+        nodes: &mut nodes,
+        vertices: &mut vertices,
+        patches: &mut patches,
+        scratch: &mut scratch,
+    };
+    let baked = surfaces
+        .with_model(|m| bake_hierarchy_with(m, &relative(1e-3), buffers, &mut |_| {}, &SkipsOne))
+        .expect("a model");
+    assert_eq!(
+        baked,
+        Err(spline_tess::bake::BakeError::JobsSkipped { skipped: 1 })
+    );
+}
+
+/// The writers refuse a mesh that does not hold together, rather than write a broken file.
+#[test]
+fn the_writers_refuse_a_broken_mesh() {
+    use spline_tess::host::{Face, Mesh};
+    let good = Mesh {
+        positions: vec![[0.0; 3]; 3],
+        normals: vec![[0.0, 0.0, 1.0]; 3],
+        triangles: vec![[0, 1, 2]],
+        faces: vec![Face::default()],
+        ..Mesh::default()
+    };
+    let broken = [
+        Mesh {
+            triangles: vec![[0, 1, 3]],
+            ..good.clone()
+        },
+        Mesh {
+            normals: vec![],
+            ..good.clone()
+        },
+        Mesh {
+            faces: vec![],
+            ..good.clone()
+        },
+    ];
+    for mesh in broken {
+        let e = mesh.write_obj(&mut Vec::new()).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+        let e = mesh.write_ply(&mut Vec::new()).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+    }
+    assert!(good.write_obj(&mut Vec::new()).is_ok() && good.write_ply(&mut Vec::new()).is_ok());
 }

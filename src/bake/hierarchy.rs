@@ -17,6 +17,8 @@ const SHARED_SLACK: f32 = 0.07;
 
 /// Vectors of a coarse lattice ([`coarse`]).
 const COARSE: usize = (STEPS / 2 + 1) * (STEPS / 2 + 2) / 2;
+// A diamond's two lattices are looked at in full by `keep`.
+const _: () = assert!(2 * POINTS <= crate::deviation::kept::MAX_VECTORS);
 use crate::model::Model;
 use crate::patch::Side;
 use crate::tessellator::address::{point_on, root_count, side_parameter, unit, SideLink, Tri, ONE};
@@ -64,7 +66,8 @@ pub struct BakeBuffers<'a> {
     pub scratch: &'a mut [BakeScratch],
 }
 
-/// Working memory of a bake, one per triangle.
+/// Working memory of a bake, one per triangle: its place in the hierarchy, and its bound's
+/// job for a [`BakeRunner`] (88 bytes in all).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BakeScratch {
@@ -122,6 +125,11 @@ pub enum BakeError {
         /// Its entries.
         capacity: usize,
     },
+    /// A [`BakeRunner`] left jobs of a batch undone (it must run each job once).
+    JobsSkipped {
+        /// Jobs left undone.
+        skipped: usize,
+    },
 }
 
 impl fmt::Display for BakeError {
@@ -147,6 +155,9 @@ impl fmt::Display for BakeError {
                     f,
                     "vertex buffer full: the hierarchy has more than {capacity} vertices"
                 )
+            }
+            BakeError::JobsSkipped { skipped } => {
+                write!(f, "the bake's runner left {skipped} jobs undone")
             }
         }
     }
@@ -245,7 +256,7 @@ pub fn bake_hierarchy_with(
     while i < baker.node_count {
         if i == bounded {
             bounded = baker.node_count;
-            baker.bound_batch(i..bounded, runner);
+            baker.bound_batch(i..bounded, runner)?;
         }
         if i % 4096 == 4095 {
             progress(BakeProgress {
@@ -261,7 +272,7 @@ pub fn bake_hierarchy_with(
         }
         i += 1;
     }
-    baker.share_diamonds(runner);
+    baker.share_diamonds(runner)?;
     let (n, v) = (baker.node_count, baker.vertex_count);
     // A leaf keeps one bound: the bake's tolerance (rounded up), or its own where that is
     // larger (a leaf at the depth limit). The bytes keep the first once and the others apart.
@@ -304,6 +315,26 @@ struct Baker<'m, 'o> {
     node_count: usize,
     vertex_count: usize,
     max_depth: u8,
+}
+
+/// A job's bound before its runner computed it: a remainder no bound has (a bound's is a
+/// number, or infinite), so that a job left undone is found ([`done`]).
+const UNDONE: HierarchyNode = HierarchyNode {
+    children: 0,
+    vertex: 0,
+    vectors: [[0; 3]; crate::deviation::kept::KEPT],
+    scale: 0.0,
+    remainder: f32::NAN,
+};
+
+/// Whether every job of a batch was run: none is left [`UNDONE`] (jobs outside the batch
+/// hold bounds already).
+fn done(jobs: &[BakeScratch]) -> Result<(), BakeError> {
+    let skipped = jobs.iter().filter(|j| j.bound.remainder.is_nan()).count();
+    match skipped {
+        0 => Ok(()),
+        skipped => Err(BakeError::JobsSkipped { skipped }),
+    }
 }
 
 /// What a triangle's bound is computed from: the model, the vertices made so far, and the
@@ -592,24 +623,33 @@ impl Baker<'_, '_> {
         Ok(n)
     }
 
-    /// The bounds of nodes `range` (made, not yet bounded) into their scratch, by `runner`.
-    fn bound_batch(&mut self, range: core::ops::Range<usize>, runner: &dyn BakeRunner) {
+    /// The bounds of nodes `range` (made, not yet bounded) into their scratch, by `runner`;
+    /// an error where it left a job undone (each job's bound starts as [`UNDONE`]).
+    fn bound_batch(
+        &mut self,
+        range: core::ops::Range<usize>,
+        runner: &dyn BakeRunner,
+    ) -> Result<(), BakeError> {
+        for job in &mut self.scratch[range.clone()] {
+            job.bound = UNDONE;
+        }
         let source = BoundSource {
             model: self.model,
             vertices: &self.vertices[..self.vertex_count],
             scales: self.scales,
             bounds: self.bounds,
         };
-        runner.run(&mut self.scratch[range], &|job| {
+        runner.run(&mut self.scratch[range.clone()], &|job| {
             job.bound = source.triangle(job.tri, job.corners);
         });
+        done(&self.scratch[range])
     }
 
     /// Gives the two halved triangles of each diamond (halved at one vertex, across their
     /// hypotenuse) one bound, which holds for both: the vectors kept from both lattices, the
     /// widening covering both, the larger remainder. Where either is split the other is too,
     /// so little changes; the bytes keep one bound a diamond.
-    fn share_diamonds(&mut self, runner: &dyn BakeRunner) {
+    fn share_diamonds(&mut self, runner: &dyn BakeRunner) -> Result<(), BakeError> {
         // Each diamond's pair, found in order, is a job of its first triangle's scratch.
         let mut pairs = 0;
         for i in 0..self.node_count {
@@ -631,11 +671,12 @@ impl Baker<'_, '_> {
                 && self.nodes[j].vertex == self.nodes[i].vertex;
             if partner {
                 self.scratch[i].partner = Some((n, self.scratch[j].corners));
+                self.scratch[i].bound = UNDONE;
                 pairs += 1;
             }
         }
         if pairs == 0 {
-            return;
+            return Ok(());
         }
         let source = BoundSource {
             model: self.model,
@@ -648,6 +689,7 @@ impl Baker<'_, '_> {
                 job.bound = source.diamond((job.tri, job.corners), across);
             }
         });
+        done(&self.scratch[..self.node_count])?;
         for i in 0..self.node_count {
             let Some((n, _)) = self.scratch[i].partner else {
                 continue;
@@ -669,6 +711,7 @@ impl Baker<'_, '_> {
                     (bound.vectors, bound.scale, bound.remainder);
             }
         }
+        Ok(())
     }
 
     /// Node `i`'s bound in model units.

@@ -11,7 +11,9 @@ use super::BakeScratch;
 /// rayon's threads. Another thread pool (an embedded host's own scheduler, say) implements
 /// it the same way.
 pub trait BakeRunner {
-    /// Runs `work` once on every job of `jobs`.
+    /// Runs `work` once on every job of `jobs`, in place: it must not leave a job out
+    /// (the bake then fails with [`BakeError::JobsSkipped`](super::BakeError::JobsSkipped)),
+    /// nor move, copy or change the jobs itself.
     fn run(&self, jobs: &mut [BakeScratch], work: &(dyn Fn(&mut BakeScratch) + Sync));
 }
 

@@ -17,8 +17,9 @@
 //! nearest `e` is a vertex, or the projection of `e` on an edge, a triangle or (inside) a
 //! tetrahedron of them that falls in its own simplex. Each candidate is computed in `f32`
 //! from barycentric weights checked to be at least 0 and to sum to at most 1, so it lies
-//! within a few `ε` of the longest vertex of `H`; that drift is added, and the distance's own
-//! roundings are covered by `1 + 4ε`. (Frank-Wolfe steps found such points before, about
+//! within `16ε` of the longest vertex of `H` of a point of `H` (see [`Hull`]); that drift is
+//! added, and the distance's own roundings are covered by `1 + 8ε` (see
+//! [`distance_to_hull`]). (Frank-Wolfe steps found such points before, about
 //! five times slower for bounds as large or larger.)
 //!
 //! Vectors are kept farthest from the kept ones' hull first: the longest, then the one the
@@ -141,9 +142,11 @@ impl Hull {
         for &x in &v[..n] {
             big = max(big, length(x));
         }
-        // The candidates' roundings: the sides (one each), the weights' products and sums
-        // (a few each, with weights at most 1, and the origin's weight `1 - Σ` at least
-        // `-2ε` where the computed sum is at most 1), within `16 ε` of the longest vertex.
+        // The candidates' roundings, with `big` the longest vertex: a side (up to `2 big`
+        // long) rounds by `2ε big`; its product with a weight at most 1 by as much again;
+        // the three additions onto the origin by `ε` of a point at most `big` from zero
+        // each; and the origin's weight `1 - Σ` may be `-2ε` where the computed sum is at
+        // most 1 (`4ε big`): about `11ε big` in all, and `16ε big` is taken.
         h.drift = 16.0 * EPS * big;
         for i in 0..n {
             for j in i + 1..n {
@@ -190,12 +193,19 @@ impl Hull {
     }
 }
 
-/// An upper bound of the distance from `e` to `hull` (`conv{0, kept}`): the least distance
-/// from `e` to the candidates of [`Hull`], plus the drift of a computed candidate from the
-/// hull, with the few roundings of the distance itself covered by `1 + 4ε`. Where the
-/// vertices alone put it at most `enough`, that bound (the others can only lower it).
+/// Added to every distance: covers the square roots of squared distances that underflow
+/// (below `2^-126` a square keeps no relative precision; its root is below `2^-63`).
+const FLOOR: f32 = 1.0 / (1u64 << 62) as f32;
+
+/// An upper bound of the distance from `e` to `hull` (`conv{0, kept}`): the distance from `e`
+/// to a candidate of [`Hull`] (the least, unless one already puts the bound at most
+/// `enough`), plus the drift of a computed candidate from the hull and [`FLOOR`], with the
+/// roundings of the distance itself covered by `1 + 8ε`: the difference `e - p` (one), the
+/// three-term dot product (one and a half, on the root), the root, the two sums and the
+/// product (one each) make at most `5.5ε` of relative error. Where the vertices alone put it
+/// at most `enough`, that bound (the others can only lower it).
 fn distance_to_hull(e: Vec3, hull: &Hull, enough: f32) -> f32 {
-    let bound = |d2: f32| (crate::math::sqrt(d2) + hull.drift) * (1.0 + 4.0 * EPS);
+    let bound = |d2: f32| (crate::math::sqrt(d2) + hull.drift + FLOOR) * (1.0 + 8.0 * EPS);
     let mut best = f32::INFINITY;
     for &v in &hull.vertices[..hull.n] {
         let d = (e - v).dot(e - v);
@@ -208,7 +218,7 @@ fn distance_to_hull(e: Vec3, hull: &Hull, enough: f32) -> f32 {
     }
     // A squared distance at most `close` puts the bound at most `enough` (the root's and the
     // sum's roundings given a margin): then the other candidates need not be looked at.
-    let t = enough / (1.0 + 8.0 * EPS) - hull.drift;
+    let t = enough / (1.0 + 16.0 * EPS) - hull.drift - FLOOR;
     let close = if t > 0.0 {
         t * t * (1.0 - 1.0 / (1u32 << 20) as f32)
     } else {
@@ -277,11 +287,12 @@ impl Farthest {
 }
 
 /// Most vectors [`keep`] looks at.
-const MAX_VECTORS: usize = 192;
+pub(crate) const MAX_VECTORS: usize = 192;
 
-/// Keeps at most [`KEPT`] of `candidates` in place of `vectors` (at most 192 of each are
-/// looked at: two lattices of the bake; see the module docs): the candidates are chosen from, the widening covers
-/// every one of `vectors`. All must be finite. The scale is `round_scale` of the smallest
+/// Keeps at most [`KEPT`] of `candidates` in place of `vectors` (at most [`MAX_VECTORS`] of
+/// each: two lattices of the bake; see the module docs): the candidates are chosen from, the
+/// widening covers every one of `vectors` (infinite where there are more than it looks at).
+/// All must be finite. The scale is `round_scale` of the smallest
 /// that fits (at least that: a coarser one only widens the remainder; one that is not gives no
 /// vectors).
 pub(crate) fn keep(
@@ -289,7 +300,12 @@ pub(crate) fn keep(
     candidates: &[Vec3],
     round_scale: impl Fn(f32) -> f32,
 ) -> Kept {
-    let vectors = &vectors[..vectors.len().min(MAX_VECTORS)];
+    if vectors.len() > MAX_VECTORS {
+        return Kept {
+            widening: f32::INFINITY,
+            ..Kept::default()
+        };
+    }
     let candidates = &candidates[..candidates.len().min(MAX_VECTORS)];
     let mut far = Farthest {
         bound: [0.0; MAX_VECTORS],
@@ -329,8 +345,6 @@ pub(crate) fn keep(
         }
     }
     let hull = dequantize(&q, scale);
-    // A first bound of every vector's distance (a few steps), then the largest ones
-    // measured closely.
     // Every vector's distance bounded from the kept vertices alone, then the largest ones
     // measured in full until the largest measured one is above every other bound.
     let kept = Hull::new(&hull[..n]);
@@ -480,8 +494,10 @@ mod distance_tests {
     }
 
     /// Random hulls (flat, thin, with repeated and zero vectors among them) and points
-    /// inside, near and far from them: every bound is at least the reference's lower bound,
-    /// and within `1e-5` of the hull's size (and a millionth) of its upper one.
+    /// inside, near and far from them (up to a hundred times their size): every bound is at
+    /// least the reference's lower bound, and within `1e-4` of the hull's size (and a
+    /// millionth) of its upper one (a candidate inside a thin simplex has weights no better
+    /// than the simplex's shape allows).
     #[test]
     fn the_distance_bound_covers_the_distance_and_is_tight() {
         let mut rng = TestRng::new(0xd157_a4ce_2026);
@@ -503,7 +519,7 @@ mod distance_tests {
                 _ => {}
             }
             let h = Hull::new(&hull[..n]);
-            for k in 0..8 {
+            for k in 0..10 {
                 // A point of the hull moved off it by up to its size times a factor.
                 let mut w = [0.0f32; KEPT];
                 for x in &mut w[..n] {
@@ -513,7 +529,7 @@ mod distance_tests {
                     .iter()
                     .zip(&w)
                     .fold(Vec3::ZERO, |p, (v, x)| p + *v * *x);
-                let off = [0.0, 0.01, 0.3, 2.0][k % 4] * scale;
+                let off = [0.0, 0.01, 0.3, 2.0, 100.0][k % 5] * scale;
                 let e = inside + Vec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * off;
                 let got = distance_to_hull(e, &h, 0.0) as f64;
                 let (low, high) = reference(e, &hull[..n]);
@@ -521,7 +537,7 @@ mod distance_tests {
                 // (A candidate's weights are as good as its simplex is well shaped: in a thin
                 // one, the point they rebuild is off the projection by more than the drift,
                 // though still a point of the hull up to it.)
-                let within = high * (1.0 + 1e-6) + 1e-5 * scale as f64;
+                let within = high * (1.0 + 1e-6) + 1e-4 * scale as f64;
                 assert!(
                     got <= within,
                     "case {case}.{k}: {got} > {high} (+{})",
@@ -530,7 +546,7 @@ mod distance_tests {
                 cases += 1;
             }
         }
-        assert_eq!(cases, 24_000);
+        assert_eq!(cases, 30_000);
     }
 }
 

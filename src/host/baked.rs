@@ -18,7 +18,8 @@ use crate::{Tessellator, View};
 #[derive(Clone, Debug)]
 pub struct Baked {
     surfaces: Surfaces,
-    settings: BakeSettings,
+    /// `None` for a hierarchy read from bytes, which do not say.
+    settings: Option<BakeSettings>,
     store: Store,
 }
 
@@ -37,15 +38,18 @@ enum Store {
 /// A cache file's first bytes, before the settings and the hierarchy's bytes.
 const CACHE_MAGIC: &[u8; 16] = b"spline-tess bake";
 
-/// Entries a bake starts with: the repository's models at 2.5e-4 of their diagonal fit.
+/// Entries a bake starts with (the repository's models at 2.5e-4 of their diagonal fit), and
+/// the most it grows to (doubling; 64M nodes take 7.5 GB of records and scratch): a bake that
+/// needs more is a `BakeError::NodesFull` (or `VerticesFull`).
 const FIRST_NODES: usize = 1 << 17;
 const FIRST_VERTICES: usize = 1 << 16;
+const MAX_NODES: usize = 1 << 26;
 
 /// Stack entries and vertices below the bake a frame starts with, and the most vertices it
 /// grows its pool to (4 times at a time) while the pool fills up.
 const STACK: usize = 4096;
 const FIRST_POOL: usize = 1 << 16;
-const MAX_POOL: usize = 1 << 22;
+const MAX_POOL: usize = 1 << 20;
 
 impl Baked {
     /// Bakes `surfaces` with `settings` on all cores, growing the buffers until the hierarchy
@@ -73,7 +77,7 @@ impl Baked {
                     v.truncate(size.vertices);
                     return Ok(Baked {
                         surfaces: surfaces.clone(),
-                        settings: *settings,
+                        settings: Some(*settings),
                         store: Store::Records {
                             nodes: n,
                             vertices: v,
@@ -81,8 +85,8 @@ impl Baked {
                         },
                     });
                 }
-                Err(BakeError::NodesFull { .. }) => nodes *= 2,
-                Err(BakeError::VerticesFull { .. }) => vertices *= 2,
+                Err(BakeError::NodesFull { .. }) if nodes < MAX_NODES => nodes *= 2,
+                Err(BakeError::VerticesFull { .. }) if vertices < MAX_NODES => vertices *= 2,
                 Err(e) => return Err(e.into()),
             }
         }
@@ -90,12 +94,12 @@ impl Baked {
 
     /// A bake of `surfaces` from its compact bytes ([`to_bytes`](Self::to_bytes)), checked
     /// to be a hierarchy of these surfaces. (The bytes do not say which settings made them:
-    /// [`settings`](Self::settings) are then the defaults.)
+    /// [`settings`](Self::settings) is then `None`.)
     pub fn from_bytes(surfaces: Surfaces, bytes: Vec<u8>) -> Result<Baked, HostError> {
         Hierarchy::from_bytes(surfaces.patches(), &bytes)?;
         Ok(Baked {
             surfaces,
-            settings: BakeSettings::default(),
+            settings: None,
             store: Store::Bytes(bytes),
         })
     }
@@ -105,9 +109,9 @@ impl Baked {
         &self.surfaces
     }
 
-    /// The settings of the bake.
-    pub fn settings(&self) -> &BakeSettings {
-        &self.settings
+    /// The settings of the bake, where known (not for one read from bare bytes).
+    pub fn settings(&self) -> Option<&BakeSettings> {
+        self.settings.as_ref()
     }
 
     /// The hierarchy, to hand a [`Tessellator`] (for frames with buffers of one's own, or a
@@ -141,9 +145,9 @@ impl Baked {
     }
 
     /// A cache file's bytes: a magic, the settings, then [`to_bytes`](Self::to_bytes).
-    pub(super) fn cache_bytes(&self) -> Result<Vec<u8>, HostError> {
+    pub(super) fn cache_bytes(&self, settings: &BakeSettings) -> Result<Vec<u8>, HostError> {
         let mut out = CACHE_MAGIC.to_vec();
-        out.extend_from_slice(&settings_bytes(&self.settings));
+        out.extend_from_slice(&settings_bytes(settings));
         out.extend_from_slice(&self.to_bytes()?);
         Ok(out)
     }
@@ -154,7 +158,7 @@ impl Baked {
         let rest = bytes.strip_prefix(CACHE_MAGIC)?;
         let rest = rest.strip_prefix(&settings_bytes(settings)[..])?;
         let mut baked = Baked::from_bytes(surfaces.clone(), rest.to_vec()).ok()?;
-        baked.settings = *settings;
+        baked.settings = Some(*settings);
         Some(baked)
     }
 

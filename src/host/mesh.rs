@@ -88,6 +88,24 @@ impl Mesh {
         })
     }
 
+    /// Whether the mesh holds together for writing: a normal per position, a face per
+    /// triangle, every index below the vertex count.
+    fn check(&self) -> io::Result<()> {
+        let n = self.positions.len();
+        let fits = self.normals.len() == n
+            && self.faces.len() == self.triangles.len()
+            && self.triangles.iter().flatten().all(|&v| (v as usize) < n);
+        if fits {
+            Ok(())
+        } else {
+            Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "a mesh with a normal per position, a face per triangle and indices below the \
+                 vertex count",
+            ))
+        }
+    }
+
     /// Texture coordinates per face corner, one per distinct (vertex, parameters): the list
     /// and each face corner's index in it.
     fn texture(&self) -> (Vec<[f32; 2]>, Vec<[usize; 3]>) {
@@ -128,7 +146,11 @@ impl Mesh {
     /// assert!(String::from_utf8(obj)?.contains("f 1/1/1 2/2/2 3/3/3"));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
+    ///
+    /// A mesh that does not hold together (see [`Mesh`]'s fields: a normal per position, a
+    /// face per triangle, indices below the vertex count) is an `InvalidInput` error.
     pub fn write_obj(&self, w: &mut impl Write) -> io::Result<()> {
+        self.check()?;
         let mut w = io::BufWriter::new(w);
         let (texture, corners) = self.texture();
         writeln!(
@@ -154,8 +176,9 @@ impl Mesh {
                 group = Some(f.patch);
             }
             write!(w, "f")?;
-            for (v, vt) in t.iter().zip(c) {
-                write!(w, " {}/{}/{}", v + 1, vt + 1, v + 1)?;
+            for (&v, vt) in t.iter().zip(c) {
+                let v = u64::from(v) + 1;
+                write!(w, " {v}/{}/{v}", vt + 1)?;
             }
             writeln!(w)?;
         }
@@ -179,7 +202,11 @@ impl Mesh {
     /// assert!(String::from_utf8(ply)?.ends_with("3 0 1 2 6 0 0 1 0 0 1 7\n"));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
+    ///
+    /// A mesh that does not hold together is an `InvalidInput` error, as for
+    /// [`write_obj`](Self::write_obj).
     pub fn write_ply(&self, w: &mut impl Write) -> io::Result<()> {
+        self.check()?;
         let mut w = io::BufWriter::new(w);
         write!(
             w,

@@ -160,8 +160,11 @@ impl Surfaces {
         Baked::bake(self, settings)
     }
 
-    /// The bake of `settings` kept in the file `path`: read from it where it holds that bake
-    /// of these surfaces, baked and written there otherwise (see [`Baked::read_cache`]).
+    /// The bake of `settings` kept in the file `path`: read from it where it holds a bake of
+    /// these surfaces with these settings (its bytes checked, see [`Baked::read_cache`]),
+    /// baked and written there otherwise (to a file beside it, then renamed, so that a reader
+    /// never sees half of one). A bake kept by an older version of the crate is still a sound
+    /// hierarchy of the surfaces, though a fresh bake may now give other bytes.
     pub fn bake_cached(
         &self,
         settings: &BakeSettings,
@@ -174,7 +177,10 @@ impl Surfaces {
             }
         }
         let baked = self.bake(settings)?;
-        std::fs::write(path, baked.cache_bytes()?)?;
+        let mut part = std::ffi::OsString::from(path.as_os_str());
+        part.push(".part");
+        std::fs::write(&part, baked.cache_bytes(settings)?)?;
+        std::fs::rename(&part, path)?;
         Ok(baked)
     }
 }

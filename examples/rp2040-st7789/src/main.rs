@@ -46,6 +46,10 @@ pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 const XTAL_FREQ_HZ: u32 = 12_000_000;
 const WIDTH: u32 = 240;
 const HEIGHT: u32 = 240;
+/// Where the panel's pixels start in the controller's memory (the ST7789 has 240x320): 0 for
+/// a 240x240 panel in this orientation; a 135x240 or 240x280 panel needs its own (and the
+/// same in `display_offset` below).
+const OFFSET: (u16, u16) = (0, 0);
 /// Rows of a band, and its pixels.
 const BAND_ROWS: u32 = 16;
 const BAND: usize = (WIDTH * BAND_ROWS) as usize;
@@ -124,7 +128,8 @@ where
     /// renderer draws the next band meanwhile), else at once.
     fn push_band(&mut self, area: &Rectangle, bytes: &[u8]) -> Result<(), DisplayError> {
         let (mut spi, ch, buffer) = self.idle()?;
-        let (x, y) = (area.top_left.x as u16, area.top_left.y as u16);
+        let x = area.top_left.x as u16 + OFFSET.0;
+        let y = area.top_left.y as u16 + OFFSET.1;
         let (w, h) = (area.size.width as u16, area.size.height as u16);
         let span = |a: u16, n: u16| {
             let [a0, a1] = a.to_be_bytes();
@@ -138,7 +143,10 @@ where
             buffer.copy_from_slice(bytes);
             self.bus = Bus::Sending(single_buffer::Config::new(ch, buffer, spi).start());
         } else {
+            // (A shorter band: at once, and out of the FIFO before the next command's
+            // data/command pin goes low.)
             spi.write(bytes)?;
+            spi.flush()?;
             self.bus = Bus::Idle(spi, ch, buffer);
         }
         Ok(())
@@ -241,6 +249,7 @@ fn main() -> ! {
     };
     let up = mipidsi::Builder::new(ST7789, &mut display)
         .display_size(WIDTH as u16, HEIGHT as u16)
+        .display_offset(OFFSET.0, OFFSET.1)
         .invert_colors(ColorInversion::Inverted)
         .reset_pin(reset)
         .init(&mut timer)

@@ -318,8 +318,11 @@ fn check(scene: &mut Scene, args: &Args, start: Orbit) -> Result<(), String> {
 fn run() -> Result<(), String> {
     let args = parse_args()?;
     let [w, h] = args.size;
-    if w == 0 || h <= TEXT_ROWS {
-        return Err(format!("--size {w}x{h}: too small"));
+    if w == 0 || h <= TEXT_ROWS || w > 4096 || h > 4096 {
+        return Err(format!(
+            "--size {w}x{h}: from 1x{} to 4096x4096",
+            TEXT_ROWS + 1
+        ));
     }
     let mut scene = Scene::new(&args.model, w)?;
     let start = Orbit {
@@ -330,7 +333,15 @@ fn run() -> Result<(), String> {
     if args.check.is_some() {
         return check(&mut scene, &args, start);
     }
-    let headless = std::env::var_os("EG_SIMULATOR_DUMP").is_some();
+    // (The simulator writes or checks the first frame and exits under any of these.)
+    let headless = [
+        "EG_SIMULATOR_DUMP",
+        "EG_SIMULATOR_DUMP_RAW",
+        "EG_SIMULATOR_CHECK",
+        "EG_SIMULATOR_CHECK_RAW",
+    ]
+    .iter()
+    .any(|v| std::env::var_os(v).is_some());
     let mut display = SimulatorDisplay::<Rgb888>::new(Size::new(w, h));
     let mut window = Window::new("spline-tess", &OutputSettingsBuilder::new().build());
     if headless {
@@ -344,7 +355,7 @@ fn run() -> Result<(), String> {
         let (controls, stats) = last.ok_or("no frame")?;
         figures(&mut display, &controls, &stats, None).map_err(|_| "text")?;
         window.update(&display);
-        return Err("EG_SIMULATOR_DUMP is set, but the simulator did not exit".into());
+        return Err("EG_SIMULATOR_* is set, but the simulator did not exit".into());
     }
     let mut controls = Controls {
         orbit: start,
@@ -359,6 +370,9 @@ fn run() -> Result<(), String> {
             let (stats, u, r) = scene.draw(&controls, &mut display)?;
             figures(&mut display, &controls, &stats, Some((u, r))).map_err(|_| "text")?;
             dirty = false;
+        } else {
+            // Nothing moved: wait for the next events rather than spin.
+            std::thread::sleep(std::time::Duration::from_millis(10));
         }
         window.update(&display);
         for event in window.events() {
