@@ -11,8 +11,19 @@ use spline_tess::host::{HostError, Surfaces};
 use spline_tess::tessellator::{HierarchyNode, HierarchyPatch, HierarchyVertex};
 use spline_tess::{Camera, Projection, Vec3, View};
 
-/// The records of a bake of `surfaces` by `runner`, and their compact bytes.
-fn bake_with(surfaces: &Surfaces, settings: &BakeSettings, runner: &dyn BakeRunner) -> Vec<u8> {
+/// A bake's records (nodes, vertices, patches) in buffers of 65,536.
+type Records = (
+    Vec<HierarchyNode>,
+    Vec<HierarchyVertex>,
+    Vec<HierarchyPatch>,
+);
+
+/// A bake of `surfaces` by `runner`: its records, cut to their sizes.
+fn bake_records(
+    surfaces: &Surfaces,
+    settings: &BakeSettings,
+    runner: &dyn BakeRunner,
+) -> Result<Records, spline_tess::bake::BakeError> {
     let n = 1 << 16;
     let mut nodes = vec![HierarchyNode::default(); n];
     let mut vertices = vec![HierarchyVertex::default(); n];
@@ -26,17 +37,19 @@ fn bake_with(surfaces: &Surfaces, settings: &BakeSettings, runner: &dyn BakeRunn
     };
     let size = surfaces
         .with_model(|m| bake_hierarchy_with(m, settings, buffers, &mut |_| {}, runner))
-        .expect("a model")
-        .expect("a bake");
-    let tree = spline_tess::Hierarchy::new(
-        surfaces.patches(),
-        &nodes[..size.nodes],
-        &vertices[..size.vertices],
-        &patches,
-    )
-    .expect("a hierarchy");
-    let mut work = vec![0u32; spline_tess::bake::encode_scratch_len(size.nodes, size.vertices)];
-    let mut out = vec![0u8; 64 * (size.nodes + size.vertices + patches.len() + 1)];
+        .expect("a model")?;
+    nodes.truncate(size.nodes);
+    vertices.truncate(size.vertices);
+    Ok((nodes, vertices, patches))
+}
+
+/// The compact bytes of a bake of `surfaces` by `runner`.
+fn bake_with(surfaces: &Surfaces, settings: &BakeSettings, runner: &dyn BakeRunner) -> Vec<u8> {
+    let (nodes, vertices, patches) = bake_records(surfaces, settings, runner).expect("a bake");
+    let tree = spline_tess::Hierarchy::new(surfaces.patches(), &nodes, &vertices, &patches)
+        .expect("a hierarchy");
+    let mut work = vec![0u32; spline_tess::bake::encode_scratch_len(nodes.len(), vertices.len())];
+    let mut out = vec![0u8; 64 * (nodes.len() + vertices.len() + patches.len() + 1)];
     let len = spline_tess::bake::encode_hierarchy(&tree, &mut work, &mut out).expect("bytes");
     out.truncate(len);
     out
@@ -207,20 +220,7 @@ fn a_runner_that_skips_a_job_fails_the_bake() {
         }
     }
     let surfaces = Surfaces::read(models_dir().join("teaspoon.bpt")).expect("a model");
-    let n = 1 << 14;
-    let mut nodes = vec![HierarchyNode::default(); n];
-    let mut vertices = vec![HierarchyVertex::default(); n];
-    let mut patches = vec![HierarchyPatch::default(); surfaces.patches().len()];
-    let mut scratch = vec![BakeScratch::default(); n];
-    let buffers = BakeBuffers {
-        nodes: &mut nodes,
-        vertices: &mut vertices,
-        patches: &mut patches,
-        scratch: &mut scratch,
-    };
-    let baked = surfaces
-        .with_model(|m| bake_hierarchy_with(m, &relative(1e-3), buffers, &mut |_| {}, &SkipsOne))
-        .expect("a model");
+    let baked = bake_records(&surfaces, &relative(1e-3), &SkipsOne).map(|_| ());
     assert_eq!(
         baked,
         Err(spline_tess::bake::BakeError::JobsSkipped { skipped: 1 })
