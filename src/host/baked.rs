@@ -164,8 +164,13 @@ impl Baked {
 
     /// The frame of `view`: the coarsest mesh of the hierarchy within the view's tolerance
     /// (see [`Tessellator::update`]), refined below the bake into a pool of vertices that
-    /// grows until the frame is within it (or reaches 4M vertices; the frame's
+    /// grows until the frame is within it (or reaches 1M vertices; the frame's
     /// [`stats`](Mesh::stats) then report the bound it keeps).
+    ///
+    /// Each call checks the hierarchy and sets up a tessellator's storage anew. For frame
+    /// after frame (an animation, a viewer), keep one [`Tessellator`] over
+    /// [`hierarchy`](Self::hierarchy) and take each frame's mesh with
+    /// [`Mesh::of_frame`]: a frame then costs its update and its write alone.
     pub fn tessellate(&self, view: &View) -> Result<Mesh, HostError> {
         let tree = self.hierarchy()?;
         let mut bits = vec![0u32; tree.bit_words()];

@@ -99,34 +99,61 @@ fn parse_args() -> Result<Args, String> {
     Ok(args)
 }
 
-/// Everything a frame is drawn with: the bake, and the tessellator's and renderer's storage.
-struct Scene {
+/// The model: its bake, and where it is.
+struct Model {
     baked: Baked,
     center: Vec3,
     radius: f32,
-    bits: Vec<u32>,
-    stack: Vec<StackSlot>,
-    pool: Vec<PoolSlot>,
-    depth: Vec<u16>,
-    list: Vec<ListSlot>,
-    colors: Vec<Rgb888>,
 }
 
-impl Scene {
-    fn new(model: &str, width: u32) -> Result<Scene, String> {
+impl Model {
+    fn read(model: &str) -> Result<Model, String> {
         let surfaces = Surfaces::read(model).map_err(|e| format!("{model}: {e}"))?;
         let baked = surfaces
             .bake(&spline_tess::host::BAKE)
             .map_err(|e| format!("bake: {e}"))?;
         let bound = surfaces.patches().aabb().ok_or("the model is empty")?;
-        let bits = vec![0; baked.hierarchy().map_err(|e| e.to_string())?.bit_words()];
-        Ok(Scene {
+        Ok(Model {
+            baked,
             center: bound.center(),
             radius: 0.5 * bound.diagonal(),
-            baked,
-            bits,
-            stack: vec![StackSlot::default(); 4096],
-            pool: vec![PoolSlot::default(); 1 << 16],
+        })
+    }
+}
+
+/// The tessellator's storage (it keeps the tessellator from frame to frame).
+struct Storage {
+    bits: Vec<u32>,
+    stack: Vec<StackSlot>,
+    pool: Vec<PoolSlot>,
+}
+
+/// Everything a frame is drawn with: the model, its tessellator (kept from frame to frame:
+/// the hierarchy is checked once), and the renderer's storage.
+struct Scene<'m, 's> {
+    center: Vec3,
+    radius: f32,
+    tess: Tessellator<'m, 's>,
+    depth: Vec<u16>,
+    list: Vec<ListSlot>,
+    colors: Vec<Rgb888>,
+}
+
+impl<'m, 's> Scene<'m, 's> {
+    fn new(model: &'m Model, storage: &'s mut Storage, width: u32) -> Result<Self, String> {
+        let tree = model.baked.hierarchy().map_err(|e| e.to_string())?;
+        storage.bits = vec![0; tree.bit_words()];
+        let tess = Tessellator::from_slices(
+            tree,
+            &mut storage.bits,
+            &mut storage.stack,
+            &mut storage.pool,
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(Scene {
+            center: model.center,
+            radius: model.radius,
+            tess,
             depth: vec![0; (width * BAND_ROWS) as usize],
             list: vec![ListSlot::default(); 1 << 16],
             colors: vec![Rgb888::BLACK; (width * BAND_ROWS) as usize],
@@ -160,12 +187,8 @@ impl Scene {
             camera,
             tolerance_px: controls.tolerance,
         };
-        let tree = self.baked.hierarchy().map_err(|e| e.to_string())?;
-        let mut tess =
-            Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut self.pool)
-                .map_err(|e| e.to_string())?;
         let start = Instant::now();
-        let stats = tess.update(&view).map_err(|e| e.to_string())?;
+        let stats = self.tess.update(&view).map_err(|e| e.to_string())?;
         let update_ms = start.elapsed().as_secs_f64() * 1e3;
         let style = Style {
             shading: controls.shading,
@@ -179,7 +202,7 @@ impl Scene {
         let start = Instant::now();
         let mut below = target.translated(Point::new(0, TEXT_ROWS as i32));
         Renderer::with_triangle_list(&mut self.depth, &mut self.list)
-            .draw_bands(&tess, &camera, &style, &mut self.colors, &mut below)
+            .draw_bands(&self.tess, &camera, &style, &mut self.colors, &mut below)
             .map_err(|_| "the display failed".to_string())?;
         let render_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok((stats, update_ms, render_ms))
@@ -264,7 +287,7 @@ impl DrawTarget for Framebuffer {
 }
 
 /// Compares the frames drawn headless with the PNG at `path`, pixel by pixel.
-fn check(scene: &mut Scene, args: &Args, start: Orbit) -> Result<(), String> {
+fn check(scene: &mut Scene<'_, '_>, args: &Args, start: Orbit) -> Result<(), String> {
     let [w, h] = args.size;
     let mut own = Framebuffer {
         size: Size::new(w, h),
@@ -324,7 +347,13 @@ fn run() -> Result<(), String> {
             TEXT_ROWS + 1
         ));
     }
-    let mut scene = Scene::new(&args.model, w)?;
+    let model = Model::read(&args.model)?;
+    let mut storage = Storage {
+        bits: Vec::new(),
+        stack: vec![StackSlot::default(); 4096],
+        pool: vec![PoolSlot::default(); 1 << 16],
+    };
+    let mut scene = Scene::new(&model, &mut storage, w)?;
     let start = Orbit {
         distance: 2.4 * scene.radius,
         longitude: -45f32.to_radians(),
