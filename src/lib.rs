@@ -180,7 +180,8 @@
 //!   = 2^20 pixels across, with 64-bit edge functions where corners lie far out. Without it,
 //!   up to 256 pixels, in 32-bit arithmetic only.
 //! - `std`: `spline_tess::host`: models read from files or bytes, bakes on all cores (with rayon, the
-//!   same bytes as one core: `bake::Parallel`), a view's frame as an owned mesh, OBJ and PLY.
+//!   same bytes as one core: `bake::Parallel`), a view's frame as an owned mesh, OBJ and PLY. On
+//!   a bare-metal target (`target_os = "none"`) it does nothing.
 //! - `defmt`: every public type implements `defmt::Format`.
 //! - `embedded-graphics`: `render`, a band-by-band, z-buffered rasteriser that draws a
 //!   tessellator's frame (streamed, no mesh buffer) or an indexed mesh onto any
@@ -199,7 +200,7 @@
 #![deny(missing_debug_implementations)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", not(target_os = "none")))]
 extern crate std;
 
 pub mod bake;
@@ -210,7 +211,7 @@ mod defmt_impls;
 mod deviation;
 mod facing;
 mod frame;
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", not(target_os = "none")))]
 pub mod host;
 mod math;
 mod model;

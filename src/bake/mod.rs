@@ -14,7 +14,7 @@ pub use hierarchy::{
     bake_hierarchy, bake_hierarchy_with, bake_hierarchy_with_progress, BakeBuffers, BakeError,
     BakeProgress, BakeScratch, BakeSettings, BakeSize,
 };
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", not(target_os = "none")))]
 pub use runner::Parallel;
 pub use runner::{BakeRunner, InOrder};
 pub use rust_source::write_rust_source;

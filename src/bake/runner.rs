@@ -32,12 +32,12 @@ impl BakeRunner for InOrder {
 
 /// Runs a bake's jobs on rayon's threads: all cores, or those of the pool the bake is
 /// called in (`rayon::ThreadPool::install`).
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", not(target_os = "none")))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Parallel;
 
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", not(target_os = "none")))]
 impl BakeRunner for Parallel {
     fn run(&self, jobs: &mut [BakeScratch], work: &(dyn Fn(&mut BakeScratch) + Sync)) {
         use rayon::prelude::*;

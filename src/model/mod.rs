@@ -106,7 +106,7 @@ pub struct PatchSet<'a> {
 impl<'a> PatchSet<'a> {
     /// A set of patches already validated by [`new`](Self::new) (the same slices, which the
     /// caller kept unchanged): no check again.
-    #[cfg(feature = "std")]
+    #[cfg(all(feature = "std", not(target_os = "none")))]
     pub(crate) fn validated(
         headers: &'a [PatchHeader],
         points: &'a [[f32; 3]],
