@@ -254,6 +254,28 @@ fn scripted(start: Orbit, k: usize) -> Controls {
     }
 }
 
+/// Draws the first `frames` frames of the scripted orbit from `start` onto `target`, the
+/// last with its figures (`headless` for its cost): the last frame's stats.
+fn scripted_frames<D>(
+    scene: &mut Scene<'_, '_>,
+    frames: usize,
+    start: Orbit,
+    target: &mut D,
+) -> Result<FrameStats, String>
+where
+    D: DrawTarget<Color = Rgb888>,
+{
+    let mut last = None;
+    for k in 0..frames {
+        let controls = scripted(start, k);
+        let (stats, ..) = scene.draw(&controls, target)?;
+        last = Some((controls, stats));
+    }
+    let (controls, stats) = last.ok_or("no frame")?;
+    figures(target, &controls, &stats, None).map_err(|_| "text")?;
+    Ok(stats)
+}
+
 /// An `Rgb888` framebuffer, the check's own target.
 struct Framebuffer {
     size: Size,
@@ -293,14 +315,7 @@ fn check(scene: &mut Scene<'_, '_>, args: &Args, start: Orbit) -> Result<(), Str
         size: Size::new(w, h),
         pixels: vec![Rgb888::BLACK; (w * h) as usize],
     };
-    let mut last = None;
-    for k in 0..args.frames {
-        let controls = scripted(start, k);
-        let (stats, ..) = scene.draw(&controls, &mut own)?;
-        last = Some((controls, stats));
-    }
-    let (controls, stats) = last.ok_or("no frame")?;
-    figures(&mut own, &controls, &stats, None).map_err(|_| "text")?;
+    let stats = scripted_frames(scene, args.frames, start, &mut own)?;
     let path = args.check.as_deref().unwrap_or_default();
     let file = std::fs::File::open(path).map_err(|e| format!("{path}: {e}"))?;
     let mut reader = png::Decoder::new(std::io::BufReader::new(file))
@@ -375,14 +390,7 @@ fn run() -> Result<(), String> {
     let mut window = Window::new("spline-tess", &OutputSettingsBuilder::new().build());
     if headless {
         // The scripted frames; the simulator writes the last one and exits.
-        let mut last = None;
-        for k in 0..args.frames {
-            let controls = scripted(start, k);
-            let (stats, ..) = scene.draw(&controls, &mut display)?;
-            last = Some((controls, stats));
-        }
-        let (controls, stats) = last.ok_or("no frame")?;
-        figures(&mut display, &controls, &stats, None).map_err(|_| "text")?;
+        scripted_frames(&mut scene, args.frames, start, &mut display)?;
         window.update(&display);
         return Err("EG_SIMULATOR_* is set, but the simulator did not exit".into());
     }
