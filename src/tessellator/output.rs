@@ -174,6 +174,11 @@ impl Tessellator<'_, '_> {
     /// Writes the current mesh: vertices in order of first use, each shared vertex once.
     /// `remap` needs one entry per vertex of the bake and of the pool
     /// ([`remap_len`](Self::remap_len)). On an error the buffers are untouched.
+    ///
+    /// Buffers with room for three vertices a triangle (or for every vertex there is) are
+    /// written in one walk of the mesh; smaller ones take a walk first that counts the
+    /// vertices (as [`mesh_size`](Self::mesh_size) does, which a caller sizing its buffers has
+    /// called already).
     pub fn write_mesh<I: MeshIndex>(
         &self,
         vertices: &mut [Vertex],
@@ -184,21 +189,32 @@ impl Tessellator<'_, '_> {
         let Some(remap) = remap.get_mut(..needed) else {
             return Err(WriteError::RemapTooSmall { needed });
         };
+        // The pool's vertices are anywhere in it (a hash table), but most frames make none:
+        // then only the bake's vertices have entries to read or mark.
+        let pool = if self.pool.used > 0 { self.pool.entries.len() } else { 0 };
+        let remap = &mut remap[..self.tree.vertex_count() + pool];
         // The mesh's size first, so that a mesh that does not fit leaves the buffers
-        // untouched: counted by `update` or `mesh_size`, or else here (`remap` marks the
-        // vertices seen).
+        // untouched: counted by `update` or `mesh_size`, or else found to fit without a count
+        // (at most three vertices a triangle, and no more than there are), or else counted
+        // here (`remap` marks the vertices seen, as [`SEEN`]).
+        const SEEN: u32 = u32::MAX - 1;
+        remap.fill(u32::MAX);
+        let most = remap.len().min(3 * self.stats.triangles);
         let size = match self.vertices {
             Some(vertices) => MeshSize {
                 vertices,
                 triangles: self.stats.triangles,
             },
+            None if most <= vertices.len().min(I::LIMIT) => MeshSize {
+                vertices: most,
+                triangles: self.stats.triangles,
+            },
             None => {
-                remap.fill(u32::MAX);
                 let mut size = MeshSize::default();
                 self.each_written(|_, corners| {
                     for v in corners {
                         if let Some(slot) = remap.get_mut(v as usize).filter(|s| **s == u32::MAX) {
-                            *slot = 0;
+                            *slot = SEEN;
                             size.vertices += 1;
                         }
                     }
@@ -215,14 +231,15 @@ impl Tessellator<'_, '_> {
                 vertices: size.vertices,
             });
         }
-        remap.fill(u32::MAX);
         let (mut nv, mut nt) = (0usize, 0usize);
         self.each_written(|h, corners| {
             let mut out = [I::default(); 3];
             let grid = self.oriented(h, h.tri.corners);
             for ((o, v), at) in out.iter_mut().zip(corners).zip(grid) {
-                let slot = &mut remap[v as usize];
-                if *slot == u32::MAX {
+                let Some(slot) = remap.get_mut(v as usize) else {
+                    continue; // (never: every vertex of the frame has its entry)
+                };
+                if *slot >= SEEN {
                     *slot = nv as u32;
                     if let Some(x) = vertices.get_mut(nv) {
                         *x = self.vertex(v, h.tri.patch, at);
