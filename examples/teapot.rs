@@ -170,7 +170,8 @@ fn run() -> Result<(), String> {
         eprintln!();
     }
     let bake_ms = start.elapsed().as_secs_f64() * 1e3;
-    let tree = baked.tree();
+    let mut links = Vec::new();
+    let tree = baked.linked_tree(&mut links);
     let bound = file.patches().aabb().ok_or("the model is empty")?;
     let (center, radius) = (bound.center(), 0.5 * bound.diagonal());
     let mut bits = vec![0u32; tree.bit_words()];

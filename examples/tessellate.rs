@@ -200,7 +200,8 @@ fn run_frames(args: &Args, file: &ModelFile, views: &[View]) -> Result<(), Strin
             BakedHierarchy::bake(file, &settings).map_err(|e| format!("bake: {e}"))?
         }
     };
-    let tree = bake.tree();
+    let mut links = Vec::new();
+    let tree = bake.linked_tree(&mut links);
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack = vec![StackSlot::default(); 4096];
     let mut pool = vec![PoolSlot::default(); 1 << 16];

@@ -171,7 +171,8 @@ the stronger reference. *Ratio* is the kernel's triangles over the n_u x n_v gri
 x n* over the other. *Over* counts triangles above the tolerance; *bound / true* is
 each triangle's bound in model units over its measured deviation (at least 1 is the soundness
 claim); *off screen* counts the written triangles with no sample on screen; *full ms* is a
-frame of a new tessellator, update and indexed write, best of three; GLU's time is its
+frame of a new tessellator over the hierarchy with its links (`Hierarchy::with_links`, as
+`host::Baked` reads it), update and indexed write, best of three; GLU's time is its
 tessellation alone, best of five.
 
 {read("error_1e-3.md")}
@@ -240,8 +241,9 @@ hierarchy back from the cache: `{again}`; from start to exit, {again_s:.2} s.
 ## Frames on the host
 
 `cargo run --release -p host-tests --example frame_loop`: the teapot baked at 2.5e-4, 1024x768,
-1 px, eye (6,-6,4); 200 frames, each an update and an indexed write (frames depend on the view
-alone; every frame here is a cold one, a new tessellator on the same storage):
+1 px, eye (6,-6,4), the hierarchy with its links (`Hierarchy::with_links`); 200 frames, each an
+update and an indexed write (frames depend on the view alone; every frame here is a cold one,
+a new tessellator on the same storage):
 
 ```text
 {read("frame_loop.txt")}

@@ -223,6 +223,20 @@ impl BakedHierarchy {
         .expect("a fresh bake checks")
     }
 
+    /// The checked hierarchy with its links (`Hierarchy::with_links`), filled into `links`:
+    /// what a host's frames read.
+    pub fn linked_tree<'a>(
+        &'a self,
+        links: &'a mut Vec<spline_tess::tessellator::NodeLink>,
+    ) -> Hierarchy<'a> {
+        let tree = self.tree();
+        links.clear();
+        links.resize(tree.link_slots(), Default::default());
+        tree.fill_links(links).expect("room for every node");
+        let links: &'a [_] = links;
+        tree.with_links(links).expect("its own links")
+    }
+
     /// The hierarchy's compact bytes ([`encode_hierarchy`](spline_tess::bake::encode_hierarchy)).
     pub fn encoded(&self) -> Vec<u8> {
         let tree = self.tree();

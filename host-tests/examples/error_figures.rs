@@ -388,7 +388,8 @@ fn main() {
         let mut best = f64::INFINITY;
         let mut count = 0;
         let mut left_over = 0;
-        let tree = hierarchy.tree();
+        let mut links = Vec::new();
+        let tree = hierarchy.linked_tree(&mut links);
         let mut store = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
         for _ in 0..3 {

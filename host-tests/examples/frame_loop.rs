@@ -1,6 +1,6 @@
 //! One view's frames in a loop, for a profiler or for timing two builds against each other:
 //! the teapot at 1024x768, 1 px, eye (6,-6,4), baked at `BAKE_REL` (default 2.5e-4) of its
-//! diagonal. `FRAMES` frames (default 200), each an update and an indexed write, each a cold
+//! diagonal, read with its links (`Hierarchy::with_links`, as `host::Baked` reads it). `FRAMES` frames (default 200), each an update and an indexed write, each a cold
 //! one (a new tessellator on the same storage: a view equal to the last would keep its mesh).
 //! With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
 //! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). Prints the last frame's
@@ -82,7 +82,8 @@ fn main() {
             ..BakeSettings::default()
         };
         let bake = BakedHierarchy::bake(&file, &settings).expect("a bisection bake");
-        let tree = bake.tree();
+        let mut links = Vec::new();
+        let tree = bake.linked_tree(&mut links);
         let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let reuse = std::env::var("REUSE").is_ok_and(|v| v == "1");
         let mut judgements =
@@ -159,7 +160,8 @@ fn table() {
                 tolerance_px: v.tol,
             }
         };
-        let tree = bake.tree();
+        let mut links = Vec::new();
+        let tree = bake.linked_tree(&mut links);
         let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
         let mut vertices = vec![Vertex::default(); 1 << 20];

@@ -10,7 +10,7 @@ use crate::bake::{
     BakeSettings, Parallel, Tolerance,
 };
 use crate::tessellator::{
-    Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex, PoolSlot, StackSlot,
+    Hierarchy, HierarchyNode, HierarchyPatch, HierarchyVertex, NodeLink, PoolSlot, StackSlot,
 };
 use crate::{Tessellator, View};
 
@@ -21,6 +21,9 @@ pub struct Baked {
     /// `None` for a hierarchy read from bytes, which do not say.
     settings: Option<BakeSettings>,
     store: Store,
+    /// The hierarchy's links, filled once (see [`NodeLink`]): a frame finds the triangle
+    /// across a hypotenuse by them.
+    links: Vec<NodeLink>,
 }
 
 #[derive(Clone, Debug)]
@@ -75,7 +78,7 @@ impl Baked {
                 Ok(size) => {
                     n.truncate(size.nodes);
                     v.truncate(size.vertices);
-                    return Ok(Baked {
+                    return Baked {
                         surfaces: surfaces.clone(),
                         settings: Some(*settings),
                         store: Store::Records {
@@ -83,7 +86,9 @@ impl Baked {
                             vertices: v,
                             patches: p,
                         },
-                    });
+                        links: Vec::new(),
+                    }
+                    .linked();
                 }
                 Err(BakeError::NodesFull { .. }) if nodes < MAX_NODES => nodes *= 2,
                 Err(BakeError::VerticesFull { .. }) if vertices < MAX_NODES => vertices *= 2,
@@ -97,11 +102,22 @@ impl Baked {
     /// [`settings`](Self::settings) is then `None`.)
     pub fn from_bytes(surfaces: Surfaces, bytes: Vec<u8>) -> Result<Baked, HostError> {
         Hierarchy::from_bytes(surfaces.patches(), &bytes)?;
-        Ok(Baked {
+        Baked {
             surfaces,
             settings: None,
             store: Store::Bytes(bytes),
-        })
+            links: Vec::new(),
+        }
+        .linked()
+    }
+
+    /// This bake with its links filled.
+    fn linked(mut self) -> Result<Baked, HostError> {
+        let tree = self.unlinked()?;
+        let mut links = vec![NodeLink::default(); tree.link_slots()];
+        tree.fill_links(&mut links)?;
+        self.links = links;
+        Ok(self)
     }
 
     /// The surfaces.
@@ -115,8 +131,13 @@ impl Baked {
     }
 
     /// The hierarchy, to hand a [`Tessellator`] (for frames with buffers of one's own, or a
-    /// renderer).
+    /// renderer), with its links ([`Hierarchy::with_links`]).
     pub fn hierarchy(&self) -> Result<Hierarchy<'_>, HostError> {
+        Ok(self.unlinked()?.with_own_links(&self.links))
+    }
+
+    /// The hierarchy without its links.
+    fn unlinked(&self) -> Result<Hierarchy<'_>, HostError> {
         let patches = self.surfaces.patches();
         Ok(match &self.store {
             Store::Records {

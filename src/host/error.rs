@@ -5,7 +5,7 @@ use std::io;
 
 use crate::bake::{BakeError, EncodeError};
 use crate::parse::{BptError, NurbsJsonError};
-use crate::tessellator::{FormatError, HierarchyError, TessellatorError, UpdateError};
+use crate::tessellator::{FormatError, HierarchyError, LinkError, TessellatorError, UpdateError};
 use crate::{DecomposeError, PatchSetError, TopologyError, WriteError};
 
 /// Why a step of [`host`](super) failed.
@@ -41,6 +41,8 @@ pub enum HostError {
     Format(FormatError),
     /// A bake's records do not hold together.
     Hierarchy(HierarchyError),
+    /// A hierarchy's links could not be filled.
+    Links(LinkError),
     /// The tessellator's storage does not fit the hierarchy.
     Tessellator(TessellatorError),
     /// The view cannot be tessellated.
@@ -66,6 +68,7 @@ impl fmt::Display for HostError {
             HostError::Encode(e) => write!(f, "bake bytes: {e}"),
             HostError::Format(e) => write!(f, "bake bytes: {e}"),
             HostError::Hierarchy(e) => write!(f, "hierarchy: {e}"),
+            HostError::Links(e) => write!(f, "hierarchy links: {e}"),
             HostError::Tessellator(e) => write!(f, "tessellator: {e}"),
             HostError::Update(e) => write!(f, "view: {e}"),
             HostError::Write(e) => write!(f, "mesh: {e}"),
@@ -87,6 +90,7 @@ impl std::error::Error for HostError {
             HostError::Encode(e) => Some(e),
             HostError::Format(e) => Some(e),
             HostError::Hierarchy(e) => Some(e),
+            HostError::Links(e) => Some(e),
             HostError::Tessellator(e) => Some(e),
             HostError::Update(e) => Some(e),
             HostError::Write(e) => Some(e),
@@ -115,6 +119,7 @@ from! {
     EncodeError => Encode,
     FormatError => Format,
     HierarchyError => Hierarchy,
+    LinkError => Links,
     TessellatorError => Tessellator,
     UpdateError => Update,
     WriteError => Write,

@@ -4,6 +4,7 @@ use core::fmt;
 
 use super::address::{root_count, Cells, Tri, MAX_CELL_LEVEL, ONE};
 use super::format::{FormatError, HierarchyBytes};
+use super::links::NodeLink;
 use super::{HierarchyNode, HierarchyPatch, HierarchyVertex, SideLink};
 use crate::model::PatchSet;
 use crate::patch::{BezierPatch, Side};
@@ -23,6 +24,8 @@ pub(super) const RUN_TIME: u32 = u32::MAX;
 pub struct Hierarchy<'a> {
     pub(super) model: PatchSet<'a>,
     pub(super) store: Store<'a>,
+    /// The links between its triangles, if the caller gave them (see `links`); else empty.
+    pub(super) links: &'a [NodeLink],
 }
 
 /// Where a hierarchy's records are. (The bytes' variant carries their layout, read once:
@@ -212,6 +215,7 @@ impl<'a> Hierarchy<'a> {
                 vertices,
                 patches,
             },
+            links: &[],
         })
     }
 
@@ -226,6 +230,7 @@ impl<'a> Hierarchy<'a> {
         Ok(Hierarchy {
             model,
             store: Store::Bytes(store),
+            links: &[],
         })
     }
 

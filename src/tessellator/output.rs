@@ -191,7 +191,11 @@ impl Tessellator<'_, '_> {
         };
         // The pool's vertices are anywhere in it (a hash table), but most frames make none:
         // then only the bake's vertices have entries to read or mark.
-        let pool = if self.pool.used > 0 { self.pool.entries.len() } else { 0 };
+        let pool = if self.pool.used > 0 {
+            self.pool.entries.len()
+        } else {
+            0
+        };
         let remap = &mut remap[..self.tree.vertex_count() + pool];
         // The mesh's size first, so that a mesh that does not fit leaves the buffers
         // untouched: counted by `update` or `mesh_size`, or else found to fit without a count

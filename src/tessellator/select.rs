@@ -5,7 +5,8 @@
 //! Every triangle is judged once, when it becomes a leaf: the patches' roots first, then
 //! the halves of every triangle that is halved. A leaf whose bound is over the tolerance is
 //! halved with the triangle across its hypotenuse (halving a coarser one there first, which is
-//! found by walking down from its patch's root). Only a leaf over the tolerance, or one a
+//! found by walking down from its patch's root, or with the hierarchy's links by walking up
+//! from the triangle across to the first halved parent: see `links`). Only a leaf over the tolerance, or one a
 //! halved triangle needs halved, is ever halved, and every leaf of the result is judged, so
 //! the result is the unique coarsest conforming mesh within the tolerance (see the [module
 //! docs](super)), whatever the order.
@@ -731,6 +732,20 @@ impl<'t, 's> Tessellator<'t, 's> {
         h
     }
 
+    /// Halves node `node` of the bake, and the nodes above it that are not yet, by their
+    /// links, so that its halves are in the mesh (true where they are; nothing to do for
+    /// no node, the parent of a root). `depth` bounds the recursion as in
+    /// [`split`](Self::split).
+    fn halve_down_to(&mut self, node: u32, depth: u32) -> bool {
+        let Some(l) = self.tree.linked(node) else {
+            return true;
+        };
+        if bit(self.halved(), node) {
+            return true;
+        }
+        depth <= 64 && self.halve_down_to(l.parent, depth + 1) && self.split(&l.place, depth)
+    }
+
     /// Halves `h` and the triangle across its hypotenuse (halving coarser ones first), and
     /// queues the halves; false when it cannot (below the bake: the pool is full, or the grid's
     /// finest step is reached), and then `h` stays whole. `depth` bounds the recursion (a
@@ -751,7 +766,17 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
         let tree = self.tree;
         let mut across = None;
-        if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
+        // With links, the triangle across is the mate the bake halved with `h`, in the mesh
+        // once its parents are halved.
+        let mate = halving
+            .and_then(|_| tree.linked(h.node))
+            .and_then(|l| tree.linked(l.mate));
+        if let Some(m) = mate {
+            if !self.halve_down_to(m.parent, depth + 1) {
+                return false;
+            }
+            across = Some(m.place);
+        } else if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
             loop {
                 let leaf = self.locate(&n);
                 if leaf.tri == n {
