@@ -2,14 +2,17 @@
 //! the teapot at 1024x768, 1 px, eye (6,-6,4), baked at `BAKE_REL` (default 2.5e-4) of its
 //! diagonal, read with its links (`Hierarchy::with_links`, as `host::Baked` reads it). `FRAMES` frames (default 200), each an update and an indexed write, each a cold
 //! one (a new tessellator on the same storage: a view equal to the last would keep its mesh).
-//! With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
-//! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). Prints the last frame's
+//! With `MODEL` (a path under `examples/models`, `nurbs/rational_torus.json` say) another
+//! model, seen as the error table's 1.3-diagonal views see it. With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
+//! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). With
+//! `PARALLEL=1` each update searches on all cores (`Tessellator::update_parallel`). Prints the last frame's
 //! triangles and the best and mean frame times. The bake happens before the loop and is not
 //! timed (a profile of the whole run includes it).
 //!
 //! With `TABLE=1`, a table instead: for each camera view of the error table
 //! (`host_tests::screen::ERROR_VIEWS`, each model baked at `BAKE_REL`, default 1e-3 there as in
-//! the error table): a cold frame of the view (median of 21) and, with `GLU_PEER` set,
+//! the error table): a cold frame of the view (median of 21), the same on all cores
+//! (`Tessellator::update_parallel`, median of 21) and, with `GLU_PEER` set,
 //! libGLU's NURBS tessellator on the same camera (best of five, its peer's own figure); then
 //! an orbit of 48 steps from the view (the eye a degree further around the target's vertical
 //! each), each step's view as a cold frame (best of three, median over the steps) and as a step
@@ -48,9 +51,19 @@ fn main() {
     }
     let rel: f32 = env("BAKE_REL", 2.5e-4);
     let frames: usize = env("FRAMES", 200).max(1);
-    let path = host_tests::models_dir().join("teapot.bpt");
+    let model = std::env::var("MODEL").ok();
+    let path = host_tests::models_dir().join(model.as_deref().unwrap_or("teapot.bpt"));
     let file = ModelFile::read(path.to_str().expect("a UTF-8 path")).expect("a model");
-    let diag = file.patches().aabb().expect("patches").diagonal();
+    let bounds = file.patches().aabb().expect("patches");
+    let diag = bounds.diagonal();
+    // The teapot's view, or another model's from the error table's direction.
+    let (eye, target) = match model {
+        None => (Vec3::new(6.0, -6.0, 4.0), Vec3::new(0.0, 0.0, 1.2)),
+        Some(_) => {
+            let c = bounds.center();
+            (c + Vec3::new(0.7, -0.6, 0.4).normalize() * (1.3 * diag), c)
+        }
+    };
     let orbit = std::env::var("ORBIT").is_ok_and(|v| v == "1");
     let view_at = |frame: usize| {
         let angle = if orbit {
@@ -59,10 +72,11 @@ fn main() {
             0.0
         };
         let (s, c) = angle.sin_cos();
-        let eye = Vec3::new(6.0 * c + 6.0 * s, 6.0 * s - 6.0 * c, 4.0);
+        let d = eye - target;
+        let eye = target + Vec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
         let camera = Camera::new(
             eye,
-            Vec3::new(0.0, 0.0, 1.2),
+            target,
             Vec3::Z,
             Projection::Perspective {
                 fov_y_degrees: 40.0,
@@ -86,6 +100,7 @@ fn main() {
         let tree = bake.linked_tree(&mut links);
         let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let reuse = std::env::var("REUSE").is_ok_and(|v| v == "1");
+        let parallel = std::env::var("PARALLEL").is_ok_and(|v| v == "1");
         let mut judgements =
             vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
         let mut selection = storage.tessellator(tree);
@@ -103,7 +118,11 @@ fn main() {
                 selection = storage.tessellator(tree);
             }
             let start = Instant::now();
-            let stats = selection.update(&view).unwrap();
+            let stats = match parallel {
+                true => selection.update_parallel(&view),
+                false => selection.update(&view),
+            }
+            .unwrap();
             selection
                 .write_mesh(&mut vertices, &mut triangles, &mut remap)
                 .expect("room");
@@ -132,9 +151,9 @@ fn table() {
     const REPEATS: usize = 21;
     const STEPS: usize = 48;
     println!(
-        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | judgements kept | same view again ms |"
+        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | cold ms, all cores | all cores / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | judgements kept | same view again ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baked: Vec<(&str, ModelFile, BakedHierarchy)> = Vec::new();
     for v in ERROR_VIEWS {
         if !baked.iter().any(|(m, ..)| *m == v.model) {
@@ -167,15 +186,20 @@ fn table() {
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let view = view_at(0.0);
+        let all_cores = std::cell::Cell::new(false);
         let mut frame = |selection: &mut spline_tess::Tessellator<'_, '_>, view: &View| {
             let start = Instant::now();
-            let stats = selection.update(view).expect("a valid view");
+            let stats = match all_cores.get() {
+                true => selection.update_parallel(view),
+                false => selection.update(view),
+            }
+            .expect("a valid view");
             selection
                 .write_mesh(&mut vertices, &mut triangles, &mut remap)
                 .expect("room");
             (start.elapsed().as_secs_f64() * 1e3, stats.triangles)
         };
-        let mut cold = Vec::new();
+        let (mut cold, mut parallel) = (Vec::new(), Vec::new());
         let mut count = 0;
         for _ in 0..REPEATS {
             let mut selection = storage.tessellator(tree);
@@ -183,6 +207,14 @@ fn table() {
             cold.push(ms);
             count = n;
         }
+        all_cores.set(true);
+        for _ in 0..REPEATS {
+            let mut selection = storage.tessellator(tree);
+            let (ms, n) = frame(&mut selection, &view);
+            assert_eq!(n, count, "{}: the same mesh on all cores", v.name);
+            parallel.push(ms);
+        }
+        all_cores.set(false);
         // The orbit's views, each cold (best of three) and as a step from the one before.
         let (mut orbit_cold, mut orbit) = (Vec::new(), Vec::new());
         for k in 1..=STEPS {
@@ -228,6 +260,7 @@ fn table() {
         let reused = median(&mut reused);
         let kept_share = kept as f64 / (kept + judged).max(1) as f64;
         let (cold, again) = (median(&mut cold), median(&mut again));
+        let parallel = median(&mut parallel);
         let (orbit_cold, orbit) = (median(&mut orbit_cold), median(&mut orbit));
         let glu = peer.as_deref().map(|binary| {
             let refs: Vec<RefPatch> = file
@@ -245,16 +278,17 @@ fn table() {
                 v.tol as f64,
             )
         });
-        let (glu_tris, glu_ms, ratio) = match &glu {
+        let (glu_tris, glu_ms, ratio, parallel_ratio) = match &glu {
             Some(run) => (
                 run.triangles.len().to_string(),
                 format!("{:.2}", run.ms),
                 format!("{:.2}", cold / run.ms),
+                format!("{:.2}", parallel / run.ms),
             ),
-            None => ("-".into(), "-".into(), "-".into()),
+            None => ("-".into(), "-".into(), "-".into(), "-".into()),
         };
         println!(
-            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {:.0}% | {again:.3} |",
+            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {parallel:.2} | {parallel_ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {:.0}% | {again:.3} |",
             v.name,
             reused / orbit_cold,
             100.0 * kept_share

@@ -166,7 +166,16 @@ fn a_frames_mesh_is_the_kernels_frame() {
     let tree = baked.tree();
     let mut storage = host_tests::runtime::VecStorage::new(&tree, 4096, 1 << 16);
     let mut t = storage.tessellator(tree);
-    assert_eq!(t.update(&view).unwrap(), mesh.stats);
+    // (The host searches on all cores: the same mesh and figures but for how the search
+    // went, the worst bound of the triangles it judged on its way among them.)
+    let went = |s: spline_tess::FrameStats| spline_tess::FrameStats {
+        judged: 0,
+        sweeps: 0,
+        stack_peak: 0,
+        worst_bound: 0.0,
+        ..s
+    };
+    assert_eq!(went(t.update(&view).unwrap()), went(mesh.stats));
     let kernel = host_tests::runtime::indexed(&mut t);
     assert_eq!(mesh.triangles, kernel.triangles);
     assert_eq!(mesh.positions.len(), kernel.vertices.len());

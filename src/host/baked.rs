@@ -184,7 +184,8 @@ impl Baked {
     }
 
     /// The frame of `view`: the coarsest mesh of the hierarchy within the view's tolerance
-    /// (see [`Tessellator::update`]), refined below the bake into a pool of vertices that
+    /// (see [`Tessellator::update`]; searched on all cores, [`Tessellator::update_parallel`],
+    /// the same mesh), refined below the bake into a pool of vertices that
     /// grows until the frame is within it (or reaches 1M vertices; the frame's
     /// [`stats`](Mesh::stats) then report the bound it keeps).
     ///
@@ -200,7 +201,7 @@ impl Baked {
         loop {
             let mut pool = vec![PoolSlot::default(); pool_len];
             let mut t = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)?;
-            let stats = t.update(view)?;
+            let stats = t.update_parallel(view)?;
             if stats.pool_full && pool_len < MAX_POOL {
                 pool_len *= 4;
                 continue;

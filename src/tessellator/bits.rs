@@ -70,3 +70,10 @@ pub(super) fn set(bits: &mut [u32], i: u32) {
         *w |= 1 << (i % 32);
     }
 }
+
+/// Clears bit `i` of `bits`.
+pub(super) fn clear(bits: &mut [u32], i: u32) {
+    if let Some(w) = bits.get_mut((i / 32) as usize) {
+        *w &= !(1 << (i % 32));
+    }
+}

@@ -51,6 +51,10 @@ impl Tessellator<'_, '_> {
         }
         let culled = self.layout().culled;
         for p in 0..self.tree.patch_count() {
+            // (A part of a frame culls its own patches: see `parallel`.)
+            if !self.in_group(p as u32) {
+                continue;
+            }
             let (Some(cone), Some(patch)) = (self.tree.cone(p), self.tree.patch_of(p as u32))
             else {
                 continue;

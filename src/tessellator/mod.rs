@@ -67,6 +67,8 @@ pub(crate) mod hierarchy;
 mod judge;
 mod links;
 mod output;
+#[cfg(all(feature = "std", not(target_os = "none")))]
+mod parallel;
 pub(crate) mod quantize;
 mod refine;
 mod reuse;

@@ -34,7 +34,7 @@ use core::cell::Cell;
 use core::fmt;
 
 use super::address::{on_side, Tri};
-use super::bits::{bit, set, Layout};
+use super::bits::{bit, clear, set, Layout};
 use super::hierarchy::{walk, walk_patches, Hierarchy, Pending, RUN_TIME};
 use super::judge::judge;
 use super::refine::{key, Pool, PoolSlot};
@@ -174,7 +174,7 @@ pub struct Tessellator<'t, 's> {
     /// away (see `cull`).
     pub(super) sphere: Option<crate::bound::BoundingSphere>,
     /// Judgements kept from frame to frame, if the caller gave room for them.
-    reuse: Option<Reuse<'s>>,
+    pub(super) reuse: Option<Reuse<'s>>,
     pub(super) stats: FrameStats,
     /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
     /// asks for it every frame.
@@ -182,6 +182,10 @@ pub struct Tessellator<'t, 's> {
     model_box: Option<crate::bound::Aabb>,
     /// The frame's last corners in view coordinates (see [`viewed`](Self::viewed)).
     viewed: ViewedCorners,
+    /// A part of a frame searched on a thread of its own (see `parallel`); `None`: the whole
+    /// model.
+    #[cfg(all(feature = "std", not(target_os = "none")))]
+    pub(super) group: Option<super::parallel::Group<'s>>,
 }
 
 /// Entries of [`ViewedCorners`]: 16 where `f32` is software (it saves `fw_teapot`'s frame 0
@@ -302,6 +306,8 @@ impl<'t, 's> Tessellator<'t, 's> {
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
             viewed: ViewedCorners::new(),
+            #[cfg(all(feature = "std", not(target_os = "none")))]
+            group: None,
         })
     }
 
@@ -387,7 +393,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
     }
 
-    fn is_split(&self, h: &Pending) -> bool {
+    pub(super) fn is_split(&self, h: &Pending) -> bool {
         self.split_vertex(h).is_some()
     }
 
@@ -517,7 +523,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// A triangle below the bake that finds the stack full is judged at once instead (it has
     /// no bit a walk could find it by), up to [`INLINE_DEPTH`] deep; past that it is dropped
     /// and the frame's figures are recounted (see [`update`](Self::update)).
-    fn push(&mut self, h: Pending) {
+    pub(super) fn push(&mut self, h: Pending) {
         match self.stack.get_mut(self.len) {
             Some(slot) => {
                 *slot = StackSlot(h);
@@ -552,16 +558,40 @@ impl<'t, 's> Tessellator<'t, 's> {
         if !(t > 0.0 && t.is_finite()) {
             return Err(UpdateError::BadTolerance);
         }
-        if self.view.is_some_and(|last| same_view(&last, view)) {
+        if self.is_view(view) {
             return Ok(self.stats);
         }
         Ok(self.select(view))
     }
 
+    /// Whether `view` is the last frame's, bit for bit.
+    pub(super) fn is_view(&self, view: &View) -> bool {
+        self.view.is_some_and(|last| same_view(&last, view))
+    }
+
     /// [`update`](Self::update) with a valid tolerance.
     pub(super) fn select(&mut self, view: &View) -> FrameStats {
+        self.begin(view);
+        let (tree, tolerance) = (self.tree, view.tolerance());
+        for p in 0..tree.patch_count() as u32 {
+            if !self.in_group(p) {
+                continue;
+            }
+            for k in 0..tree.root_count(p) {
+                self.push(tree.root(p, k));
+                self.drain(view, tolerance);
+            }
+        }
+        self.finish(view)
+    }
+
+    /// Empties the frame's bits, pool and figures for `view`, and culls its patches.
+    pub(super) fn begin(&mut self, view: &View) {
         let words = self.tree.bit_words();
-        self.bits[..words].fill(0);
+        // (Parts of a frame on one thread share their bits: each sets its own nodes'.)
+        if self.part().is_none() {
+            self.bits[..words].fill(0);
+        }
         self.pool.clear();
         self.stats = FrameStats::default();
         self.vertices = None;
@@ -572,14 +602,36 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.viewed.clear();
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         self.dropped_patches = 0;
-        let (tree, tolerance) = (self.tree, view.tolerance());
         self.cull(view);
-        for p in 0..tree.patch_count() as u32 {
-            for k in 0..tree.root_count(p) {
-                self.push(tree.root(p, k));
-                self.drain(view, tolerance);
-            }
+    }
+
+    /// Whether patch `p` is this search's (every patch but in a part of a frame).
+    pub(super) fn in_group(&self, p: u32) -> bool {
+        self.part().is_none_or(|(lo, hi)| lo <= p && p < hi)
+    }
+
+    /// The patches of this search where it is a part of a frame (see `parallel`).
+    pub(super) fn part(&self) -> Option<(u32, u32)> {
+        #[cfg(all(feature = "std", not(target_os = "none")))]
+        return self.group.as_ref().map(|g| (g.lo, g.hi));
+        #[cfg(not(all(feature = "std", not(target_os = "none"))))]
+        None
+    }
+
+    /// Notes `h`, in a part of a frame: a halved triangle whose triangle across is another
+    /// part's, or a leaf the part left unjudged. The whole frame's search takes them up.
+    fn leave_to_frame(&mut self, h: &Pending) {
+        #[cfg(all(feature = "std", not(target_os = "none")))]
+        if let Some(g) = self.group.as_mut() {
+            g.leave(h);
         }
+        let _ = h;
+    }
+
+    /// The end of a frame's search: walks for the leaves the stack had no room for, and the
+    /// figures (a part of a frame leaves them to the whole frame).
+    pub(super) fn finish(&mut self, view: &View) -> FrameStats {
+        let (tree, tolerance) = (self.tree, view.tolerance());
         while self.full && self.stats.sweeps < MAX_SWEEPS {
             self.full = false;
             self.stats.sweeps += 1;
@@ -588,7 +640,10 @@ impl<'t, 's> Tessellator<'t, 's> {
             let below = core::mem::take(&mut self.dropped_below);
             // Only the patches of the triangles left out: a leaf is unjudged only there.
             let patches = core::mem::take(&mut self.dropped_patches);
-            let wanted = |_: &mut (), p: u32| patches & (1 << (p % 32)) != 0;
+            let part = self.part();
+            let wanted = |_: &mut (), p: u32| {
+                patches & (1 << (p % 32)) != 0 && part.is_none_or(|(lo, hi)| lo <= p && p < hi)
+            };
             walk_patches(tree, &mut (), wanted, |_, h| {
                 let unjudged = if h.node == RUN_TIME {
                     below
@@ -602,6 +657,13 @@ impl<'t, 's> Tessellator<'t, 's> {
                 self.split_vertex(h)
             });
             self.recount |= below;
+        }
+        if self.part().is_some() {
+            #[cfg(all(feature = "std", not(target_os = "none")))]
+            if let Some(g) = self.group.as_mut() {
+                g.walk |= self.full;
+            }
+            return self.stats;
         }
         if self.full || self.recount {
             // A walk judged leaves below the bake again (and counted them again where left
@@ -640,7 +702,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// Judges the queued leaves, halving those over `tolerance`.
-    fn drain(&mut self, view: &View, tolerance: f32) {
+    pub(super) fn drain(&mut self, view: &View, tolerance: f32) {
         while self.len > 0 {
             self.len -= 1;
             let h = self.stack[self.len].0;
@@ -661,7 +723,10 @@ impl<'t, 's> Tessellator<'t, 's> {
         // A triangle that cannot be halved is judged in full: its bound is the frame's when
         // over. (One that can stops once over.)
         let baked = self.tree.baked_first_half(&h).is_some();
-        let halvable = baked || (cfg!(feature = "refine") && !self.pool.is_full());
+        // (A part of a frame leaves a leaf of the bake over the tolerance to the whole
+        // frame: it stops judging once over, as for a triangle it can halve.)
+        let parted = self.part().is_some();
+        let halvable = baked || parted || (cfg!(feature = "refine") && !self.pool.is_full());
         // A judgement kept from a frame before, certified to hold at this one (never for a
         // culled patch: culling comes first, as in `judge`).
         let reuse = self.reuse.as_ref().filter(|_| cfg!(feature = "reuse"));
@@ -706,7 +771,15 @@ impl<'t, 's> Tessellator<'t, 's> {
                 (!halvable).then_some(j.bound)
             }
         };
-        if !self.split(&h, 0) {
+        if parted && !(baked && self.split(&h, 0)) {
+            // Left unjudged, for the whole frame to find (see `parallel`).
+            if h.node != RUN_TIME {
+                clear(&mut self.bits[layout.judged..], h.node);
+            }
+            self.leave_to_frame(&h);
+            return;
+        }
+        if !parted && !self.split(&h, 0) {
             // (Its bound in full, where the judgement stopped once it was over or was kept.)
             let bound = match over_by {
                 Some(b) => b,
@@ -719,7 +792,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// The leaf of the current mesh that holds `t` (its own, or a coarser one).
-    fn locate(&self, t: &Tri) -> Pending {
+    pub(super) fn locate(&self, t: &Tri) -> Pending {
         let cells = self.tree.cells(t.patch);
         let mut h = self.tree.root(t.patch, t.root_index(cells));
         let target = t.centroid3();
@@ -736,7 +809,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// links, so that its halves are in the mesh (true where they are; nothing to do for
     /// no node, the parent of a root). `depth` bounds the recursion as in
     /// [`split`](Self::split).
-    fn halve_down_to(&mut self, node: u32, depth: u32) -> bool {
+    pub(super) fn halve_down_to(&mut self, node: u32, depth: u32) -> bool {
         let Some(l) = self.tree.linked(node) else {
             return true;
         };
@@ -751,7 +824,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// finest step is reached), and then `h` stays whole. `depth` bounds the recursion (a
     /// coarser triangle across is at least one level up, so 64 is never reached by the
     /// 24 levels of a cell).
-    fn split(&mut self, h: &Pending, depth: u32) -> bool {
+    pub(super) fn split(&mut self, h: &Pending, depth: u32) -> bool {
         if self.is_split(h) {
             return true;
         }
@@ -771,12 +844,24 @@ impl<'t, 's> Tessellator<'t, 's> {
         let mate = halving
             .and_then(|_| tree.linked(h.node))
             .and_then(|l| tree.linked(l.mate));
+        // (Across a curve to a patch outside a part of a frame: the whole frame's.)
+        let mut leave = false;
         if let Some(m) = mate {
-            if !self.halve_down_to(m.parent, depth + 1) {
+            if !self.in_group(m.place.tri.patch) {
+                leave = true;
+            } else if !self.halve_down_to(m.parent, depth + 1) {
                 return false;
+            } else {
+                across = Some(m.place);
             }
-            across = Some(m.place);
-        } else if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
+        } else if let Some(n) = h
+            .tri
+            .across(|p, s| tree.link(p, s), |p| tree.cells(p))
+            .filter(|n| {
+                leave = !self.in_group(n.patch);
+                !leave
+            })
+        {
             loop {
                 let leaf = self.locate(&n);
                 if leaf.tri == n {
@@ -787,6 +872,16 @@ impl<'t, 's> Tessellator<'t, 's> {
                     return false;
                 }
             }
+        }
+        // A triangle across that is halved already is not halved again (its halves were
+        // queued then): where parts of a frame were searched apart (see `parallel`), the part
+        // across may have halved it while this one left `h` whole; below the bake, a leaf of
+        // the bake whose triangle across was halved into the pool may not know it. (Within
+        // the bake on one thread a diamond's triangles are halved together: a firmware leaves
+        // the test out there.)
+        let parts = cfg!(all(feature = "std", not(target_os = "none")));
+        if (parts || halving.is_none()) && across.is_some_and(|x| self.is_split(&x)) {
+            across = None;
         }
         let v = match halving {
             Some((_, v)) => {
@@ -815,6 +910,9 @@ impl<'t, 's> Tessellator<'t, 's> {
                 }
             },
         };
+        if leave {
+            self.leave_to_frame(h);
+        }
         // Leaves judged and kept whole until now stop being leaves: all but `h` at the top of
         // the recursion, which `process` halves as soon as it judged it.
         if let Some(x) = across {

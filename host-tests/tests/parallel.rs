@@ -1,0 +1,171 @@
+//! A frame searched on several threads (`Tessellator::update_parallel`) is the frame searched
+//! on one, bit for bit: on every model of the repository, from its records with links and
+//! from its bytes without, within the bake and below it, on pools of 1, 2 and 3 threads, with a
+//! tessellator kept from view to view.
+
+use host_tests::bake_relative as bake;
+use host_tests::runtime::{indexed, VecStorage};
+use host_tests::{bpt_models, nurbs_fixtures};
+use spline_tess::tessellator::{FrameStats, NodeLink};
+use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
+
+/// Views of a model: in model units within and below the bake, and cameras from afar, from
+/// close by (below the bake) and from inside its box.
+fn views(tree: &Hierarchy<'_>) -> Vec<View> {
+    let b = tree.model().aabb().unwrap();
+    let (c, d) = (b.center(), b.diagonal());
+    let mut views = vec![
+        View::Object {
+            tolerance: 2e-2 * d,
+        },
+        View::Object {
+            tolerance: 2e-3 * d,
+        },
+    ];
+    let eyes = [
+        (Vec3::new(1.0, -1.0, 0.6), [320, 240], 1.0),
+        (Vec3::new(0.1, 0.5, 0.2), [640, 480], 1.0),
+        (Vec3::new(0.35, -0.3, 0.25), [1024, 768], 0.5),
+        (Vec3::new(0.05, 0.02, 0.01), [320, 240], 2.0),
+    ];
+    for (eye, size, tolerance_px) in eyes {
+        let camera = Camera::new(
+            c + eye * d,
+            c,
+            Vec3::Z,
+            Projection::Perspective {
+                fov_y_degrees: 40.0,
+            },
+            0.01 * d,
+            size,
+        )
+        .unwrap();
+        views.push(View::Screen {
+            camera,
+            tolerance_px,
+        });
+    }
+    views
+}
+
+/// A frame's figures but for how the search went: what it judged, its walks and its stack,
+/// the worst bound of what it judged (on the way, not only the mesh's), and where it walked
+/// for leaves the stack had no room for, the vertices it made below the bake (a walk counts
+/// some again).
+fn figures(s: FrameStats) -> FrameStats {
+    FrameStats {
+        judged: 0,
+        sweeps: 0,
+        stack_peak: 0,
+        worst_bound: 0.0,
+        refined: if s.sweeps > 0 { 0 } else { s.refined },
+        ..s
+    }
+}
+
+#[test]
+fn parallel_frames_are_the_frames_of_one_thread() {
+    let models: Vec<_> = bpt_models().into_iter().chain(nurbs_fixtures()).collect();
+    assert!(models.len() >= 12, "the repository's models");
+    let (mut compared, mut full_pools) = (0, 0);
+    for (k, path) in models.iter().enumerate() {
+        let name = path.display();
+        let baked = bake(path, 1e-2);
+        let bytes = baked.encoded();
+        let mut links = vec![NodeLink::default(); baked.tree().link_slots()];
+        baked.tree().fill_links(&mut links).unwrap();
+        let trees = [
+            baked.tree().with_links(&links).unwrap(),
+            baked.tree_from(&bytes),
+        ];
+        for (store, tree) in trees.into_iter().enumerate() {
+            let threads = 1 + (k + store) % 3;
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut a = VecStorage::new(&tree, 256, 1 << 18);
+            let mut b = VecStorage::new(&tree, 256, 1 << 18);
+            let (mut x, mut y) = (a.tessellator(tree), b.tessellator(tree));
+            for view in views(&tree) {
+                let sx = x.update(&view).unwrap();
+                let sy = pool.install(|| y.update_parallel(&view)).unwrap();
+                if sx.pool_full {
+                    // (A full pool makes a frame depend on which halvings came first.)
+                    full_pools += 1;
+                    continue;
+                }
+                let (mx, my) = (indexed(&mut x), indexed(&mut y));
+                // (Either walked: both counts of vertices made are left out.)
+                let walked = |s: FrameStats| FrameStats {
+                    sweeps: sx.sweeps + sy.sweeps,
+                    ..s
+                };
+                assert_eq!(
+                    figures(walked(sx)),
+                    figures(walked(sy)),
+                    "{name}, {threads} threads"
+                );
+                if sx.left_over == 0 {
+                    assert!(sy.worst_bound <= view.tolerance(), "{name}");
+                }
+                assert_eq!(mx, my, "{name}, {threads} threads: meshes");
+                compared += mx.triangles.len();
+            }
+            // The same view again keeps its mesh.
+            let last = *views(&tree).last().unwrap();
+            let before = indexed(&mut y);
+            pool.install(|| y.update_parallel(&last)).unwrap();
+            assert_eq!(before, indexed(&mut y), "{name}");
+        }
+    }
+    assert!(compared > 10_000, "{compared}");
+    assert!(full_pools <= 2, "{full_pools} frames with a full pool");
+}
+
+/// The same on fine bakes (2.5e-4 of the diagonal, the host's default) seen as the error
+/// table's 1.3-diagonal views see them, orbiting: views where a part's border leaves many
+/// halvings to the whole frame (one of them found a triangle across halved alone, which the
+/// whole frame's search once counted out of the mesh a second time).
+#[test]
+fn parallel_frames_on_fine_bakes() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for model in ["nurbs/rational_torus.json", "teapot.bpt"] {
+        let baked = bake(&host_tests::models_dir().join(model), 2.5e-4);
+        let mut links = vec![NodeLink::default(); baked.tree().link_slots()];
+        baked.tree().fill_links(&mut links).unwrap();
+        let tree = baked.tree().with_links(&links).unwrap();
+        let b = tree.model().aabb().unwrap();
+        let (c, d) = (b.center(), b.diagonal());
+        let mut a = VecStorage::new(&tree, 4096, 1 << 16);
+        let mut s = VecStorage::new(&tree, 4096, 1 << 16);
+        let (mut x, mut y) = (a.tessellator(tree), s.tessellator(tree));
+        for degrees in [0.0f32, 7.0, 33.0, 90.0] {
+            let (sin, cos) = degrees.to_radians().sin_cos();
+            let dir = Vec3::new(0.7, -0.6, 0.4).normalize();
+            let dir = Vec3::new(cos * dir.x - sin * dir.y, sin * dir.x + cos * dir.y, dir.z);
+            let camera = Camera::new(
+                c + dir * (1.3 * d),
+                c,
+                Vec3::Z,
+                Projection::Perspective {
+                    fov_y_degrees: 40.0,
+                },
+                0.01 * d,
+                [1024, 768],
+            )
+            .unwrap();
+            let view = View::Screen {
+                camera,
+                tolerance_px: 1.0,
+            };
+            let sx = x.update(&view).unwrap();
+            let sy = pool.install(|| y.update_parallel(&view)).unwrap();
+            assert_eq!(figures(sx), figures(sy), "{model} at {degrees} degrees");
+            assert_eq!(indexed(&mut x), indexed(&mut y), "{model} at {degrees}");
+        }
+    }
+}

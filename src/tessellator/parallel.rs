@@ -1,0 +1,263 @@
+//! A frame's search on a host's cores ([`Tessellator::update_parallel`], feature `std`): the
+//! same mesh as [`Tessellator::update`], bit for bit.
+//!
+//! # How
+//!
+//! The patches are cut into parts (runs of patches in order), more parts than threads so that
+//! rayon can even out the threads' work. Each part is searched on a thread of its own, in
+//! storage of its own, as if its patches were the whole model: its curves to other parts'
+//! patches are borders, and a leaf of the bake over the tolerance (which the run time would
+//! halve below the bake, into the one pool) is left unjudged.
+//!
+//! Then, on the calling thread, the whole frame's search starts from the parts' halvings. It
+//! is the coarsest conforming mesh within the tolerance that halves every triangle the parts
+//! halved: each part's mesh is the coarsest of *its* patches, and the frame's mesh restricted
+//! to a part's patches is one of them (conforming inside the part, every leaf within the
+//! tolerance), so it halves at least what the part's halves. Each part noted what it left:
+//! the halved triangles whose triangle across is another part's (the whole frame halves that
+//! one, and coarser ones first, where it is whole), and the leaves it left unjudged (the whole
+//! frame judges them). The search goes on from there as it would from the roots, and finds the
+//! view's unique mesh.
+//!
+//! Only the figures of how the search went ([`FrameStats::judged`], `sweeps`, `stack_peak`)
+//! differ from a search on one thread.
+
+use std::vec;
+use std::vec::Vec;
+
+use rayon::prelude::*;
+
+use super::bits::set;
+use super::hierarchy::{walk_patches, Hierarchy, Pending, RUN_TIME};
+use super::select::{FrameStats, Tessellator, UpdateError};
+use super::storage::StackSlot;
+use crate::math::max;
+use crate::view::View;
+
+/// Parts per thread: enough for rayon to even out the threads' work, where the parts' patches
+/// differ in what a view makes of them.
+const PARTS_PER_THREAD: usize = 8;
+
+/// Stack entries of a thread's parts (a part that finds it full walks its patches again).
+const PART_STACK: usize = 512;
+
+/// A part of a frame's search (see the module docs): its patches `lo..hi`, and what it
+/// leaves to the whole frame.
+#[derive(Debug)]
+pub(super) struct Group<'s> {
+    pub lo: u32,
+    pub hi: u32,
+    /// Halved triangles whose triangle across is another part's, and leaves of the bake over
+    /// the tolerance, left unjudged.
+    left: &'s mut Vec<Pending>,
+    /// The part's walks gave up on leaves its stack had no room for: the whole frame walks
+    /// the mesh for them.
+    pub walk: bool,
+}
+
+impl Group<'_> {
+    /// Notes `h` (see `Tessellator::leave_to_frame`).
+    pub(super) fn leave(&mut self, h: &Pending) {
+        self.left.push(*h);
+    }
+}
+
+/// A thread's storage for its parts, and what they found.
+struct Thread {
+    bits: Vec<u32>,
+    stack: Vec<StackSlot>,
+    left: Vec<Pending>,
+    walk: bool,
+    stats: FrameStats,
+    /// A part could not be searched (never: its storage fits the hierarchy).
+    failed: bool,
+}
+
+impl Thread {
+    fn new(words: usize) -> Thread {
+        Thread {
+            bits: vec![0; words],
+            stack: vec![StackSlot::default(); PART_STACK],
+            left: Vec::new(),
+            walk: false,
+            stats: FrameStats::default(),
+            failed: false,
+        }
+    }
+
+    /// Searches the patches `lo..hi` of `tree` in `view`, adding to this thread's bits and
+    /// figures.
+    fn search(mut self, tree: Hierarchy<'_>, view: &View, (lo, hi): (u32, u32)) -> Thread {
+        let Ok(mut part) = Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut [])
+        else {
+            self.failed = true;
+            return self;
+        };
+        part.group = Some(Group {
+            lo,
+            hi,
+            left: &mut self.left,
+            walk: false,
+        });
+        let stats = part.select(view);
+        let walk = part.group.take().is_some_and(|g| g.walk);
+        self.walk |= walk;
+        add(&mut self.stats, &stats);
+        self
+    }
+}
+
+/// Adds a part's figures to a frame's.
+fn add(s: &mut FrameStats, part: &FrameStats) {
+    s.triangles += part.triangles;
+    s.judged += part.judged;
+    s.hidden += part.hidden;
+    s.sweeps += part.sweeps;
+    s.stack_peak = s.stack_peak.max(part.stack_peak);
+    s.worst_bound = max(s.worst_bound, part.worst_bound);
+}
+
+impl Tessellator<'_, '_> {
+    /// [`update`](Self::update), with the search spread over rayon's threads (all cores, or
+    /// those of the pool it is called in): the same mesh, bit for bit, and the same figures
+    /// but for how the search went ([`FrameStats::judged`], `sweeps` and `stack_peak`). Each
+    /// thread takes storage of its own for the frame (a hierarchy's bits and a stack).
+    ///
+    /// A tessellator keeping judgements from frame to frame ([`with_reuse`](Self::with_reuse))
+    /// searches on one thread, as does a model of one patch.
+    pub fn update_parallel(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
+        let parts = parts(self, rayon::current_num_threads() * PARTS_PER_THREAD);
+        if self.reuses() || parts.len() < 2 {
+            return self.update(view);
+        }
+        let t = view.tolerance();
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(UpdateError::BadTolerance);
+        }
+        if self.is_view(view) {
+            return Ok(self.stats);
+        }
+        let tree = self.tree;
+        let words = tree.bit_words();
+        let threads: Vec<Thread> = parts
+            .par_iter()
+            .fold(
+                || Thread::new(words),
+                |thread, &group| thread.search(tree, view, group),
+            )
+            .collect();
+        if threads.iter().any(|t| t.failed) {
+            return self.update(view); // (never: the parts' storage fits the hierarchy)
+        }
+        Ok(self.select_from_parts(view, &threads))
+    }
+
+    /// Whether judgements are kept from frame to frame.
+    fn reuses(&self) -> bool {
+        cfg!(feature = "reuse") && self.reuse.is_some()
+    }
+
+    /// The frame of `view` searched from the threads' bits and figures (see the module docs).
+    fn select_from_parts(&mut self, view: &View, threads: &[Thread]) -> FrameStats {
+        self.begin(view);
+        let tolerance = view.tolerance();
+        let layout = self.layout;
+        for t in threads {
+            // Each node's bits are its patch's part's alone; the patches' culled bits are the
+            // same in every part.
+            for (ours, theirs) in self.bits[..layout.seen].iter_mut().zip(&t.bits) {
+                *ours |= theirs;
+            }
+            add(&mut self.stats, &t.stats);
+        }
+        for t in threads {
+            for h in &t.left {
+                if self.is_split(h) {
+                    self.halve_across(h);
+                } else {
+                    self.push(*h);
+                }
+                self.drain(view, tolerance);
+            }
+        }
+        if threads.iter().any(|t| t.walk) {
+            // Leaves a part never judged: found by a walk, as `finish` finds those a stack
+            // had no room for.
+            walk_patches(
+                self.tree,
+                &mut (),
+                |_, _| true,
+                |_, h| {
+                    if !self.is_split(h) && h.node != RUN_TIME && !self.is_judged(h) {
+                        self.push(*h);
+                        self.drain(view, tolerance);
+                    }
+                    self.split_vertex(h)
+                },
+            );
+        }
+        self.finish(view)
+    }
+
+    /// Halves leaf `x` of the bake where the bake halves it, alone (the triangle across its
+    /// hypotenuse is halved already), and queues its halves.
+    fn halve_alone(&mut self, x: &Pending) {
+        let Some((_, v)) = self.tree.baked_halving(x) else {
+            return;
+        };
+        set(self.bits, x.node);
+        self.uncount_leaf(x);
+        let [h0, h1] = self.tree.halves(x, v);
+        self.push(h1);
+        self.push(h0);
+    }
+
+    /// Halves the triangle across the hypotenuse of `h` (a halved triangle of the bake whose
+    /// hypotenuse lies on a side of its patch), and coarser ones first, where a part's border
+    /// left it whole.
+    fn halve_across(&mut self, h: &Pending) {
+        let tree = self.tree;
+        let mate = tree.linked(h.node).and_then(|l| tree.linked(l.mate));
+        if let Some(m) = mate {
+            if !self.is_split(&m.place) && self.halve_down_to(m.parent, 1) {
+                self.halve_alone(&m.place);
+            }
+            return;
+        }
+        let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) else {
+            return;
+        };
+        // A level a loop: the triangle across is at most 24 halvings down its cell.
+        for _ in 0..32 {
+            let leaf = self.locate(&n);
+            if leaf.tri == n {
+                if !self.is_split(&leaf) {
+                    self.halve_alone(&leaf);
+                }
+                return;
+            }
+            if !self.split(&leaf, 1) {
+                return;
+            }
+        }
+    }
+}
+
+/// The parts of a frame's search: runs of patches in order with about as many roots each, at
+/// most `count` of them.
+fn parts(t: &Tessellator<'_, '_>, count: usize) -> Vec<(u32, u32)> {
+    let tree = t.tree;
+    let patches = tree.patch_count() as u32;
+    let roots: usize = (0..patches).map(|p| tree.root_count(p)).sum();
+    let each = roots.div_ceil(count.max(1)).max(1);
+    let mut out = Vec::new();
+    let (mut lo, mut taken) = (0, 0);
+    for p in 0..patches {
+        taken += tree.root_count(p);
+        if taken >= each || p + 1 == patches {
+            out.push((lo, p + 1));
+            (lo, taken) = (p + 1, 0);
+        }
+    }
+    out
+}
