@@ -172,8 +172,10 @@ x n* over the other. *Over* counts triangles above the tolerance; *bound / true*
 each triangle's bound in model units over its measured deviation (at least 1 is the soundness
 claim); *off screen* counts the written triangles with no sample on screen; *full ms* is a
 frame of a new tessellator over the hierarchy with its links (`Hierarchy::with_links`, as
-`host::Baked` reads it), update and indexed write, best of three; GLU's time is its
-tessellation alone, best of five.
+`host::Baked` reads it), update and indexed write, best of three, and *all cores ms* the same
+with the update spread over the machine's cores (`Tessellator::update_parallel`, the same
+mesh); GLU's time is its tessellation alone, best of five, and *full / GLU*, *all cores / GLU*
+divide by it. Times vary 10-30% from run to run on this machine (GLU's too).
 
 {read("error_1e-3.md")}
 
@@ -257,7 +259,11 @@ frames, by function, inlined code counted in its caller, the bake's functions le
 Cold frames, orbit steps and libGLU, side by side: `TABLE=1 GLU_PEER=target/glu/glu_peer cargo
 run --release -p host-tests --example frame_loop` (`BAKE_REL` for the bake; see the example's
 docs for what each column times). A frame is an update and an indexed write; GLU's is its
-tessellation alone, at its nominal tolerance (it is not sound: see the error table). Without
+tessellation alone, at its nominal tolerance (it is not sound: see the error table). *Cold ms,
+all cores* searches on this machine's two cores (`Tessellator::update_parallel`: parts of the
+patches on threads of their own, then the whole frame across their borders; the same mesh),
+which pays where a frame stays within the bake; below it (the close-up) the refinement stays
+on one thread, and a small frame pays more for its threads than it saves. Without
 reuse a tessellator keeps no work from one view to the next but for a view equal to the last
 (*same view again*: the indexed write alone), so an orbit step costs what a cold frame of its
 view costs, to this machine's noise. With `Tessellator::with_reuse` (*step with reuse*) it

@@ -24,8 +24,10 @@
 //! (`host_tests::frame_checks::check_watertight`: an edge used once lies on an open curve,
 //! beside a patch culled for facing away, or out of sight; no edge is used more than twice;
 //! no two vertices share a position). *Off screen* counts the triangles with no sample on screen. *Full ms* is a frame
-//! from a new run time, its update and the indexed write, best of three; *Mtri/s* its
-//! triangles per second.
+//! from a new run time over the hierarchy with its links (`Hierarchy::with_links`, as the
+//! host's `Baked` reads it), its update and the indexed write, best of three; *all cores ms*
+//! the same with the update on all cores (`Tessellator::update_parallel`); *Mtri/s* the first's
+//! triangles per second. *Full / GLU* and *all cores / GLU* divide them by GLU's time.
 //!
 //! With `SPLIT` set, the kernel tessellates the model with every patch split into four
 //! ([`spline_tess::PatchSet::split`]), baked at the same tolerance in the model's units; the
@@ -220,19 +222,19 @@ fn main() {
     let only: Vec<String> = std::env::args().skip(1).collect();
     let peer = std::env::var("GLU_PEER").ok();
     let glu_header = if peer.is_some() {
-        " GLU triangles | GLU over | GLU worst / tol | GLU ms |"
+        " GLU triangles | GLU over | GLU worst / tol | GLU ms | full / GLU | all cores / GLU |"
     } else {
         ""
     };
     println!(
         "| case | triangles | n x n grid | n_u x n_v grid | ratio | ratio to n x n | over | cracks | \
          median error / tol | 90% error / tol | bound / true: min, median | off screen | full ms | \
-         Mtri/s |{glu_header}"
+         all cores ms | Mtri/s |{glu_header}"
     );
     println!(
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|{}",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|{}",
         if peer.is_some() {
-            "---|---|---|---|"
+            "---|---|---|---|---|---|"
         } else {
             ""
         }
@@ -402,6 +404,17 @@ fn main() {
             count = stats.triangles;
             left_over = stats.left_over;
         }
+        // The same on all cores (`update_parallel`): the same mesh.
+        let mut all_cores = f64::INFINITY;
+        for _ in 0..3 {
+            let start = Instant::now();
+            let mut s = store.tessellator(tree);
+            let stats = s.update_parallel(&view).unwrap();
+            s.write_mesh(&mut vertices, &mut triangles, &mut remap)
+                .expect("room");
+            all_cores = all_cores.min(start.elapsed().as_secs_f64() * 1e3);
+            assert_eq!(stats.triangles, count, "{}: all cores", case.name);
+        }
         let mut s = store.tessellator(tree);
         s.update(&view).unwrap();
         let tris = streamed(&s);
@@ -529,16 +542,18 @@ fn main() {
                     }
                 }
                 format!(
-                    " {} | {over} | {worst:.2} | {:.1} |",
+                    " {} | {over} | {worst:.2} | {:.2} | {:.2} | {:.2} |",
                     run.triangles.len(),
-                    run.ms
+                    run.ms,
+                    best / run.ms,
+                    all_cores / run.ms
                 )
             }
-            (Some(_), None) => " – | – | – | – |".to_string(),
+            (Some(_), None) => " – | – | – | – | – | – |".to_string(),
             (None, _) => String::new(),
         };
         println!(
-            "| {} | {count} | {grid} | {grid_uv} | {:.2} | {:.2} | {over} | {cracks} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.1} | {:.2} |{glu}",
+            "| {} | {count} | {grid} | {grid_uv} | {:.2} | {:.2} | {over} | {cracks} | {:.2} | {:.2} | {:.3}, {:.3} | {:.1}% | {best:.2} | {all_cores:.2} | {:.2} |{glu}",
             case.name,
             count as f64 / grid_uv as f64,
             count as f64 / grid as f64,
