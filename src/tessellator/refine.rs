@@ -91,8 +91,10 @@ fn start(key: u64, len: usize) -> usize {
 pub(super) struct Pool<'s> {
     pub entries: &'s mut [PoolSlot],
     pub used: usize,
-    /// Every entry but the `used` ones is empty: the caller's entries are not, until the first
-    /// [`clear`](Self::clear).
+    /// Every entry but the `used` ones is empty. The caller's entries are not known to be, nor
+    /// a frame's after the next [`clear`](Self::clear): the frame's first vertex below the
+    /// bake empties them ([`make`](Self::make)), so that a frame within the bake (most are)
+    /// never writes the pool.
     pub clean: bool,
 }
 
@@ -106,17 +108,23 @@ impl Pool<'_> {
         }
     }
 
-    /// Empties the pool: a pool that is empty already is not wiped again (a frame within the
-    /// bake makes no vertex, and the host's pools are large).
+    /// Empties the pool (see [`clean`](Self::clean): the entries are wiped when the frame makes
+    /// its first vertex).
     pub fn clear(&mut self) {
-        if self.clean && self.used == 0 {
-            return;
-        }
-        for e in self.entries.iter_mut() {
-            e.key = EMPTY;
+        if self.used > 0 {
+            self.clean = false;
         }
         self.used = 0;
-        self.clean = true;
+    }
+
+    /// Wipes the entries where they are not known to be empty.
+    fn wipe(&mut self) {
+        if !self.clean {
+            for e in self.entries.iter_mut() {
+                e.key = EMPTY;
+            }
+            (self.used, self.clean) = (0, true);
+        }
     }
 
     /// Whether the pool takes no more vertices (past seven eighths, to keep probes short).
@@ -127,6 +135,9 @@ impl Pool<'_> {
 
     /// The slot of the vertex at `at` (a [`key`]), if the pool holds it.
     pub fn find(&self, at: (u32, Point)) -> Option<usize> {
+        if !self.clean {
+            return None; // (nothing made since the last frame's entries)
+        }
         let key = packed(at);
         let len = self.entries.len();
         let mut i = start(key, len);
@@ -147,6 +158,7 @@ impl Pool<'_> {
         if self.is_full() {
             return None;
         }
+        self.wipe();
         let len = self.entries.len();
         let at = key(tree, t.patch, t.midpoint());
         let k = packed(at);
