@@ -124,7 +124,11 @@ impl Tessellator<'_, '_> {
     /// thread takes storage of its own for the frame (a hierarchy's bits and a stack).
     ///
     /// A tessellator keeping judgements from frame to frame ([`with_reuse`](Self::with_reuse))
-    /// searches on one thread, as does a model of one patch.
+    /// searches on one thread, as does a model of one patch. The threads pay where a frame is
+    /// large and within the bake: a frame of a few hundred triangles costs more on threads
+    /// than on one (waking them, and their storage), and the refinement below the bake stays
+    /// on the calling thread. Which to call is the caller's choice: a frame's figures tell
+    /// how large the last one was.
     pub fn update_parallel(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
         let parts = parts(self, rayon::current_num_threads() * PARTS_PER_THREAD);
         if self.reuses() || parts.len() < 2 {
