@@ -28,7 +28,7 @@ use std::vec::Vec;
 use rayon::prelude::*;
 
 use super::bits::set;
-use super::hierarchy::{walk_patches, Hierarchy, Pending, RUN_TIME};
+use super::hierarchy::{Hierarchy, Pending};
 use super::select::{FrameStats, Tessellator, UpdateError};
 use super::storage::StackSlot;
 use crate::math::max;
@@ -134,11 +134,7 @@ impl Tessellator<'_, '_> {
         if self.reuses() || parts.len() < 2 {
             return self.update(view);
         }
-        let t = view.tolerance();
-        if !(t > 0.0 && t.is_finite()) {
-            return Err(UpdateError::BadTolerance);
-        }
-        if self.is_view(view) {
+        if self.is_last_view(view)? {
             return Ok(self.stats);
         }
         let tree = self.tree;
@@ -184,23 +180,16 @@ impl Tessellator<'_, '_> {
                 self.drain(view, tolerance);
             }
         }
+        // Leaves a part's walks gave up on: the whole frame walks for them, as for those its
+        // own stack had no room for (the parts' walks counted apart).
+        let walks = core::mem::take(&mut self.stats.sweeps);
         if threads.iter().any(|t| t.walk) {
-            // Leaves a part never judged: found by a walk, as `finish` finds those a stack
-            // had no room for.
-            walk_patches(
-                self.tree,
-                &mut (),
-                |_, _| true,
-                |_, h| {
-                    if !self.is_split(h) && h.node != RUN_TIME && !self.is_judged(h) {
-                        self.push(*h);
-                        self.drain(view, tolerance);
-                    }
-                    self.split_vertex(h)
-                },
-            );
+            self.walk_for_unjudged();
         }
-        self.finish(view)
+        let mut stats = self.finish(view);
+        stats.sweeps += walks;
+        self.stats.sweeps = stats.sweeps;
+        stats
     }
 
     /// Halves leaf `x` of the bake where the bake halves it, alone (the triangle across its

@@ -240,6 +240,12 @@ fn same_view(a: &View, b: &View) -> bool {
     bits(a) == bits(b)
 }
 
+/// Whether patch `p` is in `part`, the patches `lo..hi` of a part of a frame (`None`: the
+/// whole model).
+fn in_part(part: Option<(u32, u32)>, p: u32) -> bool {
+    part.is_none_or(|(lo, hi)| lo <= p && p < hi)
+}
+
 /// Most walks of a frame for the leaves its stack had no room for. Each walk judges the
 /// leaves below the bake again (they have no bit), so a stack far too short for a frame deep
 /// below the bake could take many: past this many, the frame stops searching and reports the
@@ -554,19 +560,20 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// redraws an unmoved view with another style need not track that itself. Any other view
     /// is searched from the patches' roots.
     pub fn update(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
-        let t = view.tolerance();
-        if !(t > 0.0 && t.is_finite()) {
-            return Err(UpdateError::BadTolerance);
-        }
-        if self.is_view(view) {
+        if self.is_last_view(view)? {
             return Ok(self.stats);
         }
         Ok(self.select(view))
     }
 
-    /// Whether `view` is the last frame's, bit for bit.
-    pub(super) fn is_view(&self, view: &View) -> bool {
-        self.view.is_some_and(|last| same_view(&last, view))
+    /// Whether `view` is the last frame's, bit for bit (its mesh is kept); refused where its
+    /// tolerance is not a positive finite number.
+    pub(super) fn is_last_view(&self, view: &View) -> Result<bool, UpdateError> {
+        let t = view.tolerance();
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(UpdateError::BadTolerance);
+        }
+        Ok(self.view.is_some_and(|last| same_view(&last, view)))
     }
 
     /// [`update`](Self::update) with a valid tolerance.
@@ -607,7 +614,7 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// Whether patch `p` is this search's (every patch but in a part of a frame).
     pub(super) fn in_group(&self, p: u32) -> bool {
-        self.part().is_none_or(|(lo, hi)| lo <= p && p < hi)
+        in_part(self.part(), p)
     }
 
     /// The patches of this search where it is a part of a frame (see `parallel`).
@@ -628,6 +635,13 @@ impl<'t, 's> Tessellator<'t, 's> {
         let _ = h;
     }
 
+    /// Has [`finish`](Self::finish) walk every patch for leaves not judged yet (as for those
+    /// the stack had no room for).
+    pub(super) fn walk_for_unjudged(&mut self) {
+        self.full = true;
+        self.dropped_patches = u32::MAX;
+    }
+
     /// The end of a frame's search: walks for the leaves the stack had no room for, and the
     /// figures (a part of a frame leaves them to the whole frame).
     pub(super) fn finish(&mut self, view: &View) -> FrameStats {
@@ -641,9 +655,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             // Only the patches of the triangles left out: a leaf is unjudged only there.
             let patches = core::mem::take(&mut self.dropped_patches);
             let part = self.part();
-            let wanted = |_: &mut (), p: u32| {
-                patches & (1 << (p % 32)) != 0 && part.is_none_or(|(lo, hi)| lo <= p && p < hi)
-            };
+            let wanted = |_: &mut (), p: u32| patches & (1 << (p % 32)) != 0 && in_part(part, p);
             walk_patches(tree, &mut (), wanted, |_, h| {
                 let unjudged = if h.node == RUN_TIME {
                     below
@@ -854,22 +866,19 @@ impl<'t, 's> Tessellator<'t, 's> {
             } else {
                 across = Some(m.place);
             }
-        } else if let Some(n) = h
-            .tri
-            .across(|p, s| tree.link(p, s), |p| tree.cells(p))
-            .filter(|n| {
-                leave = !self.in_group(n.patch);
-                !leave
-            })
-        {
-            loop {
-                let leaf = self.locate(&n);
-                if leaf.tri == n {
-                    across = Some(leaf);
-                    break;
-                }
-                if !self.split(&leaf, depth + 1) {
-                    return false;
+        } else if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
+            if !self.in_group(n.patch) {
+                leave = true;
+            } else {
+                loop {
+                    let leaf = self.locate(&n);
+                    if leaf.tri == n {
+                        across = Some(leaf);
+                        break;
+                    }
+                    if !self.split(&leaf, depth + 1) {
+                        return false;
+                    }
                 }
             }
         }
