@@ -637,6 +637,7 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// Has [`finish`](Self::finish) walk every patch for leaves not judged yet (as for those
     /// the stack had no room for).
+    #[cfg(all(feature = "std", not(target_os = "none")))]
     pub(super) fn walk_for_unjudged(&mut self) {
         self.full = true;
         self.dropped_patches = u32::MAX;
