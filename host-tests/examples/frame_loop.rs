@@ -6,7 +6,8 @@
 //! model, seen as the error table's 1.3-diagonal views see it. With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
 //! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). With
 //! `PARALLEL=1` each update searches on all cores (`Tessellator::update_parallel`). Prints the last frame's
-//! triangles and the best and mean frame times. The bake happens before the loop and is not
+//! triangles, the best and mean frame times, and the mean triangles judged and judgements
+//! kept a frame. The bake happens before the loop and is not
 //! timed (a profile of the whole run includes it).
 //!
 //! With `TABLE=1`, a table instead: for each camera view of the error table
@@ -111,6 +112,7 @@ fn main() {
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
+        let (mut judged, mut kept) = (0, 0);
         for k in 1..=frames {
             let view = view_at(k);
             if !orbit && !reuse {
@@ -130,10 +132,14 @@ fn main() {
             best = best.min(ms);
             total += ms;
             count = stats.triangles;
+            judged += stats.judged;
+            kept += stats.kept;
         }
         println!(
-            "triangles {count} best {best:.3} ms mean {:.3} ms",
-            total / frames as f64
+            "triangles {count} best {best:.3} ms mean {:.3} ms judged {} kept {} (means)",
+            total / frames as f64,
+            judged / frames,
+            kept / frames
         );
     }
 }

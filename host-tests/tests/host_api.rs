@@ -184,6 +184,12 @@ fn a_frames_mesh_is_the_kernels_frame() {
         assert_eq!(mesh.normals[k], v.normal);
     }
     assert_eq!(mesh.faces.len(), mesh.triangles.len());
+    // Each face is the kernel's triangle of the same place in the stream (the teapot's
+    // patches have the unit square for their domain).
+    let mut streamed = Vec::new();
+    t.stream_with_info(|info, _| streamed.push((info.patch, info.uv)));
+    let faces: Vec<_> = mesh.faces.iter().map(|f| (f.patch, f.uv)).collect();
+    assert_eq!(faces, streamed);
     for (f, t) in mesh.faces.iter().zip(&mesh.triangles) {
         assert!(f.patch < 32);
         for (uv, &v) in f.uv.iter().zip(t) {
@@ -268,4 +274,38 @@ fn the_writers_refuse_a_broken_mesh() {
         assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
     }
     assert!(good.write_obj(&mut Vec::new()).is_ok() && good.write_ply(&mut Vec::new()).is_ok());
+}
+
+/// A frame that needs more vertices below the bake than a host's frame starts with grows its
+/// pool and makes the frame again: the kernel's frame in a pool that holds them all.
+#[test]
+fn a_frame_far_below_the_bake_grows_its_pool() {
+    let path = models_dir().join("teaspoon.bpt");
+    let surfaces = Surfaces::read(&path).expect("a model");
+    let view = View::Object { tolerance: 1e-4 };
+    let mesh = surfaces
+        .bake(&relative(1e-3))
+        .unwrap()
+        .tessellate(&view)
+        .unwrap();
+    assert!(
+        !mesh.stats.pool_full && mesh.stats.left_over == 0,
+        "{:?}",
+        mesh.stats
+    );
+    // More than the 4,096 a host's frame starts with.
+    assert!(mesh.stats.refined > 4096, "{}", mesh.stats.refined);
+    let baked = host_tests::bake_relative(&path, 1e-3);
+    let tree = baked.tree();
+    let mut storage = host_tests::runtime::VecStorage::new(&tree, 4096, 1 << 20);
+    let mut t = storage.tessellator(tree);
+    // (`refined` counts a vertex below the bake each time a halving asks for it, and the
+    // search on all cores walks for the leaves its parts left, asking for some again: the
+    // mesh is the same.)
+    let stats = t.update(&view).unwrap();
+    assert_eq!(stats.triangles, mesh.stats.triangles);
+    let kernel = host_tests::runtime::indexed(&mut t);
+    assert_eq!(kernel.triangles, mesh.triangles);
+    let positions: Vec<_> = kernel.vertices.iter().map(|v| v.position).collect();
+    assert_eq!(positions, mesh.positions);
 }

@@ -49,9 +49,10 @@ const FIRST_VERTICES: usize = 1 << 16;
 const MAX_NODES: usize = 1 << 26;
 
 /// Stack entries and vertices below the bake a frame starts with, and the most vertices it
-/// grows its pool to (4 times at a time) while the pool fills up.
+/// grows its pool to (16 times at a time, the frame made again) while the pool fills up. A
+/// frame within the bake makes none: a small first pool spares it filling megabytes.
 const STACK: usize = 4096;
-const FIRST_POOL: usize = 1 << 16;
+const FIRST_POOL: usize = 1 << 12;
 const MAX_POOL: usize = 1 << 20;
 
 impl Baked {
@@ -203,7 +204,7 @@ impl Baked {
             let mut t = Tessellator::from_slices(tree, &mut bits, &mut stack, &mut pool)?;
             let stats = t.update_parallel(view)?;
             if stats.pool_full && pool_len < MAX_POOL {
-                pool_len *= 4;
+                pool_len *= 16;
                 continue;
             }
             return Mesh::of_frame(&mut t, &self.surfaces, stats);

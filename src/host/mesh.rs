@@ -64,19 +64,24 @@ impl Mesh {
         surfaces: &Surfaces,
         stats: FrameStats,
     ) -> Result<Mesh, HostError> {
-        let size = tessellator.mesh_size();
-        let mut vertices = vec![Vertex::default(); size.vertices];
-        let mut triangles = vec![[0u32; 3]; size.triangles];
+        // Room for three vertices a triangle (or every vertex there is): one walk writes
+        // them, with no walk first to count them.
+        let triangles_len = tessellator.stats().triangles;
+        let room = (3 * triangles_len).min(tessellator.remap_len());
+        let mut vertices = vec![Vertex::default(); room];
+        let mut triangles = vec![[0u32; 3]; triangles_len];
         let mut remap = vec![0u32; tessellator.remap_len()];
-        tessellator.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
+        let size = tessellator.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
+        vertices.truncate(size.vertices);
+        triangles.truncate(size.triangles);
         let domains = surfaces.domains();
         let mut faces = Vec::with_capacity(triangles.len());
-        // (The stream gives the triangles in the order `write_mesh` wrote them.)
-        tessellator.stream_with_info(|info, _| {
-            let domain = domains.get(info.patch as usize).copied();
+        // (The walk gives the triangles in the order `write_mesh` wrote them.)
+        tessellator.each_face(|patch, uv| {
+            let domain = domains.get(patch as usize).copied();
             faces.push(Face {
-                patch: info.patch,
-                uv: info.uv.map(|uv| domain.map_or(uv, |d| d.map(uv))),
+                patch,
+                uv: uv.map(|uv| domain.map_or(uv, |d| d.map(uv))),
             });
         });
         Ok(Mesh {

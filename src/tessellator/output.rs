@@ -143,6 +143,20 @@ impl Tessellator<'_, '_> {
         });
     }
 
+    /// Each triangle of the current mesh as [`stream_with_info`](Self::stream_with_info)
+    /// gives it, its patch and its corners' parameters alone (no vertex, no bound), in the
+    /// same order: what the host's `Mesh` keeps per face.
+    #[cfg(feature = "std")]
+    pub(crate) fn each_face(&self, mut f: impl FnMut(u32, [[f32; 2]; 3])) {
+        self.each_written(|h, _| {
+            let uv = self.oriented(h, h.tri.corners).map(|p| {
+                let (u, v) = unit(p);
+                [u, v]
+            });
+            f(h.tri.patch, uv);
+        });
+    }
+
     /// Entries of [`write_mesh`](Self::write_mesh)'s `remap`: one per vertex of the bake and
     /// of the pool.
     pub fn remap_len(&self) -> usize {
