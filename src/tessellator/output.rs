@@ -146,7 +146,7 @@ impl Tessellator<'_, '_> {
     /// Each triangle of the current mesh as [`stream_with_info`](Self::stream_with_info)
     /// gives it, its patch and its corners' parameters alone (no vertex, no bound), in the
     /// same order: what the host's `Mesh` keeps per face.
-    #[cfg(feature = "std")]
+    #[cfg(all(feature = "std", not(target_os = "none")))]
     pub(crate) fn each_face(&self, mut f: impl FnMut(u32, [[f32; 2]; 3])) {
         self.each_written(|h, _| {
             let uv = self.oriented(h, h.tri.corners).map(|p| {
