@@ -7,7 +7,7 @@ use host_tests::bake_relative as bake;
 use host_tests::runtime::{indexed, VecStorage};
 use host_tests::{bpt_models, models_dir, nurbs_fixtures};
 use spline_tess::tessellator::{FormatError, FORMAT_VERSION};
-use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
+use spline_tess::{Hierarchy, Vec3, View};
 
 /// Views of a model: in model units within and below the bake, and two cameras.
 fn views(tree: &Hierarchy<'_>) -> Vec<View> {
@@ -25,17 +25,7 @@ fn views(tree: &Hierarchy<'_>) -> Vec<View> {
         (Vec3::new(1.0, -1.0, 0.6), [320, 240]),
         (Vec3::new(0.1, 0.5, 0.2), [640, 480]),
     ] {
-        let camera = Camera::new(
-            c + eye * d,
-            c,
-            Vec3::Z,
-            Projection::Perspective {
-                fov_y_degrees: 40.0,
-            },
-            0.01 * d,
-            size,
-        )
-        .unwrap();
+        let camera = host_tests::screen::camera_40(c + eye * d, c, 0.01 * d, size);
         views.push(View::Screen {
             camera,
             tolerance_px: 1.0,

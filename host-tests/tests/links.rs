@@ -13,7 +13,7 @@ use host_tests::bake_relative as bake;
 use host_tests::runtime::{indexed, Mesh, VecStorage};
 use host_tests::{bpt_models, models_dir, nurbs_fixtures};
 use spline_tess::tessellator::{FrameStats, Judgement, LinkError, NodeLink, Tessellator};
-use spline_tess::{Camera, Hierarchy, Projection, Vec3, Vertex, View};
+use spline_tess::{Hierarchy, Vec3, Vertex, View};
 
 /// Views of a model: in model units within and below the bake, cameras from afar and from
 /// close by (below the bake), and an orbit of small steps (for kept judgements).
@@ -37,17 +37,7 @@ fn views(tree: &Hierarchy<'_>) -> Vec<View> {
         for degrees in [0.0f32, 1.0, 2.0] {
             let (s, k) = degrees.to_radians().sin_cos();
             let eye = Vec3::new(k * eye.x - s * eye.y, s * eye.x + k * eye.y, eye.z);
-            let camera = Camera::new(
-                c + eye * d,
-                c,
-                Vec3::Z,
-                Projection::Perspective {
-                    fov_y_degrees: 40.0,
-                },
-                0.01 * d,
-                size,
-            )
-            .unwrap();
+            let camera = host_tests::screen::camera_40(c + eye * d, c, 0.01 * d, size);
             views.push(View::Screen {
                 camera,
                 tolerance_px,

@@ -29,17 +29,7 @@ fn views(tree: &Hierarchy<'_>) -> Vec<View> {
         (Vec3::new(0.05, 0.02, 0.01), [320, 240], 2.0),
     ];
     for (eye, size, tolerance_px) in eyes {
-        let camera = Camera::new(
-            c + eye * d,
-            c,
-            Vec3::Z,
-            Projection::Perspective {
-                fov_y_degrees: 40.0,
-            },
-            0.01 * d,
-            size,
-        )
-        .unwrap();
+        let camera = host_tests::screen::camera_40(c + eye * d, c, 0.01 * d, size);
         views.push(View::Screen {
             camera,
             tolerance_px,
