@@ -4,8 +4,9 @@
 //! # How
 //!
 //! The patches are cut into parts (runs of patches in order), more parts than threads so that
-//! rayon can even out the threads' work. Each part is searched on a thread of its own, in
-//! storage of its own, as if its patches were the whole model: its curves to other parts'
+//! the threads' work evens out: each of rayon's threads, with storage of its own, searches
+//! the next part none has taken until none is left. A part is searched as if its patches were
+//! the whole model: its curves to other parts'
 //! patches are borders, and a leaf of the bake over the tolerance (which the run time would
 //! halve below the bake, into the one pool) is left unjudged.
 //!
@@ -22,10 +23,9 @@
 //! Only the figures of how the search went ([`FrameStats::judged`], `sweeps`, `stack_peak`)
 //! differ from a search on one thread.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::vec;
 use std::vec::Vec;
-
-use rayon::prelude::*;
 
 use super::bits::set;
 use super::hierarchy::{Hierarchy, Pending};
@@ -34,7 +34,7 @@ use super::storage::StackSlot;
 use crate::math::max;
 use crate::view::View;
 
-/// Parts per thread: enough for rayon to even out the threads' work, where the parts' patches
+/// Parts per thread: enough for the threads' work to even out, where the parts' patches
 /// differ in what a view makes of them.
 const PARTS_PER_THREAD: usize = 8;
 
@@ -139,13 +139,16 @@ impl Tessellator<'_, '_> {
         }
         let tree = self.tree;
         let words = tree.bit_words();
-        let threads: Vec<Thread> = parts
-            .par_iter()
-            .fold(
-                || Thread::new(words),
-                |thread, &group| thread.search(tree, view, group),
-            )
-            .collect();
+        // One storage a thread: each takes the next part not yet taken until none is left
+        // (rayon's `fold` would make storage for every piece of work it splits off).
+        let next = AtomicUsize::new(0);
+        let threads: Vec<Thread> = rayon::broadcast(|_| {
+            let mut thread = Thread::new(words);
+            while let Some(&group) = parts.get(next.fetch_add(1, Ordering::Relaxed)) {
+                thread = thread.search(tree, view, group);
+            }
+            thread
+        });
         if threads.iter().any(|t| t.failed) {
             return self.update(view); // (never: the parts' storage fits the hierarchy)
         }
