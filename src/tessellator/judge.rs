@@ -69,10 +69,10 @@ pub(super) fn judge(
     } else {
         view.tolerance()
     };
-    // The corners' points. (Where `f32` is software, most judgements read them in view
-    // coordinates only, kept for the frame's last vertices: they are found where needed.)
+    // The corners' points. (Where the tessellator keeps the frame's last vertices in view
+    // coordinates, most judgements read them there only: they are found where needed.)
     let points = || h.corners.map(|v| Vec3::from_array(selection.position(v)));
-    let eager = crate::math::HARD_FLOAT.then(points);
+    let eager = (!super::select::CACHE_VIEWED).then(points);
     let corners = || eager.unwrap_or_else(points);
     let tree = &selection.tree;
     let mut baked = None;
@@ -153,7 +153,8 @@ pub(super) fn judge(
 }
 
 /// `h`'s corners in `camera`'s view coordinates, from the tessellator's cache of the frame's
-/// last ones where it has them (where `f32` is software), their points moved there otherwise.
+/// last ones where it has them (see `Tessellator::viewed`), their points moved there
+/// otherwise.
 #[inline(always)]
 fn viewed(selection: &Tessellator<'_, '_>, h: &Pending, camera: &Camera) -> [Vec3; 3] {
     let point = |v: u32| Vec3::from_array(selection.position(v));

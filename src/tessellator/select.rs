@@ -189,10 +189,22 @@ pub struct Tessellator<'t, 's> {
 }
 
 /// Entries of [`ViewedCorners`]: 16 where `f32` is software (it saves `fw_teapot`'s frame 0
-/// 10% of its update on ARMv6-M, 46.78M -> 42.18M instructions, for 256 bytes of RAM), none
-/// (one unused) where it is hardware (the lookups cost the Cortex-M4F 4% more than the moves
-/// they save).
-const VIEWED: usize = if crate::math::HARD_FLOAT { 1 } else { 16 };
+/// 10% of its update on ARMv6-M, 46.78M -> 42.18M instructions, for 256 bytes of RAM); none
+/// (one unused) on a bare-metal part where it is hardware (the lookups cost the Cortex-M4F 4%
+/// more than the moves they save); 64 on a host, where the points' decoding and the move
+/// cost more than a lookup (measured 2026-11-27 with `frame_loop`, best of 1,000 frames:
+/// the single-patch threejs model 0.376 -> 0.346 ms, the teapot at 2.5e-4 1.39 -> 1.28 ms;
+/// 16 entries save less, 256 no more).
+const VIEWED: usize = if !crate::math::HARD_FLOAT {
+    16
+} else if cfg!(target_os = "none") {
+    1
+} else {
+    64
+};
+
+/// Whether judgements read corners through [`ViewedCorners`].
+pub(super) const CACHE_VIEWED: bool = VIEWED > 1;
 const _: () = assert!(VIEWED.is_power_of_two());
 
 /// The last vertices of the bake moved into the frame's view coordinates, by vertex number
@@ -446,10 +458,10 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates
-    /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache, emptied by each
-    /// frame (`camera` is the frame's).
+    /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache where there is
+    /// one ([`VIEWED`]), emptied by each frame (`camera` is the frame's).
     pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
-        if crate::math::HARD_FLOAT || v as usize >= self.tree.vertex_count() {
+        if !CACHE_VIEWED || v as usize >= self.tree.vertex_count() {
             return camera.to_view(p());
         }
         // (`VIEWED` is a power of two.)
