@@ -594,7 +594,19 @@ pub(super) fn walk(tree: Hierarchy<'_>, mut visit: impl FnMut(&Pending) -> Optio
 pub(super) fn walk_patches<S: ?Sized>(
     tree: Hierarchy<'_>,
     state: &mut S,
+    wants: impl FnMut(&mut S, u32) -> bool,
+    visit: impl FnMut(&mut S, &Pending) -> Option<u32>,
+) {
+    walk_roots(tree, state, wants, |_, _| true, visit);
+}
+
+/// [`walk_patches`], from the roots `root` takes (root `k` of patch `p`) of the patches
+/// `wants` takes.
+pub(super) fn walk_roots<S: ?Sized>(
+    tree: Hierarchy<'_>,
+    state: &mut S,
     mut wants: impl FnMut(&mut S, u32) -> bool,
+    root: impl Fn(u32, usize) -> bool,
     mut visit: impl FnMut(&mut S, &Pending) -> Option<u32>,
 ) {
     let mut stack = [Pending::default(); WALK];
@@ -602,7 +614,7 @@ pub(super) fn walk_patches<S: ?Sized>(
         if !wants(state, p) {
             continue;
         }
-        for k in 0..tree.root_count(p) {
+        for k in (0..tree.root_count(p)).filter(|&k| root(p, k)) {
             stack[0] = tree.root(p, k);
             let mut n = 1;
             while n > 0 {

@@ -3,17 +3,19 @@
 //!
 //! # How
 //!
-//! The patches are cut into parts (runs of patches in order), more parts than threads so that
-//! the threads' work evens out: each of rayon's threads, with storage of its own, searches
-//! the next part none has taken until none is left. A part is searched as if its patches were
-//! the whole model: its curves to other parts'
-//! patches are borders, and a leaf of the bake over the tolerance (which the run time would
-//! halve below the bake, into the one pool) is left unjudged.
+//! The roots (the triangles of each patch's cells) are cut into parts: runs of roots in
+//! order, of whole patches where there are enough of them, or of the roots of one patch where
+//! they are few. There are more parts than threads so that the threads' work evens out: each
+//! of rayon's threads, with storage of its own, searches the next part none has taken until
+//! none is left. A part is searched as if its roots were the whole model: where they meet
+//! another part's roots (a curve to a patch of another part, or a cell's side or diagonal) is
+//! a border, and a leaf of the bake over the tolerance (which the run time would halve below
+//! the bake, into the one pool) is left unjudged.
 //!
 //! Then, on the calling thread, the whole frame's search starts from the parts' halvings. It
 //! is the coarsest conforming mesh within the tolerance that halves every triangle the parts
-//! halved: each part's mesh is the coarsest of *its* patches, and the frame's mesh restricted
-//! to a part's patches is one of them (conforming inside the part, every leaf within the
+//! halved: each part's mesh is the coarsest of *its* roots, and the frame's mesh restricted
+//! to a part's roots is one of them (conforming inside the part, every leaf within the
 //! tolerance), so it halves at least what the part's halves. Each part noted what it left:
 //! the halved triangles whose triangle across is another part's (the whole frame halves that
 //! one, and coarser ones first, where it is whole), and the leaves it left unjudged (the whole
@@ -29,24 +31,24 @@ use std::vec::Vec;
 
 use super::bits::set;
 use super::hierarchy::{Hierarchy, Pending};
-use super::select::{FrameStats, Tessellator, UpdateError};
+use super::select::{FrameStats, Part, RootAt, Tessellator, UpdateError};
 use super::storage::StackSlot;
 use crate::math::max;
 use crate::view::View;
 
-/// Parts per thread: enough for the threads' work to even out, where the parts' patches
-/// differ in what a view makes of them.
+/// Parts per thread: enough for the threads' work to even out, where the parts' roots differ
+/// in what a view makes of them.
 const PARTS_PER_THREAD: usize = 8;
 
-/// Stack entries of a thread's parts (a part that finds it full walks its patches again).
+/// Stack entries of a thread's parts (a part that finds it full walks its roots again).
 const PART_STACK: usize = 512;
 
-/// A part of a frame's search (see the module docs): its patches `lo..hi`, and what it
-/// leaves to the whole frame.
+/// A part of a frame's search (see the module docs): its roots `lo..hi`, and what it leaves
+/// to the whole frame.
 #[derive(Debug)]
 pub(super) struct Group<'s> {
-    pub lo: u32,
-    pub hi: u32,
+    pub lo: RootAt,
+    pub hi: RootAt,
     /// Halved triangles whose triangle across is another part's, and leaves of the bake over
     /// the tolerance, left unjudged.
     left: &'s mut Vec<Pending>,
@@ -85,9 +87,9 @@ impl Thread {
         }
     }
 
-    /// Searches the patches `lo..hi` of `tree` in `view`, adding to this thread's bits and
+    /// Searches the roots `lo..hi` of `tree` in `view`, adding to this thread's bits and
     /// figures.
-    fn search(mut self, tree: Hierarchy<'_>, view: &View, (lo, hi): (u32, u32)) -> Thread {
+    fn search(mut self, tree: Hierarchy<'_>, view: &View, (lo, hi): Part) -> Thread {
         let Ok(mut part) = Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut [])
         else {
             self.failed = true;
@@ -124,7 +126,7 @@ impl Tessellator<'_, '_> {
     /// thread takes storage of its own for the frame (a hierarchy's bits and a stack).
     ///
     /// A tessellator keeping judgements from frame to frame ([`with_reuse`](Self::with_reuse))
-    /// searches on one thread, as does a model of one patch. The threads pay where a frame is
+    /// searches on one thread. The threads pay where a frame is
     /// large and within the bake: a frame of a few hundred triangles costs more on threads
     /// than on one (waking them, and their storage), and the refinement below the bake stays
     /// on the calling thread. Which to call is the caller's choice: a frame's figures tell
@@ -166,8 +168,8 @@ impl Tessellator<'_, '_> {
         let tolerance = view.tolerance();
         let layout = self.layout;
         for t in threads {
-            // Each node's bits are its patch's part's alone; the patches' culled bits are the
-            // same in every part.
+            // Each node's bits are its root's part's alone; the patches' culled bits are the
+            // same in every part that has roots of them.
             for (ours, theirs) in self.bits[..layout.seen].iter_mut().zip(&t.bits) {
                 *ours |= theirs;
             }
@@ -209,8 +211,8 @@ impl Tessellator<'_, '_> {
     }
 
     /// Halves the triangle across the hypotenuse of `h` (a halved triangle of the bake whose
-    /// hypotenuse lies on a side of its patch), and coarser ones first, where a part's border
-    /// left it whole.
+    /// hypotenuse lies on a part's border), and coarser ones first, where that border left it
+    /// whole.
     fn halve_across(&mut self, h: &Pending) {
         let tree = self.tree;
         let mate = tree.linked(h.node).and_then(|l| tree.linked(l.mate));
@@ -239,20 +241,24 @@ impl Tessellator<'_, '_> {
     }
 }
 
-/// The parts of a frame's search: runs of patches in order with about as many roots each, at
-/// most `count` of them.
-fn parts(t: &Tessellator<'_, '_>, count: usize) -> Vec<(u32, u32)> {
+/// The parts of a frame's search: runs of roots in order, about as many in each, at most
+/// `count` of them.
+fn parts(t: &Tessellator<'_, '_>, count: usize) -> Vec<Part> {
     let tree = t.tree;
     let patches = tree.patch_count() as u32;
     let roots: usize = (0..patches).map(|p| tree.root_count(p)).sum();
     let each = roots.div_ceil(count.max(1)).max(1);
     let mut out = Vec::new();
-    let (mut lo, mut taken) = (0, 0);
+    let (mut lo, mut taken) = ((0, 0), 0);
     for p in 0..patches {
-        taken += tree.root_count(p);
-        if taken >= each || p + 1 == patches {
-            out.push((lo, p + 1));
-            (lo, taken) = (p + 1, 0);
+        let n = tree.root_count(p) as u32;
+        for k in 0..n {
+            taken += 1;
+            let next = if k + 1 == n { (p + 1, 0) } else { (p, k + 1) };
+            if taken >= each || next == (patches, 0) {
+                out.push((lo, next));
+                (lo, taken) = (next, 0);
+            }
         }
     }
     out

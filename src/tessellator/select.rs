@@ -35,7 +35,7 @@ use core::fmt;
 
 use super::address::{on_side, Tri};
 use super::bits::{bit, clear, set, Layout};
-use super::hierarchy::{walk, walk_patches, Hierarchy, Pending, RUN_TIME};
+use super::hierarchy::{walk, walk_roots, Hierarchy, Pending, RUN_TIME};
 use super::judge::judge;
 use super::refine::{key, Pool, PoolSlot};
 #[cfg(feature = "reuse")]
@@ -252,10 +252,21 @@ fn same_view(a: &View, b: &View) -> bool {
     bits(a) == bits(b)
 }
 
-/// Whether patch `p` is in `part`, the patches `lo..hi` of a part of a frame (`None`: the
-/// whole model).
-fn in_part(part: Option<(u32, u32)>, p: u32) -> bool {
-    part.is_none_or(|(lo, hi)| lo <= p && p < hi)
+/// A root of the hierarchy by its patch and its number there ([`Hierarchy::root`]), in the
+/// order of the patches, then of their roots.
+pub(super) type RootAt = (u32, u32);
+
+/// A part of a frame: the roots `lo..hi` (see `parallel`).
+pub(super) type Part = (RootAt, RootAt);
+
+/// Whether some root of patch `p` is in `part` (`None`: the whole model).
+fn patch_in_part(part: Option<Part>, p: u32) -> bool {
+    part.is_none_or(|(lo, hi)| lo.0 <= p && (p < hi.0 || (p == hi.0 && hi.1 > 0)))
+}
+
+/// Whether root `at` is in `part` (`None`: the whole model).
+fn root_in_part(part: Option<Part>, at: RootAt) -> bool {
+    part.is_none_or(|(lo, hi)| lo <= at && at < hi)
 }
 
 /// Most walks of a frame for the leaves its stack had no room for. Each walk judges the
@@ -592,13 +603,16 @@ impl<'t, 's> Tessellator<'t, 's> {
     pub(super) fn select(&mut self, view: &View) -> FrameStats {
         self.begin(view);
         let (tree, tolerance) = (self.tree, view.tolerance());
+        let part = self.part();
         for p in 0..tree.patch_count() as u32 {
-            if !self.in_group(p) {
+            if !patch_in_part(part, p) {
                 continue;
             }
             for k in 0..tree.root_count(p) {
-                self.push(tree.root(p, k));
-                self.drain(view, tolerance);
+                if root_in_part(part, (p, k as u32)) {
+                    self.push(tree.root(p, k));
+                    self.drain(view, tolerance);
+                }
             }
         }
         self.finish(view)
@@ -624,13 +638,25 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.cull(view);
     }
 
-    /// Whether patch `p` is this search's (every patch but in a part of a frame).
+    /// Whether some root of patch `p` is this search's (every patch but in a part of a
+    /// frame).
     pub(super) fn in_group(&self, p: u32) -> bool {
-        in_part(self.part(), p)
+        patch_in_part(self.part(), p)
     }
 
-    /// The patches of this search where it is a part of a frame (see `parallel`).
-    pub(super) fn part(&self) -> Option<(u32, u32)> {
+    /// Whether triangle `t` is this search's: its root is (every root but in a part of a
+    /// frame).
+    fn holds(&self, t: &Tri) -> bool {
+        let part = self.part();
+        part.is_none()
+            || root_in_part(
+                part,
+                (t.patch, t.root_index(self.tree.cells(t.patch)) as u32),
+            )
+    }
+
+    /// The roots of this search where it is a part of a frame (see `parallel`).
+    pub(super) fn part(&self) -> Option<Part> {
         #[cfg(all(feature = "std", not(target_os = "none")))]
         return self.group.as_ref().map(|g| (g.lo, g.hi));
         #[cfg(not(all(feature = "std", not(target_os = "none"))))]
@@ -668,8 +694,10 @@ impl<'t, 's> Tessellator<'t, 's> {
             // Only the patches of the triangles left out: a leaf is unjudged only there.
             let patches = core::mem::take(&mut self.dropped_patches);
             let part = self.part();
-            let wanted = |_: &mut (), p: u32| patches & (1 << (p % 32)) != 0 && in_part(part, p);
-            walk_patches(tree, &mut (), wanted, |_, h| {
+            let wanted =
+                |_: &mut (), p: u32| patches & (1 << (p % 32)) != 0 && patch_in_part(part, p);
+            let root = |p: u32, k: usize| root_in_part(part, (p, k as u32));
+            walk_roots(tree, &mut (), wanted, root, |_, h| {
                 let unjudged = if h.node == RUN_TIME {
                     below
                 } else {
@@ -872,7 +900,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         // (Across a curve to a patch outside a part of a frame: the whole frame's.)
         let mut leave = false;
         if let Some(m) = mate {
-            if !self.in_group(m.place.tri.patch) {
+            if !self.holds(&m.place.tri) {
                 leave = true;
             } else if !self.halve_down_to(m.parent, depth + 1) {
                 return false;
@@ -880,7 +908,7 @@ impl<'t, 's> Tessellator<'t, 's> {
                 across = Some(m.place);
             }
         } else if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
-            if !self.in_group(n.patch) {
+            if !self.holds(&n) {
                 leave = true;
             } else {
                 loop {
