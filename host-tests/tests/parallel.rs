@@ -159,3 +159,28 @@ fn parallel_frames_on_fine_bakes() {
         }
     }
 }
+
+/// A frame on threads gives the same figures every time, all of them (what it judged, the
+/// vertices it asked for below the bake, its walks), whichever thread takes which part: on a
+/// model of one patch cut into parts by its roots, and on the teapot, within the bake and below
+/// it, on three threads.
+#[test]
+fn a_frame_on_threads_has_the_same_figures_every_time() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap();
+    for model in ["nurbs/verb_quarter_cylinder.json", "teapot.bpt"] {
+        let baked = bake(&host_tests::models_dir().join(model), 1e-2);
+        let tree = baked.tree();
+        let mut storage = VecStorage::new(&tree, 256, 1 << 18);
+        for view in views(&tree) {
+            let mut first = None;
+            for _ in 0..12 {
+                let mut t = storage.tessellator(tree);
+                let stats = pool.install(|| t.update_parallel(&view)).unwrap();
+                assert_eq!(*first.get_or_insert(stats), stats, "{model}");
+            }
+        }
+    }
+}

@@ -68,7 +68,8 @@ impl Group<'_> {
 struct Thread {
     bits: Vec<u32>,
     stack: Vec<StackSlot>,
-    left: Vec<Pending>,
+    /// What each part it searched left to the whole frame, by the part's number.
+    left: Vec<(usize, Vec<Pending>)>,
     walk: bool,
     stats: FrameStats,
     /// A part could not be searched (never: its storage fits the hierarchy).
@@ -87,22 +88,24 @@ impl Thread {
         }
     }
 
-    /// Searches the roots `lo..hi` of `tree` in `view`, adding to this thread's bits and
-    /// figures.
-    fn search(mut self, tree: Hierarchy<'_>, view: &View, (lo, hi): Part) -> Thread {
+    /// Searches part `number`, the roots `lo..hi` of `tree`, in `view`, adding to this
+    /// thread's bits and figures.
+    fn search(mut self, tree: Hierarchy<'_>, view: &View, number: usize, (lo, hi): Part) -> Thread {
         let Ok(mut part) = Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut [])
         else {
             self.failed = true;
             return self;
         };
+        let mut left = Vec::new();
         part.group = Some(Group {
             lo,
             hi,
-            left: &mut self.left,
+            left: &mut left,
             walk: false,
         });
         let stats = part.select(view);
         let walk = part.group.take().is_some_and(|g| g.walk);
+        self.left.push((number, left));
         self.walk |= walk;
         add(&mut self.stats, &stats);
         self
@@ -146,10 +149,13 @@ impl Tessellator<'_, '_> {
         let next = AtomicUsize::new(0);
         let threads: Vec<Thread> = rayon::broadcast(|_| {
             let mut thread = Thread::new(words);
-            while let Some(&group) = parts.get(next.fetch_add(1, Ordering::Relaxed)) {
-                thread = thread.search(tree, view, group);
+            loop {
+                let number = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&part) = parts.get(number) else {
+                    return thread;
+                };
+                thread = thread.search(tree, view, number, part);
             }
-            thread
         });
         if threads.iter().any(|t| t.failed) {
             return self.update(view); // (never: the parts' storage fits the hierarchy)
@@ -175,8 +181,13 @@ impl Tessellator<'_, '_> {
             }
             add(&mut self.stats, &t.stats);
         }
-        for t in threads {
-            for h in &t.left {
+        // What the parts left, in the parts' order whichever thread searched them: the mesh
+        // is the same in any order, and so the figures do not depend on the threads either
+        // (`refined` counts a vertex asked for again).
+        let mut left: Vec<&(usize, Vec<Pending>)> = threads.iter().flat_map(|t| &t.left).collect();
+        left.sort_unstable_by_key(|(number, _)| *number);
+        for (_, part) in left {
+            for h in part {
                 if self.is_split(h) {
                     self.halve_across(h);
                 } else {
