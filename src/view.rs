@@ -100,6 +100,9 @@ pub struct Camera {
     /// `sqrt(1 + s²)` for both slopes (perspective; 1 orthographic): the length of a side
     /// plane's normal `(1, -s)`, by which a distance beyond it is divided.
     side_norm: [f32; 2],
+    /// At least `sqrt(1 + s_x² + s_y²)`: the length of the ray `(s_x, s_y, 1)` to a corner of
+    /// the view (perspective; 1 orthographic).
+    corner_ray: f32,
 }
 
 impl Camera {
@@ -238,6 +241,7 @@ impl Camera {
                 Projection::Perspective { .. } => slope.map(|s| sqrt(1.0 + s * s)),
                 Projection::Orthographic { .. } => [1.0; 2],
             },
+            corner_ray: crate::math::sqrt_above(1.0 + slope[0] * slope[0] + slope[1] * slope[1]),
         })
     }
 
@@ -280,6 +284,12 @@ impl Camera {
     /// normals `(1, -s)` by which a distance beyond them is divided.
     pub(crate) fn side_planes(&self) -> ([f32; 2], [f32; 2]) {
         (self.slope, self.side_norm)
+    }
+
+    /// At least the length of the ray `(s_x, s_y, 1)` through a corner of the view, the
+    /// slopes of [`side_planes`](Self::side_planes) (perspective; 1 orthographic).
+    pub(crate) fn corner_ray(&self) -> f32 {
+        self.corner_ray
     }
 
     /// Direction `d` in view coordinates (rotation only).

@@ -59,9 +59,18 @@
 //! w n_x / z_f`, likewise `T_y`. With `φ(τ, e_k) <= |e_k| √(1 + |τ|²)`, `|e_k| <= big`,
 //! `m = big + r` and `spread <= P = 1 + T_x + T_y`, each vertex's term is at most
 //! `m (S + 2 η P / (z_f - η) + 16 ε P)` with `S = √(1 + T_x² + T_y²)`, and `z_min >=
-//! max(near, z_f - m - η)`. So [`isotropic_bound_on_screen`] is at least the bound above,
-//! from the corners and `m` alone: where it is already within a tolerance, the vectors need
-//! not be looked at.
+//! max(near, z_f - m - η)`. Every depth divided by here, `z_f`, `z_f - η` and `z_min`, is at
+//! least `z_ℓ = min(z_f - η, max(near, z_f - m - η))`, so with `a = w (n_x + n_y) / z_ℓ`:
+//! `T_x + T_y <= s_x + s_y + a`, `P <= 1 + s_x + s_y + a`, and by the triangle inequality
+//! `S = |(1, s_x, s_y) + (0, T_x - s_x, T_y - s_y)| <= √(1 + s_x² + s_y²) + a` (the first
+//! term the camera's, found once). Each vertex's term is then at most
+//! `m (√(1 + s_x² + s_y²) + a + 2 η (1 + s_x + s_y + a) / z_ℓ + 16 ε (1 + s_x + s_y + a))`,
+//! and the bound at most `f / z_ℓ` times that: one division, every term a sum of
+//! nonnegative ones, so its roundings are relative ones, which the screen's slack covers as
+//! for the bound above. That is [`isotropic_bound_on_screen`], from the corners and `m`
+//! alone: where it is already within a tolerance, the vectors need not be looked at. (Its
+//! looseness over `S` and the three depths is `a`, about `m / z` of the view: a thousandth
+//! of it at a pixel's tolerance on a screen a thousand pixels wide.)
 //!
 //! `host-tests/tests/screen_bound.rs` checks this bound against the deviation measured on
 //! screen in `f64` by dense sampling and reports how tight it is.
@@ -318,11 +327,21 @@ pub(crate) fn isotropic_from(camera: &Camera, z_corner: f32, size: f32, m: f32, 
     }
     let ([sx, sy], [nx, ny]) = camera.side_planes();
     let w = m + eta;
-    let (tx, ty) = (sx + w * nx / z_f, sy + w * ny / z_f);
-    let spread = 1.0 + tx + ty;
-    let s = crate::math::sqrt_above(1.0 + tx * tx + ty * ty);
-    let g = m * (s + 2.0 * eta * spread / z + 16.0 * EPS * spread);
-    on_screen(camera, z_f, m, eta, g)
+    // One division: every depth the bound divides by is at least `z_least` (see the module
+    // docs), and `T_x + T_y - s_x - s_y` at most `reach`.
+    let z_min = max(camera.near(), z_f - m - eta);
+    let z_least = min(z, z_min);
+    let over = 1.0 / z_least;
+    let reach = w * (nx + ny) * over;
+    let spread = 1.0 + sx + sy + reach;
+    let s = camera.corner_ray() + reach;
+    let g = m * (s + 2.0 * eta * spread * over + 16.0 * EPS * spread);
+    let bound = camera.focal() * over * g * SCREEN_SLACK;
+    if bound.is_nan() {
+        f32::INFINITY
+    } else {
+        bound
+    }
 }
 
 #[cfg(test)]
