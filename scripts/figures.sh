@@ -34,7 +34,7 @@ machine="$cpu, $(nproc) cores, $(free -g | awk '/^Mem:/ {print $2}') GiB; $(rust
 today=$(date -u +%Y-%m-%d)
 
 step "builds"
-cargo build -q --release -p host-tests --example eval_speed --example error_figures --example oracle_saturated --example bintree_figures --example orbit_changes --example frame_loop --example hierarchy_limits
+cargo build -q --release -p host-tests --example eval_speed --example error_figures --example oracle_saturated --example bintree_figures --example orbit_changes --example frame_loop --example host_call --example hierarchy_limits
 mkdir -p target/glu
 cc -O2 -o target/glu/glu_peer host-tests/glu/glu_peer.c -lGLU -lGL
 cargo build -q --release --example teapot
@@ -77,6 +77,10 @@ else
 fi
 cargo run -q --release -p host-tests --example orbit_changes >"$out/orbit_changes.md"
 cargo run -q --release -p host-tests --example frame_loop >"$out/frame_loop.txt"
+{
+    echo "eye (6,-6,4):        $(cargo run -q --release -p host-tests --example host_call)"
+    echo "eye (2.2,-1.5,2.6):  $(EYE=2.2,-1.5,2.6 cargo run -q --release -p host-tests --example host_call)"
+} >"$out/host_call.txt"
 TABLE=1 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example frame_loop >"$out/frame_table_1e-3.md"
 TABLE=1 BAKE_REL=2.5e-4 GLU_PEER=target/glu/glu_peer cargo run -q --release -p host-tests --example frame_loop >"$out/frame_table_2.5e-4.md"
 step "where a cold frame's time goes (perf)"
@@ -172,9 +176,9 @@ x n* over the other. *Over* counts triangles above the tolerance; *bound / true*
 each triangle's bound in model units over its measured deviation (at least 1 is the soundness
 claim); *off screen* counts the written triangles with no sample on screen; *full ms* is a
 frame of a new tessellator over the hierarchy with its links (`Hierarchy::with_links`, as
-`host::Baked` reads it), update and indexed write, best of eleven, and *all cores ms* the same
-with the update spread over the machine's cores (`Tessellator::update_parallel`, the same
-mesh); GLU's time is its tessellation alone, best of five, and *full / GLU*, *all cores / GLU*
+`host::Baked` reads it), update and indexed write, best of eleven or of as many as take a
+tenth of a second, and *all cores ms* the same with the update spread over the machine's
+cores (`Tessellator::update_parallel`, the same mesh); GLU's time is its tessellation alone, best of five, and *full / GLU*, *all cores / GLU*
 divide by it. Times vary 10-30% from run to run on this machine (GLU's too).
 
 {read("error_1e-3.md")}
@@ -251,6 +255,15 @@ a new tessellator on the same storage):
 {read("frame_loop.txt")}
 ```
 
+The one call a host program makes, `host::Baked::tessellate` (it sizes and allocates its
+storage, searches on all cores, and writes the mesh with a face per triangle): `cargo run
+--release -p host-tests --example host_call` (the teapot at `host::BAKE`, 1024x768, 1 px, best
+of 200 calls; `EYE=2.2,-1.5,2.6` for the close-up, which goes below the bake):
+
+```text
+{read("host_call.txt")}
+```
+
 Where a cold frame's time goes: `scripts/frame_profile.sh` (`perf record` of 2,000 such
 frames, by function, inlined code counted in its caller, the bake's functions left out):
 
@@ -261,7 +274,7 @@ run --release -p host-tests --example frame_loop` (`BAKE_REL` for the bake; see 
 docs for what each column times). A frame is an update and an indexed write; GLU's is its
 tessellation alone, at its nominal tolerance (it is not sound: see the error table). *Cold ms,
 all cores* searches on this machine's two cores (`Tessellator::update_parallel`: parts of the
-patches on threads of their own, then the whole frame across their borders; the same mesh),
+roots on threads of their own, then the whole frame across their borders; the same mesh),
 which pays where a frame stays within the bake; below it (the close-up) the refinement stays
 on one thread, and a small frame pays more for its threads than it saves. Without
 reuse a tessellator keeps no work from one view to the next but for a view equal to the last
