@@ -3,9 +3,9 @@
 //!
 //! # How
 //!
-//! The roots (the triangles of each patch's cells) are cut into parts: runs of roots in
-//! order, of whole patches where there are enough of them, or of the roots of one patch where
-//! they are few. There are more parts than threads so that the threads' work evens out: each
+//! The roots (the triangles of each patch's cells) are cut into parts: runs of whole
+//! patches, and runs of one patch's roots where a patch has more roots than a part takes (a
+//! model of few patches). There are more parts than threads so that the threads' work evens out: each
 //! of rayon's threads, with storage of its own, searches the next part none has taken until
 //! none is left. A part is searched as if its roots were the whole model: where they meet
 //! another part's roots (a curve to a patch of another part, or a cell's side or diagonal) is
@@ -252,25 +252,36 @@ impl Tessellator<'_, '_> {
     }
 }
 
-/// The parts of a frame's search: runs of roots in order, about as many in each, at most
-/// `count` of them.
+/// The parts of a frame's search, about `count` of them with about as many roots each: runs
+/// of whole patches, and a patch with more roots than a part takes cut into runs of its own.
 fn parts(t: &Tessellator<'_, '_>, count: usize) -> Vec<Part> {
     let tree = t.tree;
     let patches = tree.patch_count() as u32;
     let roots: usize = (0..patches).map(|p| tree.root_count(p)).sum();
-    let each = roots.div_ceil(count.max(1)).max(1);
+    let each = roots.div_ceil(count.max(1)).max(1) as u32;
     let mut out = Vec::new();
     let (mut lo, mut taken) = ((0, 0), 0);
     for p in 0..patches {
         let n = tree.root_count(p) as u32;
-        for k in 0..n {
-            taken += 1;
-            let next = if k + 1 == n { (p + 1, 0) } else { (p, k + 1) };
-            if taken >= each || next == (patches, 0) {
-                out.push((lo, next));
-                (lo, taken) = (next, 0);
+        if n > each {
+            if taken > 0 {
+                out.push((lo, (p, 0)));
             }
+            for k in (0..n).step_by(each as usize) {
+                let end = k + each;
+                out.push(((p, k), if end >= n { (p + 1, 0) } else { (p, end) }));
+            }
+            (lo, taken) = ((p + 1, 0), 0);
+            continue;
         }
+        taken += n;
+        if taken >= each {
+            out.push((lo, (p + 1, 0)));
+            (lo, taken) = ((p + 1, 0), 0);
+        }
+    }
+    if taken > 0 {
+        out.push((lo, (patches, 0)));
     }
     out
 }

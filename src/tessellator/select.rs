@@ -897,7 +897,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         let mate = halving
             .and_then(|_| tree.linked(h.node))
             .and_then(|l| tree.linked(l.mate));
-        // (Across a curve to a patch outside a part of a frame: the whole frame's.)
+        // (Across a part of a frame's border, to another part's root: the whole frame's.)
         let mut leave = false;
         if let Some(m) = mate {
             if !self.holds(&m.place.tri) {
