@@ -68,6 +68,12 @@ def function_addresses(name):
             if name in line and line.split()[1] in "tTwW"}
 
 
+def builtin(symbol):
+    """Whether `symbol` is a compiler builtin or `libm`'s."""
+    return (symbol.startswith("__") or "compiler_builtins" in symbol
+            or "4libm4math" in symbol)
+
+
 def main():
     # Quiet when piped into `head`.
     import signal
@@ -87,6 +93,10 @@ def main():
     seen, inside = 0, False
     entries = function_addresses(start)
     charged = collections.Counter()
+    # Each builtin (soft floating point, 64-bit products, divisions, `libm`) charged to the
+    # function that ran last before it: its caller, but for builtins called from builtins.
+    with_builtins = collections.Counter()
+    caller = None
     for line in qemu.stderr:
         if line.startswith("Trace"):
             fields = line.split("[", 1)[1].split("/")
@@ -102,6 +112,9 @@ def main():
                 break
             if inside:
                 charged[symbol] += sizes.get(pc, 1)
+                if not builtin(symbol):
+                    caller = symbol
+                with_builtins[caller or symbol] += sizes.get(pc, 1)
                 if blocks_of and blocks_of in symbol:
                     by_block[pc] += sizes.get(pc, 1)
         elif line.startswith("0x"):
@@ -129,6 +142,9 @@ def main():
         print(f"{n:>10} {100 * n / total:5.1f}%  {name}")
     print("\nby function:")
     for symbol, n in charged.most_common(25):
+        print(f"{n:>10} {100 * n / total:5.1f}%  {symbol[:120]}")
+    print("\nby function, with the builtins it calls:")
+    for symbol, n in with_builtins.most_common(25):
         print(f"{n:>10} {100 * n / total:5.1f}%  {symbol[:120]}")
     if blocks_of:
         print(f"\nblocks of *{blocks_of}* (objdump -d the ELF at these addresses):")

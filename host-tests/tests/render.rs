@@ -932,3 +932,128 @@ fn band_buffer_errors_are_typed() {
         .unwrap_err();
     assert_eq!((e, pushes), (RenderError::Target("dma"), 3));
 }
+
+/// A source that draws both sides of every triangle: the tessellator it wraps, but never
+/// [`one_sided`](TriangleSource::one_sided).
+struct TwoSided<'a, 'b, 'c>(&'a spline_tess::Tessellator<'b, 'c>);
+
+impl TriangleSource for TwoSided<'_, '_, '_> {
+    fn bound(&self) -> Option<BoundingSphere> {
+        self.0.bound()
+    }
+
+    fn stream_rows(
+        &self,
+        camera: &Camera,
+        rows: std::ops::Range<u32>,
+        sink: &mut impl spline_tess::TriangleSink,
+    ) {
+        self.0.stream_rows(camera, rows, sink);
+    }
+
+    fn vertex_numbers(&self) -> Option<usize> {
+        self.0.vertex_numbers()
+    }
+}
+
+/// A closed model seen from outside (the rational torus: every patch has a cone) is drawn
+/// from the triangles that face the eye alone, and the pixels are those of drawing both
+/// sides, streamed and listed, at every view: the triangles left out were all behind others.
+/// With the eye inside the model's sphere nothing is left out; the teapot (open: no cones)
+/// leaves nothing out.
+#[test]
+fn a_closed_model_draws_only_what_faces_the_eye_and_the_same_pixels() {
+    let path = models_dir().join("nurbs/rational_torus.json");
+    let file = ModelFile::read(path.to_str().unwrap()).unwrap();
+    let baked = BakedHierarchy::bake(&file, &BAKE).unwrap();
+    let tree = baked.tree();
+    let mut storage = VecStorage::new(&tree, 1 << 12, 1 << 14);
+    let mut tess = storage.tessellator(tree);
+    let (w, h) = (160u32, 120u32);
+    let sphere = file
+        .with_model(|m| BoundingSphere::of_points(m.patches.points()).unwrap())
+        .unwrap();
+    let (c, r) = (sphere.center, sphere.radius);
+    // Around, above, grazing, close, and one with the eye inside the sphere.
+    let eyes = [
+        c + Vec3::new(1.4, -1.8, 1.0) * r,
+        c + Vec3::new(-2.2, 0.4, 0.2) * r,
+        c + Vec3::new(0.1, 0.2, 2.2) * r,
+        c + Vec3::new(1.1, -0.9, 0.3) * r,
+        c + Vec3::new(0.3, -0.4, 0.2) * r,
+    ];
+    let style = Style {
+        wireframe: Some(Wireframe {
+            color: Rgb888::BLACK,
+            half_width: 0.4,
+        }),
+        ..Style::default()
+    };
+    for (k, eye) in eyes.iter().enumerate() {
+        let camera = Camera::new(
+            *eye,
+            c,
+            Vec3::Z,
+            Projection::Perspective {
+                fov_y_degrees: 50.0,
+            },
+            0.01 * r,
+            [w, h],
+        )
+        .unwrap();
+        tess.update(&View::Screen {
+            camera,
+            tolerance_px: 1.0,
+        })
+        .unwrap();
+        let inside = (eye - c).length() < r;
+        let mut depth = vec![0u16; (w * 16) as usize];
+        let mut both = Counting::new(w, h);
+        let drawn_both = Renderer::new(&mut depth)
+            .draw(&TwoSided(&tess), &camera, &style, &mut both)
+            .unwrap();
+        assert_eq!(drawn_both.culled, 0);
+        let mut fronts = Counting::new(w, h);
+        let drawn = Renderer::new(&mut depth)
+            .draw(&tess, &camera, &style, &mut fronts)
+            .unwrap();
+        let covered = both.hits.iter().filter(|&&n| n > 0).count();
+        assert!(covered > 1000, "view {k}: {covered} pixels");
+        assert_eq!(fronts.color, both.color, "view {k}: the same pixels");
+        if inside {
+            assert_eq!(drawn.culled, 0, "view {k}: the eye inside culls nothing");
+        } else {
+            // About half the triangles face away.
+            assert!(
+                drawn.culled * 3 > drawn.triangles,
+                "view {k}: {} of {} left out",
+                drawn.culled,
+                drawn.triangles
+            );
+            assert!(drawn.pixels < drawn_both.pixels, "view {k}");
+        }
+        // Listed: the list leaves them out too, and draws the same.
+        let mut list = vec![ListSlot::default(); 4000];
+        let mut colors = vec![Rgb888::BLACK; (w * 16) as usize];
+        let mut target = Windows {
+            counting: Counting::new(w, h),
+            windows: Vec::new(),
+        };
+        let listed = Renderer::with_triangle_list(&mut depth, &mut list)
+            .draw_bands(&tess, &camera, &style, &mut colors, &mut target)
+            .unwrap();
+        assert_eq!(listed.passes, 1, "view {k}: the list holds the frame");
+        assert_eq!(listed.culled > 0, !inside, "view {k}");
+        let bg = Rgb888::BLACK;
+        let want: Vec<Rgb888> = both.color.iter().map(|c| c.unwrap_or(bg)).collect();
+        let got: Vec<Rgb888> = target.counting.color.iter().map(|c| c.unwrap()).collect();
+        assert_eq!(got, want, "view {k}: listed");
+    }
+    // The teapot is open: nothing of it is one-sided.
+    let (_, teapot) = teapot();
+    let tree = teapot.tree();
+    let mut storage = VecStorage::new(&tree, 1 << 12, 0);
+    let tess = storage.tessellator(tree);
+    let camera = camera(EYES[0], [w, h]);
+    assert!((0..tree.patch_count() as u32).all(|p| !tess.one_sided(&camera, p)));
+}

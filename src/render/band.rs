@@ -12,7 +12,7 @@ use embedded_graphics::primitives::Rectangle;
 use super::clip::ClipVertex;
 use super::list::{for_each_listed, ListSlot, SubpixelRows};
 use super::project::{CornerCache, Setup};
-use super::raster::{BandScan, Scan, Snapped, Triangle};
+use super::raster::{faces_away, BandScan, Scan, Snapped, Triangle};
 use super::walk::{draw_span, SpanWalk};
 use super::{RenderStats, Style};
 use crate::sink::{TriangleSink, Vertex};
@@ -437,6 +437,10 @@ pub(super) struct Band<'a, 'b, O: BandOutput> {
     pub stats: &'b mut RenderStats,
     /// Corners in view space by key.
     pub corners: &'b mut CornerCache,
+    /// Whether a patch's triangles that face away are left out (the source's
+    /// [`one_sided`](super::TriangleSource::one_sided)), and the last patch asked about.
+    pub one_sided: &'a dyn Fn(u32) -> bool,
+    pub patch: Option<(u32, bool)>,
 }
 
 impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
@@ -444,17 +448,17 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
         false
     }
 
-    fn triangle(&mut self, _patch: u32, corners: [&Vertex; 3]) {
+    fn triangle(&mut self, patch: u32, corners: [&Vertex; 3]) {
         if self.error.is_some() {
             return;
         }
         let (corners, inside) = self.setup.corners(corners);
-        self.draw(corners, inside);
+        self.draw(patch, corners, inside);
     }
 
     fn keyed_triangle(
         &mut self,
-        _patch: u32,
+        patch: u32,
         keys: [u64; 3],
         corner: &mut dyn FnMut(usize) -> Vertex,
     ) {
@@ -462,19 +466,32 @@ impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
             return;
         }
         let (corners, inside) = self.corners.corners(self.setup, keys, corner);
-        self.draw(corners, inside);
+        self.draw(patch, corners, inside);
     }
 }
 
 impl<O: BandOutput> Band<'_, '_, O> {
-    /// Projects and draws one triangle, its corners in view space (`inside`: all inside the
-    /// clip planes).
-    fn draw(&mut self, corners: [ClipVertex; 3], inside: bool) {
+    /// Projects and draws one triangle of patch `patch`, its corners in view space
+    /// (`inside`: all inside the clip planes).
+    fn draw(&mut self, patch: u32, corners: [ClipVertex; 3], inside: bool) {
         self.stats.triangles += 1;
+        let cull = match self.patch {
+            Some((p, cull)) if p == patch => cull,
+            _ => {
+                let cull = (self.one_sided)(patch);
+                self.patch = Some((patch, cull));
+                cull
+            }
+        };
         let setup = self.setup;
         setup.project(corners, inside, |v, wire| {
             if let Some(snapped) = Snapped::new(v, wire) {
-                self.rasterise(&snapped);
+                if cull && faces_away(snapped.x, snapped.y) {
+                    // Behind a triangle that faces the eye.
+                    self.stats.culled += 1;
+                } else {
+                    self.rasterise(&snapped);
+                }
             }
         });
     }

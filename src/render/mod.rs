@@ -174,6 +174,9 @@ pub struct RenderStats {
     /// Screen triangles kept in the triangle list (0 when there was none). When the list
     /// holds only part of the frame, the rest is streamed band by band (`passes` counts them).
     pub listed: u32,
+    /// Screen triangles left out for facing away from the eye, on a source's one-sided
+    /// patches ([`TriangleSource::one_sided`]), summed over the passes.
+    pub culled: u32,
     /// Slots of the triangle list they take, theirs and their corners' (see [`ListSlot`]).
     pub list_slots: u32,
     /// Triangle pixels that passed the depth test (a pixel nearer than an earlier one counts
@@ -488,6 +491,7 @@ impl<'d> Renderer<'d> {
         let setup = Setup::new(camera, source.bound(), style);
         // One cache of corners in view space, for the list's pass and then each band's.
         let mut corners = CornerCache::new();
+        let one_sided = |patch| source.one_sided(camera, patch);
         // One pass into the list, when there is one: `Some((n, resume))` when it holds the
         // frame's first `n` triangles, all of them unless patches from `resume` on are left.
         let mut listed = None;
@@ -497,6 +501,7 @@ impl<'d> Renderer<'d> {
             let filled = list::fill(&setup, self.list, &mut corners, self.map, source, rows);
             stats.passes += 1;
             stats.triangles += filled.handed;
+            stats.culled += filled.culled;
             if let Some(held) = filled.listed {
                 listed = Some(held);
                 stats.listed = filled.triangles;
@@ -525,6 +530,8 @@ impl<'d> Renderer<'d> {
                 error: None,
                 stats: &mut stats,
                 corners: &mut corners,
+                one_sided: &one_sided,
+                patch: None,
             };
             let rows = top as u32..bottom as u32;
             match listed {

@@ -31,6 +31,19 @@ pub trait TriangleSource {
     fn vertex_numbers(&self) -> Option<usize> {
         None
     }
+
+    /// Whether patch `patch`'s triangles may be left out where they face away from `camera`
+    /// (the source hands a triangle's corners counter-clockwise seen from the surface's
+    /// outside; one that faces away shows them clockwise on screen): true only where every
+    /// pixel such a triangle covers is covered nearer by one that faces the eye, as on a
+    /// closed surface seen from outside. The renderer then leaves those triangles out ([`RenderStats::culled`]), and
+    /// draws the same pixels. The default, `false`: every triangle is drawn.
+    ///
+    /// [`RenderStats::culled`]: super::RenderStats::culled
+    fn one_sided(&self, camera: &Camera, patch: u32) -> bool {
+        let _ = (camera, patch);
+        false
+    }
 }
 
 /// The current frame of a bisection run time ([`Tessellator`]), streamed without a mesh buffer:
@@ -55,6 +68,11 @@ impl TriangleSource for Tessellator<'_, '_> {
     /// The bake's vertices and the pool's ([`Tessellator::remap_len`]).
     fn vertex_numbers(&self) -> Option<usize> {
         Some(self.remap_len())
+    }
+
+    /// The patches of a closed model, seen from outside ([`Tessellator::one_sided`]).
+    fn one_sided(&self, camera: &Camera, patch: u32) -> bool {
+        Tessellator::one_sided(self, camera, patch)
     }
 }
 

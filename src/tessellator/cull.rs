@@ -20,7 +20,7 @@ use super::select::Tessellator;
 use crate::bound::BoundingSphere;
 use crate::facing::NormalCone;
 use crate::tessellator::Hierarchy;
-use crate::view::{Projection, View};
+use crate::view::{Camera, Projection, View};
 
 impl Hierarchy<'_> {
     /// Patch `p`'s outward normal cone, if the bake recorded one.
@@ -41,12 +41,10 @@ impl Hierarchy<'_> {
 impl Tessellator<'_, '_> {
     /// Sets the culled bit of every patch that faces away in `view`.
     pub(super) fn cull(&mut self, view: &View) {
-        let (Some(model), View::Screen { camera, .. }) = (self.sphere, view) else {
+        let View::Screen { camera, .. } = view else {
             return;
         };
-        let depth = (model.center - camera.eye()).dot(camera.forward());
-        // Beyond the near plane, NaN counting as not.
-        if depth - model.radius <= camera.near() || depth.is_nan() {
+        if !self.seen_from_outside(camera) {
             return;
         }
         let culled = self.layout().culled;
@@ -69,6 +67,26 @@ impl Tessellator<'_, '_> {
                 set(&mut self.bits[culled..], p as u32);
             }
         }
+    }
+
+    /// Whether `camera` sees the model's closed parts from outside, with no plane cutting
+    /// them open: the model has a cone somewhere, and its sphere lies wholly beyond the near
+    /// plane (see the module docs).
+    fn seen_from_outside(&self, camera: &Camera) -> bool {
+        let Some(model) = self.sphere else {
+            return false;
+        };
+        let depth = (model.center - camera.eye()).dot(camera.forward());
+        // Beyond the near plane, NaN counting as not.
+        depth - model.radius > camera.near()
+    }
+
+    /// Whether patch `p`'s triangles show `camera` their outside only where they face it:
+    /// `p` is part of a closed model, seen from outside (see the module docs). Then a
+    /// triangle that faces away is behind one that faces the eye, and a renderer may leave
+    /// it out (the renderer's `TriangleSource::one_sided`).
+    pub fn one_sided(&self, camera: &Camera, p: u32) -> bool {
+        self.seen_from_outside(camera) && self.tree.cone(p as usize).is_some()
     }
 
     /// Whether patch `p` is culled in the current frame for facing away from the eye (see

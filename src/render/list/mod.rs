@@ -56,6 +56,11 @@ impl ListSlot {
         ListSlot([x as u16, y as u16, depth, shade as u16])
     }
 
+    /// A corner slot's `x`, in subpixels.
+    fn x(&self) -> i16 {
+        self.0[0] as i16
+    }
+
     /// A corner slot's `y`, in subpixels.
     fn y(&self) -> i16 {
         self.0[1] as i16

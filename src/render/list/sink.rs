@@ -6,7 +6,7 @@ use crate::render::clip::ClipVertex;
 use crate::render::project::{
     depth_to_u16, quantize_shade, shade_to_u8, CachedCorners, CornerCache, Setup, CORNER_CACHE,
 };
-use crate::render::raster::{snap_checked, ScreenVertex};
+use crate::render::raster::{faces_away, snap_checked, ScreenVertex};
 use crate::render::{Shading, TriangleSource};
 use crate::sink::{TriangleSink, Vertex};
 
@@ -72,6 +72,12 @@ pub(in crate::render) struct ListSink<'a, 'b, 'c> {
     /// [`Renderer::with_vertex_map`](crate::render::Renderer::with_vertex_map)), or [`NO_SLOT`];
     /// empty when the source's keys are not vertex numbers this map holds.
     map: &'c mut [u16],
+    /// Whether a patch's triangles that face away are left out (the source's
+    /// [`one_sided`](TriangleSource::one_sided)), and whether the current patch's are.
+    one_sided: &'a dyn Fn(u32) -> bool,
+    cull: bool,
+    /// Triangles left out for facing away.
+    pub culled: u32,
 }
 
 impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
@@ -80,6 +86,7 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
         list: &'b mut [ListSlot],
         corners: &'c mut CornerCache,
         map: &'c mut [u16],
+        one_sided: &'a dyn Fn(u32) -> bool,
     ) -> Self {
         let end = list.len().min(MAX_SLOTS);
         ListSink {
@@ -99,6 +106,9 @@ impl<'a, 'b, 'c> ListSink<'a, 'b, 'c> {
             values: [ListSlot::default(); CORNER_CACHE],
             projected: 0,
             map,
+            one_sided,
+            cull: false,
+            culled: 0,
         }
     }
 }
@@ -198,6 +208,7 @@ impl ListSink<'_, '_, '_> {
 
     /// Adds a triangle of corner values `values` (of vertex map entries `vertices`, when
     /// known); false when it does not fit (nothing is added then).
+    #[inline(always)]
     fn push_values(
         &mut self,
         values: [ListSlot; 3],
@@ -206,6 +217,11 @@ impl ListSink<'_, '_, '_> {
         vertices: Option<[usize; 3]>,
     ) -> bool {
         let y = values.map(|v| v.y());
+        if self.cull && faces_away(values.map(|v| v.x().into()), y.map(i32::from)) {
+            // Behind a triangle that faces the eye: nothing to list, and nothing lost.
+            self.culled += 1;
+            return true;
+        }
         // A corner out of the open group's window closes it: the next group's window starts
         // at the free slots.
         match self.try_push(values, y, wire, level, vertices) {
@@ -381,6 +397,7 @@ impl ListSink<'_, '_, '_> {
             // A patch starts a group of its own, so that a cut at its start cuts no group.
             self.group = None;
             self.current = Some((patch, self.len, self.top, self.listed));
+            self.cull = (self.one_sided)(patch);
         }
     }
 
@@ -450,6 +467,8 @@ pub(in crate::render) struct Filled {
     pub listed: Option<(usize, Option<u32>)>,
     /// Triangles listed.
     pub triangles: u32,
+    /// Triangles left out for facing away.
+    pub culled: u32,
     /// Slots in use.
     pub slots: u32,
 }
@@ -471,12 +490,14 @@ pub(in crate::render) fn fill<S: TriangleSource>(
         _ => &mut [],
     };
     map.fill(NO_SLOT);
-    let mut sink = ListSink::new(setup, list, corners, map);
+    let one_sided = |patch| source.one_sided(setup.camera, patch);
+    let mut sink = ListSink::new(setup, list, corners, map, &one_sided);
     source.stream_rows(setup.camera, rows, &mut sink);
     Filled {
         handed: sink.handed,
         listed: (!sink.overflow).then_some((sink.len, sink.resume)),
         triangles: sink.listed,
+        culled: sink.culled,
         slots: sink.used() as u32,
     }
 }
@@ -550,7 +571,7 @@ mod tests {
         let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
         // A group header, one slot of two triangles and their three shared corners.
         let mut list = [ListSlot::default(); 5];
-        let mut sink = ListSink::new(&setup, &mut list, &mut corners, &mut []);
+        let mut sink = ListSink::new(&setup, &mut list, &mut corners, &mut [], &|_| false);
         assert!(sink.push(&t, [false; 3]));
         assert!(sink.push(&t, [false; 3]));
         assert_eq!((sink.len, sink.used()), (2, 5));
@@ -583,7 +604,7 @@ mod tests {
             [v(16.0, 16.0), v(a, 1.0), v(a + 0.0625, 30.0)]
         };
         let mut list = [ListSlot::default(); 1024];
-        let mut sink = ListSink::new(&setup, &mut list, &mut corners, &mut []);
+        let mut sink = ListSink::new(&setup, &mut list, &mut corners, &mut [], &|_| false);
         for k in 0..200 {
             assert!(sink.push(&fan(k), [false; 3]), "{k}");
         }

@@ -85,6 +85,16 @@ impl EdgeInt for i64 {
     }
 }
 
+/// Whether a triangle of corners `x`, `y` (subpixels, x right, y down), in the order a source
+/// hands them (see [`TriangleSource::one_sided`](crate::render::TriangleSource::one_sided)),
+/// faces away from the eye: its doubled area as [`counter_clockwise`] finds it is above 0
+/// (the corners run clockwise as the screen shows them). (In `i64`: corners anywhere in `i32`.)
+#[inline]
+pub(in crate::render) fn faces_away(x: [i32; 3], y: [i32; 3]) -> bool {
+    let [x, y] = [x, y].map(|c| c.map(i64::from));
+    (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]) > 0
+}
+
 /// Puts a triangle's corners counter-clockwise on screen (x right, y down: the doubled area
 /// below positive), swapping corners 1 and 2, and their attributes with them, when they are
 /// not; the doubled area, 0 for a triangle with none.

@@ -15,6 +15,7 @@ use core::ops::Range;
 mod edge;
 mod scan;
 
+pub(super) use edge::faces_away;
 pub(super) use scan::{BandScan, Scan};
 
 use super::walk::FixedRamp;
