@@ -96,6 +96,7 @@ def main():
     # Each builtin (soft floating point, 64-bit products, divisions, `libm`) charged to the
     # function that ran last before it: its caller, but for builtins called from builtins.
     with_builtins = collections.Counter()
+    pairs = collections.Counter()
     caller = None
     for line in qemu.stderr:
         if line.startswith("Trace"):
@@ -115,6 +116,8 @@ def main():
                 if not builtin(symbol):
                     caller = symbol
                 with_builtins[caller or symbol] += sizes.get(pc, 1)
+                if builtin(symbol) and caller:
+                    pairs[(caller, symbol)] += sizes.get(pc, 1)
                 if blocks_of and blocks_of in symbol:
                     by_block[pc] += sizes.get(pc, 1)
         elif line.startswith("0x"):
@@ -146,6 +149,9 @@ def main():
     print("\nby function, with the builtins it calls:")
     for symbol, n in with_builtins.most_common(25):
         print(f"{n:>10} {100 * n / total:5.1f}%  {symbol[:120]}")
+    print("\nbuiltins by caller:")
+    for (c, b), n in pairs.most_common(25):
+        print(f"{n:>10} {100 * n / total:5.1f}%  {c[:60]} <- {b[:50]}")
     if blocks_of:
         print(f"\nblocks of *{blocks_of}* (objdump -d the ELF at these addresses):")
         for pc, n in by_block.most_common(int(__import__("os").environ.get("BLOCKS", "40"))):

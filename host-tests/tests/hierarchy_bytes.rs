@@ -60,6 +60,32 @@ fn bytes_give_the_records_meshes_on_every_model() {
     }
 }
 
+/// A hierarchy of more than 65,535 vertices keeps its numbers in `u32` (the vertex numbers and
+/// the patch records' numbers), and still gives the records' meshes.
+#[test]
+fn a_hierarchy_of_wide_numbers_gives_the_records_meshes() {
+    let baked = bake(&models_dir().join("teapot.bpt"), 5e-5);
+    let records = baked.tree();
+    assert!(
+        records.vertex_count() > 65_535,
+        "{}",
+        records.vertex_count()
+    );
+    let bytes = baked.encoded();
+    // Flag bit 0: wide numbers.
+    assert_eq!(bytes[6] & 1, 1);
+    let read = baked.tree_from(&bytes);
+    let mut a = VecStorage::new(&records, 256, 4096);
+    let mut b = VecStorage::new(&read, 256, 4096);
+    let (mut x, mut y) = (a.tessellator(records), b.tessellator(read));
+    for view in views(&records).into_iter().skip(1) {
+        assert_eq!(x.update(&view).unwrap(), y.update(&view).unwrap());
+        let (mx, my) = (indexed(&mut x), indexed(&mut y));
+        assert!(!mx.triangles.is_empty());
+        assert_eq!(mx, my, "meshes from records and from bytes");
+    }
+}
+
 #[test]
 fn bad_bytes_are_refused_with_what_is_wrong() {
     let baked = bake(&models_dir().join("teapot.bpt"), 2e-2);

@@ -10,8 +10,7 @@ use core::fmt;
 
 use crate::tessellator::format::{
     fnv1a, link_code, model_fingerprint, put_coordinate, Layout, BOUND_LEN, CHECKSUM_AT, FAR,
-    FAR_LEN, FNV_OFFSET, HEADER_LEN, LEAF_CODE_AT, LEAF_LEN, MAGIC, PATCH_LEN, VECTOR_BYTES,
-    VERTEX_LEN, WIDE,
+    FAR_LEN, FNV_OFFSET, HEADER_LEN, LEAF_CODE_AT, LEAF_LEN, MAGIC, VECTOR_BYTES, VERTEX_LEN, WIDE,
 };
 use crate::tessellator::quantize::{normal_code, normal_of, LogGrid, PositionGrid};
 use crate::tessellator::{
@@ -278,20 +277,18 @@ pub fn encode_hierarchy(
     let mut first_root = 0u32;
     let mut cell = 0usize;
     for (p, rec) in patches.iter().enumerate() {
-        let at = HEADER_LEN + p * PATCH_LEN;
+        let (at, width) = (HEADER_LEN + p * l.patch_len, l.number);
         w.out[at] = rec.cells[0] | rec.cells[1] << 4;
         w.out[at + 1] = u8::from(rec.flip) | rec.poles << 4;
-        for (k, link) in rec.links.iter().enumerate() {
-            w.u32(at + 2 + 4 * k, link_code(*link));
+        let numbers = rec.links.map(|link| link_code(link, width)).into_iter();
+        let numbers = numbers.chain(rec.corners.map(vnum));
+        let numbers = numbers.chain([first_root, cell as u32]);
+        for (k, n) in numbers.enumerate() {
+            w.index(at + 2 + width * k, width, n);
         }
-        for (k, &c) in rec.corners.iter().enumerate() {
-            w.u32(at + 18 + 4 * k, vnum(c));
-        }
-        w.u32(at + 34, first_root);
         first_root += crate::tessellator::address::root_count(rec.cells) as u32;
-        w.u32(at + 38, cell as u32);
         for (k, &c) in rec.cone.iter().enumerate() {
-            w.u32(at + 42 + 4 * k, c.to_bits());
+            w.u32(at + 2 + 10 * width + 4 * k, c.to_bits());
         }
         let [a, b] = rec.cells;
         if [a, b] != [0, 0] {

@@ -1,7 +1,7 @@
 //! A hierarchy's compact bytes, read in place ([`Hierarchy::from_bytes`]): what a firmware
 //! keeps in flash (`include_bytes!`), at any alignment.
 //!
-//! # Layout (version 3)
+//! # Layout (version 4)
 //!
 //! Every number is little-endian; nothing is aligned. A header of [`HEADER_LEN`] bytes:
 //!
@@ -17,10 +17,12 @@
 //!
 //! then these sections, one after the other:
 //!
-//! 1. **Patches**, [`PATCH_LEN`] bytes each: cells (`a | b << 4`), flags (bit 0 flipped,
-//!    bits 4-7 the poles), four links (`u32`: `patch << 3 | side << 1 | flip`, or
-//!    `u32::MAX`), four corner vertices, the first root's node, the first cell corner
-//!    (`u32` each), the cone (four `f32`).
+//! 1. **Patches**, [`PATCH_LEN`] bytes each, or [`NARROW_PATCH_LEN`] where every number of
+//!    theirs fits a `u16` (*narrow*: at most 65,535 vertices, 8,191 patches, 65,535 roots and
+//!    65,535 cell corners): cells (`a | b << 4`), flags (bit 0 flipped, bits 4-7 the poles),
+//!    four links (`patch << 3 | side << 1 | flip`, or all ones), four corner vertices, the
+//!    first root's node, the first cell corner (`u32` each, `u16` each narrow), the cone
+//!    (four `f32`).
 //! 2. **Cell corners**: the vertex at each cell corner of the patches with more than one
 //!    cell, `(2^a + 1)(2^b + 1)` a patch, corner `(i, j)` at `i (2^b + 1) + j`.
 //! 3. **Halvings**: a bit per node, set where the bake halves it, in `u32` words, then per
@@ -82,13 +84,16 @@ use super::Hierarchy;
 pub const MAGIC: [u8; 4] = *b"STHY";
 
 /// The format version this crate reads and writes.
-pub const FORMAT_VERSION: u16 = 3;
+pub const FORMAT_VERSION: u16 = 4;
 
 /// Bytes of the header.
 pub const HEADER_LEN: usize = LEAF_CODE_AT + 4;
 
 /// Bytes of a patch record.
 pub const PATCH_LEN: usize = 58;
+
+/// Bytes of a narrow patch record (see the [module docs](self)).
+pub const NARROW_PATCH_LEN: usize = 38;
 
 /// Bytes of a diamond's bound: six bits a vector coordinate, a byte for the scale and one for
 /// the remainder.
@@ -262,16 +267,25 @@ pub(crate) fn f32_at(b: &[u8], at: usize) -> f32 {
     f32::from_bits(u32_at(b, at))
 }
 
-/// A link as the bytes hold it.
-pub(crate) fn link_code(link: Option<SideLink>) -> u32 {
+/// A link as the bytes hold it, in a number of `width` bytes (all ones: none).
+pub(crate) fn link_code(link: Option<SideLink>, width: usize) -> u32 {
     match link {
-        None => u32::MAX,
+        None => none(width),
         Some(l) => (l.patch << 3) | ((l.side.index() as u32) << 1) | u32::from(l.flip),
     }
 }
 
-fn link_from(code: u32) -> Option<SideLink> {
-    (code != u32::MAX).then(|| SideLink {
+/// The number of `width` bytes with every bit set.
+fn none(width: usize) -> u32 {
+    if width == 2 {
+        u16::MAX as u32
+    } else {
+        u32::MAX
+    }
+}
+
+fn link_from(code: u32, width: usize) -> Option<SideLink> {
+    (code != none(width)).then(|| SideLink {
         patch: code >> 3,
         side: Side::ALL[((code >> 1) & 3) as usize],
         flip: code & 1 != 0,
@@ -294,6 +308,9 @@ pub(crate) struct Layout {
     pub own_bounds: usize,
     /// Bytes of a vertex number.
     pub index: usize,
+    /// Bytes of a number in a patch record, and of the record.
+    pub number: usize,
+    pub patch_len: usize,
     /// Bytes of a count of set bits (`u16` for at most 65,535 nodes, else `u32`).
     pub count: usize,
     pub cell_at: usize,
@@ -355,6 +372,15 @@ impl Layout {
         }
         let index = if vertices > u16::MAX as usize { 4 } else { 2 };
         let count = if nodes > u16::MAX as usize { 4 } else { 2 };
+        let narrow = index == 2
+            && patches <= 8191
+            && roots <= u16::MAX as usize
+            && cell_corners <= u16::MAX as usize;
+        let (number, patch_len) = if narrow {
+            (2, NARROW_PATCH_LEN)
+        } else {
+            (4, PATCH_LEN)
+        };
         let words = |bits: usize| bits.div_ceil(32).checked_mul(4);
         let counts = |bits: usize| bits.div_ceil(32).checked_mul(count);
         let mut at = HEADER_LEN;
@@ -363,7 +389,7 @@ impl Layout {
             at = at.checked_add(bytes?)?;
             Some(start)
         };
-        take(patches.checked_mul(PATCH_LEN))?;
+        take(patches.checked_mul(patch_len))?;
         let cell_at = take(cell_corners.checked_mul(index))?;
         let split_at = take(words(nodes))?;
         let split_count_at = take(counts(nodes))?;
@@ -389,6 +415,8 @@ impl Layout {
             leaf_exceptions,
             own_bounds,
             index,
+            number,
+            patch_len,
             count,
             cell_at,
             split_at,
@@ -491,7 +519,7 @@ impl<'a> HierarchyBytes<'a> {
             let bad_cells = cells.iter().any(|&c| c > MAX_CELL_LEVEL) || self.byte(at) & 0x88 != 0;
             let bad = bad_cells
                 || self.first_root(p) as usize != roots
-                || u32_at(self.bytes, at + 38) as usize != cell_corners
+                || self.first_cell_corner(p) as usize != cell_corners
                 || self.byte(at + 1) & 0x0e != 0
                 || (0..4).any(|k| self.corner(p, k) as usize >= l.vertices)
                 || !links_agree(l.patches, p, |q| {
@@ -616,7 +644,17 @@ impl<'a> HierarchyBytes<'a> {
     }
 
     fn patch_at(&self, p: usize) -> usize {
-        HEADER_LEN + p * PATCH_LEN
+        HEADER_LEN + p * self.layout.patch_len
+    }
+
+    /// Number `k` of patch `p`'s record (its links, then its corners, first root and first
+    /// cell corner), of the layout's width.
+    fn patch_number(&self, p: usize, k: usize) -> u32 {
+        let (width, at) = (self.layout.number, self.patch_at(p) + 2);
+        match width {
+            2 => u16_at(self.bytes, at + 2 * k) as u32,
+            _ => u32_at(self.bytes, at + 4 * k),
+        }
     }
 
     fn byte(&self, at: usize) -> u8 {
@@ -637,7 +675,7 @@ impl<'a> HierarchyBytes<'a> {
     }
 
     pub(crate) fn link(&self, p: usize, side: Side) -> Option<SideLink> {
-        link_from(u32_at(self.bytes, self.patch_at(p) + 2 + 4 * side.index()))
+        link_from(self.patch_number(p, side.index()), self.layout.number)
     }
 
     fn links(&self, p: usize) -> [Option<SideLink>; 4] {
@@ -645,15 +683,19 @@ impl<'a> HierarchyBytes<'a> {
     }
 
     pub(crate) fn corner(&self, p: usize, k: usize) -> u32 {
-        u32_at(self.bytes, self.patch_at(p) + 18 + 4 * k)
+        self.patch_number(p, 4 + k)
     }
 
     pub(crate) fn first_root(&self, p: usize) -> u32 {
-        u32_at(self.bytes, self.patch_at(p) + 34)
+        self.patch_number(p, 8)
+    }
+
+    fn first_cell_corner(&self, p: usize) -> u32 {
+        self.patch_number(p, 9)
     }
 
     fn cone(&self, p: usize) -> [f32; 4] {
-        let at = self.patch_at(p) + 42;
+        let at = self.patch_at(p) + 2 + 10 * self.layout.number;
         [0, 1, 2, 3].map(|k| f32_at(self.bytes, at + 4 * k))
     }
 
@@ -669,7 +711,7 @@ impl<'a> HierarchyBytes<'a> {
 
     /// The vertex at cell corner `(i, j)` of patch `p`.
     pub(crate) fn cell_vertex(&self, p: usize, i: u32, j: u32) -> u32 {
-        let first = u32_at(self.bytes, self.patch_at(p) + 38) as usize;
+        let first = self.first_cell_corner(p) as usize;
         let rows = (1usize << self.cells(p)[1].min(MAX_CELL_LEVEL)) + 1;
         let k = first + i as usize * rows + j as usize;
         self.index(self.layout.cell_at + k * self.layout.index)
