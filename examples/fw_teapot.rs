@@ -34,7 +34,13 @@
 //!
 //! ```text
 //! fw_teapot: ram total N storage S bands B stack K static D list L
+//! fw_teapot: flash kernel K model M total T
 //! ```
+//!
+//! and the flash in bytes, from the linker's symbols: the model (its hierarchy's compact bytes
+//! and its patches' headers and control points), the rest (the kernel's code and constants, and
+//! the demo's, the runtime's and the printing's: the kernel's alone, at opt-level "s", is
+//! measured by `scripts/footprint.sh`), and all of it.
 //!
 //! For size figures (`scripts/footprint.sh`), `--cfg fw_quiet` builds it without any printing
 //! or panic formatting, and `--cfg fw_quiet --cfg fw_baseline` without the kernel too;
@@ -103,6 +109,11 @@ const STORAGE_BYTES: usize = 4 * BITS
 #[cfg_attr(fw_quiet, allow(dead_code))]
 const BAND_BYTES: usize = teapot::BAND * (2 + 2); // a depth value and two colour bytes a pixel
 #[cfg_attr(fw_quiet, allow(dead_code))]
+/// Bytes of the model in flash: the hierarchy's compact bytes and the patches.
+#[cfg_attr(not(target_os = "none"), allow(dead_code))]
+const MODEL_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_HIERARCHY)
+    + core::mem::size_of_val(&baked::TEAPOT_POINTS)
+    + core::mem::size_of_val(&baked::TEAPOT_HEADERS);
 const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ListSlot>() + 2 * MAP;
 
 /// Entries of the triangle list's vertex map: one per vertex of the hierarchy and of the pool
@@ -226,7 +237,7 @@ mod firmware;
 /// (semihosting). Never returns: exits QEMU with the check's outcome.
 #[cfg(target_os = "none")]
 fn firmware_main(_print: impl Fn(core::fmt::Arguments<'_>)) -> ! {
-    use firmware::{finish, instructions, repaint_stack, stack_used_below, static_ram};
+    use firmware::{finish, flash_used, instructions, repaint_stack, stack_used_below, static_ram};
     if cfg!(fw_baseline) {
         // Size baseline: the start-up, clock and exit code without the kernel.
         finish(true);
@@ -270,6 +281,14 @@ fn firmware_main(_print: impl Fn(core::fmt::Arguments<'_>)) -> ! {
         _stack,
         _static,
         LIST_BYTES,
+    ));
+    let (_total, _model) = (flash_used(), MODEL_BYTES);
+    #[cfg(not(fw_quiet))]
+    _print(format_args!(
+        "fw_teapot: flash kernel {} model {} total {}",
+        _total.saturating_sub(_model),
+        _model,
+        _total,
     ));
     finish(ok)
 }
