@@ -184,3 +184,70 @@ fn a_frame_on_threads_has_the_same_figures_every_time() {
         }
     }
 }
+
+/// A small frame is searched on the calling thread, searched as `update` searches it (the
+/// same judgements, to the count): a hierarchy of fewer than 256 nodes, or a frame after one
+/// that judged fewer than 256 triangles. A large one is spread over the threads, which judge
+/// more (each part judges what it leaves to the whole frame again).
+#[test]
+fn small_frames_stay_on_the_calling_thread() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let path = host_tests::models_dir().join("nurbs/verb_quarter_cylinder.json");
+    let teapot = host_tests::models_dir().join("teapot.bpt");
+    for (path, small) in [(path, true), (teapot, false)] {
+        let baked = bake(&path, if small { 1e-2 } else { 1e-3 });
+        let tree = baked.tree();
+        assert_eq!(tree.node_count() < 256, small, "{}", tree.node_count());
+        let mut a = VecStorage::new(&tree, 256, 4096);
+        let mut b = VecStorage::new(&tree, 256, 4096);
+        let (mut one, mut spread) = (a.tessellator(tree), b.tessellator(tree));
+        let view = views(&tree)[2];
+        let (s1, s2) = pool.install(|| {
+            (
+                one.update(&view).unwrap(),
+                spread.update_parallel(&view).unwrap(),
+            )
+        });
+        assert_eq!(figures(s1), figures(s2));
+        assert_eq!(
+            s1.judged == s2.judged,
+            small,
+            "{}: {} and {}",
+            path.display(),
+            s1.judged,
+            s2.judged
+        );
+    }
+    // A frame after one that judged few: the teapot from far off, then close by.
+    let baked = bake(&host_tests::models_dir().join("teapot.bpt"), 1e-3);
+    let tree = baked.tree();
+    let b = tree.model().aabb().unwrap();
+    let (c, d) = (b.center(), b.diagonal());
+    let far = View::Screen {
+        camera: host_tests::screen::camera_40(
+            c + Vec3::new(30.0, -30.0, 20.0) * d,
+            c,
+            0.01 * d,
+            [64, 64],
+        ),
+        tolerance_px: 1.0,
+    };
+    let near = views(&tree)[3];
+    let mut a = VecStorage::new(&tree, 256, 4096);
+    let mut b = VecStorage::new(&tree, 256, 4096);
+    let (mut one, mut spread) = (a.tessellator(tree), b.tessellator(tree));
+    let mut c = VecStorage::new(&tree, 256, 4096);
+    let mut fresh = c.tessellator(tree);
+    pool.install(|| {
+        let n1 = one.update(&near).unwrap();
+        assert!(n1.judged >= 256);
+        // A fresh tessellator spreads the near frame: its parts judge more.
+        assert!(fresh.update_parallel(&near).unwrap().judged > n1.judged);
+        // After the far frame (few judged), the near one stays on the calling thread.
+        assert!(spread.update_parallel(&far).unwrap().judged < 256);
+        assert_eq!(spread.update_parallel(&near).unwrap(), n1);
+    });
+}
