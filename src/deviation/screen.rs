@@ -262,7 +262,9 @@ pub(crate) fn bound_on_screen(
         let widen = 2.0 * eta * spread / z;
         let g = root(phi) + r * root(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
-        if stop < f32::INFINITY {
+        // Over already? Asked without a division (`f g > stop z`, a few roundings from the
+        // quotient's test), then the bound so far found and returned only where it is over.
+        if stop < f32::INFINITY && over_stop(camera, z_low, m, eta, worst, stop) {
             let so_far = on_screen(camera, z_low, m, eta, worst);
             if so_far > stop {
                 return so_far;
@@ -284,6 +286,14 @@ fn on_screen(camera: &Camera, z_low: f32, m: f32, eta: f32, g: f32) -> f32 {
     } else {
         bound
     }
+}
+
+/// Whether [`on_screen`]'s bound is about over `stop`: `f g S > stop z_min`, its test
+/// without the division (so within a few roundings of it: the caller checks the quotient
+/// before it takes it).
+fn over_stop(camera: &Camera, z_low: f32, m: f32, eta: f32, g: f32, stop: f32) -> bool {
+    let z_min = max(camera.near(), z_low - m - eta);
+    camera.focal() * g * SCREEN_SLACK > stop * z_min
 }
 
 /// The largest `|x| + |y| + |z|` of points in view coordinates: the `Σ` of the rounding

@@ -255,10 +255,14 @@ fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], margin: f32) -> bool {
     }
     let ([sx, sy], [nx, ny]) = camera.side_planes();
     let near = camera.near();
-    // Each plane's signed distance outside (as `deviation/screen.rs` clips, negated).
+    // Each plane's signed distance outside (as `deviation/screen.rs` clips, negated), times
+    // the plane's norm (`nx`, `ny` >= 1): no division. The product and the quotient round
+    // within a few `ε` of the distance, which the slack in `w` covers, as it covered the
+    // quotient's.
+    let (wx, wy) = (w * nx, w * ny);
     view.iter().all(|p| near - p.z > w)
-        || view.iter().all(|p| (-p.x - sx * p.z) / nx > w)
-        || view.iter().all(|p| (p.x - sx * p.z) / nx > w)
-        || view.iter().all(|p| (-p.y - sy * p.z) / ny > w)
-        || view.iter().all(|p| (p.y - sy * p.z) / ny > w)
+        || view.iter().all(|p| -p.x - sx * p.z > wx)
+        || view.iter().all(|p| p.x - sx * p.z > wx)
+        || view.iter().all(|p| -p.y - sy * p.z > wy)
+        || view.iter().all(|p| p.y - sy * p.z > wy)
 }
