@@ -107,34 +107,8 @@ pub fn stack_used_below(sp: usize) -> usize {
     sp.saturating_sub(p)
 }
 
-extern "C" {
-    static __sdata: u32;
-    static __euninit: u32;
-}
-
-/// Bytes of static RAM: `.data`, `.bss` and `.uninit`, from the linker script's symbols.
-#[allow(dead_code)]
-pub fn static_ram() -> usize {
-    // Only the addresses are taken (no read), which is safe.
-    let start = core::ptr::addr_of!(__sdata) as usize;
-    let end = core::ptr::addr_of!(__euninit) as usize;
-    end.saturating_sub(start)
-}
-
-extern "C" {
-    static __vector_table: u32;
-    static __sidata: u32;
-    static __edata: u32;
-}
-
-/// Bytes of flash the firmware takes: from the vector table to the end of the read-only data, and the
-/// initial values of `.data` (kept in flash after them), from the linker script's symbols.
-#[allow(dead_code)]
-pub fn flash_used() -> usize {
-    // Only the addresses are taken (no read), which is safe.
-    let start = core::ptr::addr_of!(__vector_table) as usize;
-    let data_image = core::ptr::addr_of!(__sidata) as usize;
-    let data = (core::ptr::addr_of!(__edata) as usize)
-        .saturating_sub(core::ptr::addr_of!(__sdata) as usize);
-    data_image.saturating_sub(start) + data
-}
+// Static RAM and flash from the linker script's symbols, which both runtimes define alike.
+#[path = "firmware_memory.rs"]
+mod memory;
+#[allow(unused_imports)]
+pub use memory::{flash_used, static_ram};
