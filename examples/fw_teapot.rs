@@ -114,6 +114,7 @@ const BAND_BYTES: usize = teapot::BAND * (2 + 2); // a depth value and two colou
 const MODEL_BYTES: usize = core::mem::size_of_val(&baked::TEAPOT_HIERARCHY)
     + core::mem::size_of_val(&baked::TEAPOT_POINTS)
     + core::mem::size_of_val(&baked::TEAPOT_HEADERS);
+#[cfg_attr(fw_quiet, allow(dead_code))]
 const LIST_BYTES: usize = teapot::LIST * core::mem::size_of::<ListSlot>() + 2 * MAP;
 
 /// Entries of the triangle list's vertex map: one per vertex of the hierarchy and of the pool

@@ -186,7 +186,7 @@ fn a_frame_on_threads_has_the_same_figures_every_time() {
 }
 
 /// A small frame is searched on the calling thread, searched as `update` searches it (the
-/// same judgements, to the count): a hierarchy of fewer than 256 nodes, or a frame after one
+/// same judgements, to the count): a hierarchy of fewer than 1,024 nodes, or a frame after one
 /// that judged fewer than 256 triangles. A large one is spread over the threads, which judge
 /// more (each part judges what it leaves to the whole frame again).
 #[test]
@@ -200,7 +200,7 @@ fn small_frames_stay_on_the_calling_thread() {
     for (path, small) in [(path, true), (teapot, false)] {
         let baked = bake(&path, if small { 1e-2 } else { 1e-3 });
         let tree = baked.tree();
-        assert_eq!(tree.node_count() < 256, small, "{}", tree.node_count());
+        assert_eq!(tree.node_count() < 1024, small, "{}", tree.node_count());
         let mut a = VecStorage::new(&tree, 256, 4096);
         let mut b = VecStorage::new(&tree, 256, 4096);
         let (mut one, mut spread) = (a.tessellator(tree), b.tessellator(tree));
