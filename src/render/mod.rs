@@ -35,6 +35,11 @@
 //! given a vertex map instead ([`Renderer::with_vertex_map`]): every vertex is then projected
 //! once and found in the list by its number.
 //!
+//! Where a source says a patch is one-sided ([`TriangleSource::one_sided`]: a tessellator's
+//! patches of a closed model seen from outside), its triangles that face away are left out,
+//! listed or streamed ([`RenderStats::culled`]): each was behind one that faces the eye, so the
+//! pixels are the same, for about half the triangles' set-up.
+//!
 //! Each triangle is scanned row by row over its bounding box, each row's columns solved from
 //! integer edge functions with one division per edge, and its depth keys and shades stepped
 //! in fixed point, exact modulo `2^32`, so that a pixel's values do not depend on which band
