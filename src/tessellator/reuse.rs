@@ -32,9 +32,9 @@ use crate::bound::BoundingSphere;
 use crate::view::{Camera, View};
 
 /// The steps a certificate may cover, in odometer units (of turn: the change of the camera's
-/// rotation, about 1.4 times its angle in radians; or of move: the model sphere's radius),
-/// smallest first: a judgement is certified for the largest it holds over. A one-degree
-/// orbit step around the model is about 0.025-0.04.
+/// rotation, about its angle in radians; or of move: the model sphere's radius), smallest
+/// first: a judgement is certified for the largest it holds over. A one-degree orbit step
+/// around the model is about 0.018-0.03.
 pub const LEVELS: [f32; 3] = [1.0 / 32.0, 1.0 / 8.0, 1.0 / 2.0];
 
 /// The odometer reading past which every slot is emptied and it starts again (so that its
