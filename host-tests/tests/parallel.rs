@@ -170,9 +170,11 @@ fn a_frame_on_threads_has_the_same_figures_every_time() {
         .num_threads(3)
         .build()
         .unwrap();
-    for model in ["nurbs/verb_quarter_cylinder.json", "teapot.bpt"] {
-        let baked = bake(&host_tests::models_dir().join(model), 1e-2);
+    for model in ["nurbs/threejs_nurbs_example.json", "teapot.bpt"] {
+        let baked = bake(&host_tests::models_dir().join(model), 2e-3);
         let tree = baked.tree();
+        // Large enough to be spread over the threads (see `small_frames_stay_...`).
+        assert!(tree.node_count() >= 1024, "{model}: {}", tree.node_count());
         let mut storage = VecStorage::new(&tree, 256, 1 << 18);
         for view in views(&tree) {
             let mut first = None;
