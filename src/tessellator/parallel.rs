@@ -40,16 +40,13 @@ use crate::view::View;
 /// in what a view makes of them.
 const PARTS_PER_THREAD: usize = 8;
 
-/// A frame after one that judged fewer triangles than this, or of a hierarchy of fewer nodes
-/// than [`SMALL_HIERARCHY`] (whose frames within the bake have at most half as many
-/// triangles), is searched on the calling thread: such a frame takes a few microseconds, less
-/// than waking the threads (measured on two cores, `frame_loop` orbits:
-/// `verb_quarter_cylinder`'s frames of 48 triangles, 71 judged, 0.008 ms on one thread and
-/// 0.033 ms on both; the teaspoon's of 1,382 triangles, 1,769 judged, 0.22 ms and 0.18 ms).
-const SMALL: usize = 256;
-
-/// See [`SMALL`]. (`verb_quarter_cylinder` at 2.5e-4 of its diagonal has 368 nodes; the
-/// repository's next smallest hierarchy at that bake, 9,214.)
+/// A hierarchy of fewer nodes than this (whose frames within the bake have at most half as
+/// many triangles) is searched on the calling thread: such a frame takes a few microseconds,
+/// less than waking the threads (measured on two cores, `frame_loop` orbits:
+/// `verb_quarter_cylinder`'s frames of 48 triangles, 0.008 ms on one thread and 0.033 ms on
+/// both; the teaspoon's of 1,382 triangles, 0.22 ms and 0.18 ms). `verb_quarter_cylinder` at
+/// 2.5e-4 of its diagonal has 368 nodes; the repository's next smallest hierarchy at that
+/// bake, 9,214.
 const SMALL_HIERARCHY: usize = 1024;
 
 /// Stack entries of a thread's parts (a part that finds it full walks its roots again).
@@ -144,18 +141,12 @@ impl Tessellator<'_, '_> {
     /// searches on one thread. The threads pay where a frame is
     /// large and within the bake: a frame of a few hundred triangles costs more on threads
     /// than on one (waking them, and their storage), and the refinement below the bake stays
-    /// on the calling thread. So a hierarchy of fewer than 1,024 nodes, or a frame after one
-    /// that judged fewer than 256 triangles, is searched on the calling thread; past that,
-    /// which to call is the caller's choice (a frame's figures tell how large the last one
-    /// was).
+    /// on the calling thread. So a hierarchy of fewer than 1,024 nodes is searched on the
+    /// calling thread; past that, which to call is the caller's choice (a frame's figures
+    /// tell how large the last one was).
     pub fn update_parallel(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
-        let small = self.tree.node_count() < SMALL_HIERARCHY
-            || self.view.is_some() && self.stats.judged < SMALL;
-        if small {
-            return self.update(view);
-        }
         let parts = parts(self, rayon::current_num_threads() * PARTS_PER_THREAD);
-        if self.reuses() || parts.len() < 2 {
+        if self.reuses() || parts.len() < 2 || self.tree.node_count() < SMALL_HIERARCHY {
             return self.update(view);
         }
         if self.is_last_view(view)? {

@@ -169,7 +169,7 @@ pub struct Tessellator<'t, 's> {
     pub(super) vertices: Option<usize>,
     pub(super) layout: Layout,
     /// The last frame's view.
-    pub(super) view: Option<View>,
+    view: Option<View>,
     /// The sphere around the model's control points, where patches can be culled for facing
     /// away (see `cull`).
     pub(super) sphere: Option<crate::bound::BoundingSphere>,
