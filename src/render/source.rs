@@ -36,8 +36,9 @@ pub trait TriangleSource {
     /// (the source hands a triangle's corners counter-clockwise seen from the surface's
     /// outside; one that faces away shows them clockwise on screen): true only where every
     /// pixel such a triangle covers is covered nearer by one that faces the eye, as on a
-    /// closed surface seen from outside. The renderer then leaves those triangles out ([`RenderStats::culled`]), and
-    /// draws the same pixels. The default, `false`: every triangle is drawn.
+    /// closed surface seen from outside. The renderer then leaves those triangles out
+    /// ([`RenderStats::culled`]), and draws the same pixels. The default, `false`: every
+    /// triangle is drawn.
     ///
     /// [`RenderStats::culled`]: super::RenderStats::culled
     fn one_sided(&self, camera: &Camera, patch: u32) -> bool {

@@ -263,6 +263,14 @@ pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
     }
 }
 
+/// The number of `width` bytes (2 or 4) at `at`.
+fn number_at(b: &[u8], at: usize, width: usize) -> u32 {
+    match width {
+        2 => u16_at(b, at) as u32,
+        _ => u32_at(b, at),
+    }
+}
+
 pub(crate) fn f32_at(b: &[u8], at: usize) -> f32 {
     f32::from_bits(u32_at(b, at))
 }
@@ -637,10 +645,7 @@ impl<'a> HierarchyBytes<'a> {
     }
 
     fn index(&self, at: usize) -> u32 {
-        match self.layout.index {
-            2 => u16_at(self.bytes, at) as u32,
-            _ => u32_at(self.bytes, at),
-        }
+        number_at(self.bytes, at, self.layout.index)
     }
 
     fn patch_at(&self, p: usize) -> usize {
@@ -650,11 +655,8 @@ impl<'a> HierarchyBytes<'a> {
     /// Number `k` of patch `p`'s record (its links, then its corners, first root and first
     /// cell corner), of the layout's width.
     fn patch_number(&self, p: usize, k: usize) -> u32 {
-        let (width, at) = (self.layout.number, self.patch_at(p) + 2);
-        match width {
-            2 => u16_at(self.bytes, at + 2 * k) as u32,
-            _ => u32_at(self.bytes, at + 4 * k),
-        }
+        let width = self.layout.number;
+        number_at(self.bytes, self.patch_at(p) + 2 + width * k, width)
     }
 
     fn byte(&self, at: usize) -> u8 {
