@@ -65,6 +65,18 @@ fn main() {
             (c + Vec3::new(0.7, -0.6, 0.4).normalize() * (1.3 * diag), c)
         }
     };
+    // `EYE=x,y,z` (and `TARGET`) for another view of the model, `TOL` for another tolerance.
+    let point = |name: &str, default: Vec3| {
+        std::env::var(name).map_or(default, |v| {
+            let p: Vec<f32> = v
+                .split(',')
+                .map(|x| x.trim().parse().expect("a number"))
+                .collect();
+            Vec3::new(p[0], p[1], p[2])
+        })
+    };
+    let (eye, target) = (point("EYE", eye), point("TARGET", target));
+    let tolerance_px: f32 = env("TOL", 1.0);
     let orbit = std::env::var("ORBIT").is_ok_and(|v| v == "1");
     let view_at = |frame: usize| {
         let angle = if orbit {
@@ -88,7 +100,7 @@ fn main() {
         .expect("a valid camera");
         View::Screen {
             camera,
-            tolerance_px: 1.0,
+            tolerance_px,
         }
     };
     {
@@ -112,7 +124,7 @@ fn main() {
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
-        let (mut judged, mut kept) = (0, 0);
+        let (mut judged, mut kept, mut refined) = (0, 0, 0);
         for k in 1..=frames {
             let view = view_at(k);
             if !orbit && !reuse {
@@ -134,12 +146,14 @@ fn main() {
             count = stats.triangles;
             judged += stats.judged;
             kept += stats.kept;
+            refined += stats.refined;
         }
         println!(
-            "triangles {count} best {best:.3} ms mean {:.3} ms judged {} kept {} (means)",
+            "triangles {count} best {best:.3} ms mean {:.3} ms judged {} kept {} refined {} (means)",
             total / frames as f64,
             judged / frames,
-            kept / frames
+            kept / frames,
+            refined / frames
         );
     }
 }
