@@ -109,6 +109,7 @@ use crate::view::Camera;
 use band::{Band, BandOutput, BandPixels, Buffered, Rgb565Be, Runs, Typed};
 pub use list::ListSlot;
 use project::{CornerCache, Setup};
+pub use raster::Planes;
 pub use source::{IndexedMesh, TriangleSource};
 pub use style::{Light, Shading, Style, Wireframe};
 
@@ -223,6 +224,7 @@ pub struct Renderer<'d> {
     depth: &'d mut [u16],
     list: &'d mut [ListSlot],
     map: &'d mut [u16],
+    planes: Planes,
 }
 
 /// The drawn area and its bands.
@@ -241,6 +243,7 @@ impl<'d> Renderer<'d> {
             depth,
             list: &mut [],
             map: &mut [],
+            planes: Planes::default(),
         }
     }
 
@@ -263,6 +266,7 @@ impl<'d> Renderer<'d> {
             depth,
             list,
             map: &mut [],
+            planes: Planes::default(),
         }
     }
 
@@ -284,6 +288,21 @@ impl<'d> Renderer<'d> {
     /// ```
     pub fn with_vertex_map(self, map: &'d mut [u16]) -> Self {
         Renderer { map, ..self }
+    }
+
+    /// This renderer with the depth and shade across each triangle set up as `planes` says,
+    /// instead of the target's default ([`Planes::default`]). A host takes
+    /// [`Planes::Integer`] to draw the pixels a firmware without an FPU draws (the tests
+    /// compare them so).
+    ///
+    /// ```
+    /// use spline_tess::render::{Planes, Renderer};
+    /// let mut depth = [0u16; 240 * 8];
+    /// let renderer = Renderer::new(&mut depth).with_planes(Planes::Integer);
+    /// # let _ = renderer;
+    /// ```
+    pub fn with_planes(self, planes: Planes) -> Self {
+        Renderer { planes, ..self }
     }
 
     /// Draws `source` as `camera` sees it onto `target`, sending visible pixels run by run.
@@ -537,6 +556,7 @@ impl<'d> Renderer<'d> {
                 corners: &mut corners,
                 one_sided: &one_sided,
                 patch: None,
+                planes: self.planes,
             };
             let rows = top as u32..bottom as u32;
             match listed {

@@ -18,7 +18,6 @@ mod sink;
 
 pub(super) use sink::{fill, Remaining};
 
-use super::project::{depth_from_u16, shade_from_u8};
 use super::raster::{Snapped, HALF, SUBPIXELS};
 
 /// One slot of the frame's triangle list (8 bytes): a screen triangle or one of its corners
@@ -66,15 +65,11 @@ impl ListSlot {
         self.0[1] as i16
     }
 
-    /// A corner slot as the rasteriser takes it: `x`, `y` in subpixels, depth key, shade.
-    fn unpack_corner(&self) -> (i32, i32, f32, f32) {
+    /// A corner slot as the rasteriser takes it: `x`, `y` in subpixels, depth key, shade
+    /// level.
+    fn unpack_corner(&self) -> (i32, i32, u16, u8) {
         let [x, y, depth, shade] = self.0;
-        (
-            x as i16 as i32,
-            y as i16 as i32,
-            depth_from_u16(depth),
-            shade_from_u8(shade as u8),
-        )
+        (x as i16 as i32, y as i16 as i32, depth, shade as u8)
     }
 
     /// Sets half `k` (0 or 1) of a triangle slot.
@@ -209,7 +204,7 @@ impl ListedTriangle<'_> {
     pub fn snapped(&self) -> Snapped {
         let c = self.corners.map(ListSlot::unpack_corner);
         let shade = match self.flat {
-            Some(level) => [shade_from_u8(level); 3],
+            Some(level) => [level; 3],
             None => c.map(|c| c.3),
         };
         Snapped {
@@ -256,7 +251,7 @@ impl SubpixelRows {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::project::shade_to_u8;
+    use crate::render::project::{depth_from_u16, shade_from_u8, shade_to_u8};
     use crate::render::raster::{snap_checked, ScreenVertex, Triangle};
 
     #[test]
@@ -306,8 +301,8 @@ mod tests {
             let (x, y, depth, shade) = list[k].unpack_corner();
             ScreenVertex {
                 xy: [x as f32 * sub, y as f32 * sub],
-                depth,
-                shade,
+                depth: depth_from_u16(depth),
+                shade: shade_from_u8(shade),
             }
         });
         for (a, b) in corners.iter().zip(&back) {

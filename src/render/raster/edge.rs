@@ -99,11 +99,11 @@ pub(in crate::render) fn faces_away(x: [i32; 3], y: [i32; 3]) -> bool {
 /// below positive), swapping corners 1 and 2, and their attributes with them, when they are
 /// not; the doubled area, 0 for a triangle with none.
 #[inline(always)]
-pub(super) fn counter_clockwise<I: EdgeInt>(
+pub(super) fn counter_clockwise<I: EdgeInt, D, S>(
     x: &mut [I; 3],
     y: &mut [I; 3],
-    depth: &mut [f32; 3],
-    shade: &mut [f32; 3],
+    depth: &mut [D; 3],
+    shade: &mut [S; 3],
     wire: &mut [bool; 3],
 ) -> I {
     let area = (x[2] - x[1]) * (y[0] - y[1]) - (y[2] - y[1]) * (x[0] - x[1]);

@@ -4,8 +4,9 @@
 //! ties on an edge broken by the top-left rule: as if the centre were nudged right by `ε` and
 //! down by `ε²`. That perturbation is the same for every triangle, so triangles that share
 //! edges (and vertices) cover each pixel of their union exactly once. Every inside test is exact
-//! integer arithmetic; only the attributes (depth, shade) are `f32` planes through the first
-//! corner, set up once per triangle and put in fixed point for the scan (`scan`). Triangles
+//! integer arithmetic; the attributes (depth, shade) are planes through the first corner, set
+//! up once per triangle in `f32` ([`Planes::Float`]) or in integers ([`Planes::Integer`]) and
+//! put in fixed point for the scan (`scan`). Triangles
 //! with a corner beyond 512 pixels of the origin (only with feature `large-viewports`) go span
 //! by span in 64-bit edge arithmetic instead ([`Triangle::span`]), with `f32` attributes at
 //! each row's first pixel.
@@ -18,11 +19,42 @@ mod scan;
 pub(super) use edge::faces_away;
 pub(super) use scan::{BandScan, Scan};
 
+use super::project::{depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8};
 use super::walk::FixedRamp;
 use edge::{
     ceil_div, counter_clockwise, edge_set_up, inside_columns, wide_columns, wire_limit, wire_ramp,
     EdgeInt, Edges, NARROW_LIMIT,
 };
+
+/// How the rasteriser sets up a triangle's depth and shade across its pixels, from the
+/// corners' depth keys and shade levels (see [`Renderer::with_planes`](super::Renderer::with_planes)).
+///
+/// Both give each pixel its plane's value at the pixel's centre to within a few hundred
+/// `2^-14` of a depth key and `2^-16` of a shade level across a triangle a few hundred pixels
+/// wide, so their pictures differ at most where two surfaces meet within that (a few pixels of
+/// a frame, where at all). Triangles with a corner beyond 512 pixels (feature
+/// `large-viewports`) take `f32` spans either way.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Planes {
+    /// In `f32`, then in fixed point: the cheaper where `f32` is hardware, and the default
+    /// there.
+    Float,
+    /// In integers alone, exact but for the last fixed-point bit of each step: the default
+    /// where `f32` is software (ARMv6-M, RV32IMC), where it takes 30% off a frame's render.
+    Integer,
+}
+
+impl Default for Planes {
+    /// [`Planes::Float`] where `f32` is hardware, [`Planes::Integer`] where it is software.
+    fn default() -> Self {
+        if crate::math::HARD_FLOAT {
+            Planes::Float
+        } else {
+            Planes::Integer
+        }
+    }
+}
 
 /// Subpixel steps per pixel.
 pub(crate) const SUBPIXELS: i64 = 16;
@@ -141,15 +173,16 @@ pub(crate) struct Snapped {
     pub x: [i32; 3],
     pub y: [i32; 3],
     /// Depth keys at the corners.
-    pub depth: [f32; 3],
-    /// Shades at the corners.
-    pub shade: [f32; 3],
+    pub depth: [u16; 3],
+    /// Shade levels (0 to 255) at the corners.
+    pub shade: [u8; 3],
     /// `wire[i]`: the edge opposite corner `i` is drawn for the wireframe.
     pub wire: [bool; 3],
 }
 
 impl Snapped {
-    /// Corners `v` snapped; `None` when one is not a finite pixel position within
+    /// Corners `v` snapped, their depths and shades as the integer key and level they were
+    /// quantised to (see `project`); `None` when one is not a finite pixel position within
     /// [`COORDINATE_LIMIT`].
     pub fn new(v: [ScreenVertex; 3], wire: [bool; 3]) -> Option<Snapped> {
         let [x0, x1, x2] = v.map(|p| snap_checked(p.xy[0]));
@@ -157,15 +190,19 @@ impl Snapped {
         Some(Snapped {
             x: [x0?, x1?, x2?],
             y: [y0?, y1?, y2?],
-            depth: v.map(|p| p.depth),
-            shade: v.map(|p| p.shade),
+            depth: v.map(|p| depth_to_u16(p.depth)),
+            shade: v.map(|p| shade_to_u8(p.shade)),
             wire,
         })
     }
 
     /// The triangle set up for spans ([`Triangle::from_snapped`]).
     pub fn triangle(&self) -> Option<Triangle> {
-        Triangle::from_snapped(self.x, self.y, self.depth, self.shade, self.wire)
+        let (depth, shade) = (
+            self.depth.map(depth_from_u16),
+            self.shade.map(shade_from_u8),
+        );
+        Triangle::from_snapped(self.x, self.y, depth, shade, self.wire)
     }
 }
 

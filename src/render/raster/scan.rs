@@ -14,8 +14,9 @@
 //!
 //! # The planes in fixed point
 //!
-//! Depth and shade are the `f32` planes of the module above ([`Plane::through`], per subpixel
-//! from the first corner), put in fixed point once per triangle and band: a depth key plus 1/2
+//! With [`Planes::Float`], depth and shade are the `f32` planes of the module above
+//! ([`Plane::through`], per subpixel from the first corner), put in fixed point once per
+//! triangle and band: a depth key plus 1/2
 //! with `b = 14` fractional bits, a shade level plus 1/2 with `b = 16`. The value is computed
 //! in `f32` at `A`, the pixel centre nearest the first corner (within 8 subpixels of it each
 //! way), and its changes per pixel right `R` and per row down `D` are rounded from 16 times
@@ -39,6 +40,26 @@
 //! The tests below check the scan against the spans and a steep sliver against its plane in
 //! `f64`.
 //!
+//! # The planes in integers ([`Planes::Integer`])
+//!
+//! Where `f32` is software, the same fixed-point planes come from integers alone. The corners'
+//! values `v_i` are integers (depth keys, shade levels), so the plane's change per subpixel is
+//! `n_x / a` right and `n_y / a` down, with `a` twice the area and
+//! `n_x = -(d_1 dy_1 + d_2 dy_2)`, `n_y = d_1 dx_1 + d_2 dx_2` (`d_i = v_i - v_0`, the edges as
+//! in [`Plane::through`]): integers below `2^31` (`|d_i| < 2^16`, edges within
+//! `2^14` subpixels). Per pixel, in fixed point: `R = floor(n_x 2^(b+4) / a)` and likewise `D`,
+//! exact, in 32-bit divisions (`floor_div`). At the anchor, `(o_x, o_y)` subpixels from the
+//! first corner (each in `-7..=8`), `A = v_0 2^b + 2^(b-1) + floor((R o_x + D o_y) / 16)`.
+//!
+//! Precision: `R` and `D` are below their exact values by less than 1, so
+//! `(R o_x + D o_y) / 16` is off the exact change to the anchor by less than `(|o_x| + |o_y|) /
+//! 16 <= 1`, and the floor takes less than 1 more: `A` is within 2 of its exact value. A pixel
+//! `(Δx, Δy)` pixels from the anchor takes `A + R Δx + D Δy`, within `2 + |Δx| + |Δy|` of the
+//! exact plane (a test checks this against the plane in `f64`, and finds it reached to 1%),
+//! whatever the plane's steepness: the sums are taken modulo `2^32` (`R`, `D` may be up to
+//! `2^49`), exact there, and the values inside the triangle fit. A depth key is then within
+//! `(2 + 480 + 480) 2^-14 = 0.06` of the plane's across a 480-pixel box, as above.
+//!
 //! A wireframe edge's test is on the integer edge function too: the pixel is on the line when
 //! `E_i < half_width * 16 |edge_i|`, the distance in pixels times the edge's scale.
 
@@ -47,7 +68,8 @@ use core::ops::Range;
 use super::edge::{ceil_div, counter_clockwise, edge_set_up, wire_limit, EdgeSetUp, NARROW_LIMIT};
 #[cfg(doc)]
 use super::Triangle;
-use super::{inv_sqrt, Plane, Snapped, HALF, SUBPIXELS};
+use super::{inv_sqrt, Plane, Planes, Snapped, HALF, SUBPIXELS};
+use crate::render::project::shade_from_u8;
 use crate::render::walk::{FixedRamp, SpanWalk, DEPTH_BITS, LEVEL_BITS};
 
 /// A plane in fixed point: its value at the scan's first pixel and its change per pixel
@@ -60,6 +82,44 @@ struct FixedPlane {
 }
 
 impl FixedPlane {
+    /// The plane through the integers `v` at a triangle's corners (depth keys or shade
+    /// levels) plus 1/2, times `2^bits`, at the centre of pixel `first`: the corners' edges
+    /// (corner to corner, opposite each corner) are `edges` in subpixels, twice the area
+    /// `area > 0`, the first corner `from` (see the module docs for its precision).
+    #[inline(never)]
+    fn through(
+        v: [i32; 3],
+        edges: &[[i32; 2]; 3],
+        area: i32,
+        bits: u32,
+        from: [i32; 2],
+        first: [i32; 2],
+    ) -> FixedPlane {
+        let (d1, d2) = (i64::from(v[1] - v[0]), i64::from(v[2] - v[0]));
+        let e = edges.map(|e| e.map(i64::from));
+        // `area` times the change per subpixel right and down (each below `2^31`: corner
+        // values below `2^16`, edges within `2^14` subpixels).
+        let nx = -(d1 * e[1][1] + d2 * e[2][1]);
+        let ny = d1 * e[1][0] + d2 * e[2][0];
+        // The change per pixel in fixed point, rounded down (below `2^49`).
+        let shift = bits + SUBPIXELS.trailing_zeros();
+        let (right, down) = (floor_div(nx, shift, area), floor_div(ny, shift, area));
+        // The pixel whose centre is nearest the corner, `(ox, oy)` subpixels from it (each
+        // in `-7..=8`), and the plane there. (`>> 4` is `div_euclid(16)`.)
+        let shift_sub = SUBPIXELS.trailing_zeros();
+        let anchor = from.map(|c| c >> shift_sub);
+        let [ox, oy] =
+            [0, 1].map(|i| i64::from(anchor[i] * SUBPIXELS as i32 + HALF as i32 - from[i]));
+        let at =
+            (i64::from(v[0]) << bits) + (1 << (bits - 1)) + ((right * ox + down * oy) >> shift_sub);
+        // Modulo `2^32` from here on.
+        let (right, down) = (right as i32, down as i32);
+        let at = (at as i32)
+            .wrapping_add(right.wrapping_mul(first[0].wrapping_sub(anchor[0])))
+            .wrapping_add(down.wrapping_mul(first[1].wrapping_sub(anchor[1])));
+        FixedPlane { at, right, down }
+    }
+
     /// `scale` times the plane `plane` (per subpixel, through corner `from`) plus 1/2, times
     /// `2^bits`, at the centre of pixel `first` (see the module docs for its precision).
     #[inline(always)]
@@ -120,6 +180,33 @@ impl FixedPlane {
     }
 }
 
+/// `floor(n 2^shift / a)`, exact, for `|n| < 2^32`, `a > 0` and `shift <= 31`: in 32-bit
+/// divisions, one and then one per `clz(a)` bits of `shift` (a 64-bit division is a library
+/// call on every 32-bit part; these are hardware on a Cortex-M3 and up). Out of line: one
+/// copy for the four slopes of a triangle.
+#[inline(never)]
+fn floor_div(n: i64, shift: u32, a: i32) -> i64 {
+    let (m, a) = (n.unsigned_abs() as u32, a as u32);
+    let (mut q, mut r) = (u64::from(m / a), m % a);
+    // `r < a < 2^31`: `r << step` fits.
+    let step = a.leading_zeros();
+    let mut left = shift;
+    while left > 0 {
+        let k = left.min(step);
+        let wide = r << k;
+        q = (q << k) + u64::from(wide / a);
+        r = wide % a;
+        left -= k;
+    }
+    // `m 2^shift = q a + r`: for `n < 0` the floor is `-q`, or `-q - 1` with a remainder.
+    let q = q as i64;
+    if n < 0 {
+        -q - i64::from(r != 0)
+    } else {
+        q
+    }
+}
+
 /// A small triangle's scan, row by row over its bounding box's columns (within a band's).
 #[derive(Clone, Copy, Debug)]
 pub(in crate::render) struct Scan {
@@ -161,6 +248,7 @@ impl Snapped {
         rows: Range<i32>,
         columns: Range<i32>,
         half_width: Option<f32>,
+        planes: Planes,
     ) -> BandScan {
         let narrow = NARROW_LIMIT as i32;
         if !self
@@ -190,7 +278,7 @@ impl Snapped {
         // `NARROW_LIMIT`, and no pixel outside it is looked at).
         let (x0, end) = (first.max(columns.start), last.min(columns.end - 1));
         let yc = top * sub + half;
-        let mut edges = [[0f32; 2]; 3];
+        let mut edges = [[0i32; 2]; 3];
         let mut scan = Scan {
             x0,
             width: end - x0 + 1,
@@ -211,7 +299,7 @@ impl Snapped {
                 k,
                 m0,
             } = edge_set_up(&x, &y, i);
-            edges[i] = [dx as f32, dy as f32];
+            edges[i] = [dx, dy];
             scan.edge[i] = k.wrapping_mul(x0).wrapping_add(dx * yc).wrapping_sub(m0);
             scan.right[i] = k;
             scan.down[i] = dx * sub;
@@ -220,12 +308,22 @@ impl Snapped {
                 scan.wire[i] = wire_limit(w, inv_length, bias);
             }
         }
-        let inv_area = 1.0 / area as f32;
         let (corner, first) = ([x[0], y[0]], [x0, top]);
-        let depth = Plane::through(depth, &edges, inv_area);
-        scan.depth = FixedPlane::new(&depth, 1.0, DEPTH_BITS, corner, first);
-        let shade = Plane::through(shade, &edges, inv_area);
-        scan.level = FixedPlane::new(&shade, 255.0, LEVEL_BITS, corner, first);
+        match planes {
+            Planes::Integer => {
+                let (depth, level) = (depth.map(i32::from), shade.map(i32::from));
+                scan.depth = FixedPlane::through(depth, &edges, area, DEPTH_BITS, corner, first);
+                scan.level = FixedPlane::through(level, &edges, area, LEVEL_BITS, corner, first);
+            }
+            Planes::Float => {
+                let edges = edges.map(|e| e.map(|v| v as f32));
+                let inv_area = 1.0 / area as f32;
+                let depth = Plane::through(depth.map(f32::from), &edges, inv_area);
+                scan.depth = FixedPlane::new(&depth, 1.0, DEPTH_BITS, corner, first);
+                let shade = Plane::through(shade.map(shade_from_u8), &edges, inv_area);
+                scan.level = FixedPlane::new(&shade, 255.0, LEVEL_BITS, corner, first);
+            }
+        }
         BandScan::Rows {
             scan,
             top,
@@ -355,8 +453,13 @@ mod tests {
 
     /// The scan `band_scan` sets up over rows `rows` and columns `columns`, with lines 0.35
     /// pixels wide, and its first row; `None` when it leaves the triangle to spans.
-    fn small(s: &Snapped, rows: Range<i32>, columns: Range<i32>) -> Option<(Scan, i32)> {
-        match s.band_scan(rows, columns, Some(0.35)) {
+    fn small(
+        s: &Snapped,
+        rows: Range<i32>,
+        columns: Range<i32>,
+        planes: Planes,
+    ) -> Option<(Scan, i32)> {
+        match s.band_scan(rows, columns, Some(0.35), planes) {
             BandScan::Rows { scan, top, .. } => Some((scan, top)),
             _ => None,
         }
@@ -396,11 +499,18 @@ mod tests {
     /// wireframe pixels.
     #[test]
     fn a_scan_covers_what_spans_cover() {
+        for planes in [Planes::Float, Planes::Integer] {
+            scan_covers_what_spans_cover(planes);
+        }
+    }
+
+    fn scan_covers_what_spans_cover(planes: Planes) {
         let (mut scanned, mut rows, mut pixels, mut far_keys, mut wire_apart) = (0, 0, 0, 0, 0);
         for (tri, snapped) in triangles(3000, 2000) {
             let [first, last] = tri.rows();
             for columns in [0..400, 195..205] {
-                let Some((mut scan, top)) = small(&snapped, first..last + 1, columns.clone())
+                let Some((mut scan, top)) =
+                    small(&snapped, first..last + 1, columns.clone(), planes)
                 else {
                     continue;
                 };
@@ -443,6 +553,12 @@ mod tests {
     /// `draw` depth-tests and paints the pixels `next_row` walks, with the same values.
     #[test]
     fn drawing_a_scan_in_one_loop_walks_its_rows() {
+        for planes in [Planes::Float, Planes::Integer] {
+            drawing_walks_rows(planes);
+        }
+    }
+
+    fn drawing_walks_rows(planes: Planes) {
         const WIDTH: usize = 64;
         const HEIGHT: usize = 48;
         let (width, height) = (WIDTH, HEIGHT);
@@ -452,7 +568,7 @@ mod tests {
             let (top, bottom) = (first.max(80), last.min(80 + height as i32 - 1));
             let columns = 170..170 + width as i32;
             let band = 80..80 + height as i32;
-            let Some((scan, first_row)) = small(&snapped, band, columns.clone()) else {
+            let Some((scan, first_row)) = small(&snapped, band, columns.clone(), planes) else {
                 continue;
             };
             assert_eq!(first_row, top);
@@ -491,11 +607,92 @@ mod tests {
         assert!(drawn_total > 1000, "{drawn_total}");
     }
 
+    /// The integer planes' values are the exact plane's (in `f64`, from the corners) plus 1/2,
+    /// in fixed point, to within `2 + |Δx| + |Δy|` of their last bit at a pixel `(Δx, Δy)`
+    /// pixels from the anchor, as the module docs derive: for small triangles, slivers and
+    /// triangles across the whole 32-bit reach, depth keys and shade levels alike.
+    #[test]
+    fn integer_planes_are_the_exact_plane_to_their_last_bits() {
+        let mut rng = TestRng::new(0x01e9_a120_2611);
+        let (mut checked, mut worst) = (0, 0.0f64);
+        for k in 0..4000 {
+            let size = [24, 400, 4000, 8000][k % 4];
+            let mut x: [i32; 3] = core::array::from_fn(|_| rng.signed(size) as i32);
+            let mut y: [i32; 3] = core::array::from_fn(|_| rng.signed(size) as i32);
+            let (bits, top) = [(DEPTH_BITS, 65_535), (LEVEL_BITS, 255)][k % 2];
+            let mut v: [i32; 3] = core::array::from_fn(|_| (rng.signed(top / 2) + top / 2) as i32);
+            if k % 7 == 0 {
+                // A sliver: two corners a subpixel or two apart across.
+                (x[2], y[2]) = ((x[0] + x[1]) / 2 + 1, (y[0] + y[1]) / 2 - 2);
+            }
+            let (mut shade, mut wire) = ([0u8; 3], [false; 3]);
+            let area = counter_clockwise(&mut x, &mut y, &mut v, &mut shade, &mut wire);
+            if area == 0 {
+                continue;
+            }
+            let edges: [[i32; 2]; 3] = core::array::from_fn(|i| {
+                let e = edge_set_up(&x, &y, i);
+                [e.dx, e.dy]
+            });
+            let from = [x[0], y[0]];
+            let first = [x.iter().min().unwrap() >> 4, y.iter().min().unwrap() >> 4];
+            let plane = FixedPlane::through(v, &edges, area, bits, from, first);
+            let anchor = from.map(|c| c >> 4);
+            // The exact plane (its values at the corners `v`), plus 1/2, times `2^bits`.
+            let (w, f) = (v.map(f64::from), f64::from(1u32 << bits));
+            let exact = |px: f64, py: f64| {
+                let [(ax, ay), (bx, by), (cx, cy)] = [0, 1, 2].map(|i| (x[i] as f64, y[i] as f64));
+                let d = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+                let wb = ((px - ax) * (cy - ay) - (py - ay) * (cx - ax)) / d;
+                let wc = ((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / d;
+                (w[0] + wb * (w[1] - w[0]) + wc * (w[2] - w[0]) + 0.5) * f
+            };
+            let (lo, hi) = (
+                f * w.iter().fold(f64::MAX, |a, &b| a.min(b)),
+                f * (top as f64 + 1.0),
+            );
+            for _ in 0..16 {
+                let [px, py] = [0, 1].map(|i| {
+                    let (a, b) = (
+                        [x, y][i].iter().min().copied(),
+                        [x, y][i].iter().max().copied(),
+                    );
+                    let (a, b) = (a.unwrap() >> 4, b.unwrap() >> 4);
+                    a + rng.signed(i64::from(b - a) + 1).unsigned_abs() as i32 % (b - a + 1)
+                });
+                let want = exact(f64::from(px * 16 + 8), f64::from(py * 16 + 8));
+                if !(lo..hi).contains(&want) {
+                    continue; // (off the triangle's values: `f64` may not hold it exactly)
+                }
+                let got = plane
+                    .at
+                    .wrapping_add(plane.right.wrapping_mul(px - first[0]))
+                    .wrapping_add(plane.down.wrapping_mul(py - first[1]));
+                let off = (f64::from(got) - want).abs();
+                let allowed = 2.0 + f64::from((px - anchor[0]).abs() + (py - anchor[1]).abs());
+                assert!(
+                    off <= allowed,
+                    "{k}: ({px}, {py}) off by {off}, at most {allowed}"
+                );
+                worst = worst.max(off / allowed);
+                checked += 1;
+            }
+        }
+        assert!(checked > 20_000, "{checked}");
+        assert!(worst > 0.5, "{worst}");
+    }
+
     /// Only triangles with a corner beyond the 32-bit edge arithmetic's reach are left to the
     /// spans; wide ones and steep slivers are scanned, and what meets no row of the band is
     /// off it.
     #[test]
     fn only_far_corners_are_left_to_spans() {
+        for planes in [Planes::Float, Planes::Integer] {
+            far_corners_to_spans(planes);
+        }
+    }
+
+    fn far_corners_to_spans(planes: Planes) {
         let v = |x: f32, y: f32, depth: f32| ScreenVertex {
             xy: [x, y],
             depth,
@@ -504,7 +701,7 @@ mod tests {
         let scan = |corners: [ScreenVertex; 3]| {
             Snapped::new(corners, [false; 3])
                 .unwrap()
-                .band_scan(0..100, 0..100, None)
+                .band_scan(0..100, 0..100, None, planes)
         };
         let wide = scan([v(0.5, 0.5, 1.0), v(40.5, 2.5, 1.0), v(3.5, 9.5, 1.0)]);
         assert!(matches!(
@@ -598,7 +795,7 @@ mod tests {
             for &w in &widths {
                 let columns = 0..400;
                 let BandScan::Rows { mut scan, top, .. } =
-                    snapped.band_scan(first..last + 1, columns.clone(), Some(w))
+                    snapped.band_scan(first..last + 1, columns.clone(), Some(w), Planes::Float)
                 else {
                     continue;
                 };
@@ -645,7 +842,9 @@ mod tests {
                 (i32::MAX - 16..i32::MAX, 0..400),
                 (0..400, -400..-300),
             ] {
-                let scan = snapped.band_scan(rows.clone(), columns.clone(), Some(f32::INFINITY));
+                let planes = [Planes::Float, Planes::Integer][rows.start as usize % 2];
+                let scan =
+                    snapped.band_scan(rows.clone(), columns.clone(), Some(f32::INFINITY), planes);
                 let drawn = match scan {
                     BandScan::Off => 0,
                     BandScan::Rows { scan, rows, .. } => {
