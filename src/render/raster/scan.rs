@@ -187,10 +187,14 @@ impl FixedPlane {
 #[inline(never)]
 fn floor_div(n: i64, shift: u32, a: i32) -> i64 {
     let (m, a) = (n.unsigned_abs() as u32, a as u32);
-    let (mut q, mut r) = (u64::from(m / a), m % a);
+    // (Where `m 2^shift` fits 32 bits, as for a plane that changes little or not at all, one
+    // division.)
+    let (mut q, mut r, mut left) = match m.checked_shl(shift).filter(|w| w >> shift == m) {
+        Some(wide) => (u64::from(wide / a), wide % a, 0),
+        None => (u64::from(m / a), m % a, shift),
+    };
     // `r < a < 2^31`: `r << step` fits.
     let step = a.leading_zeros();
-    let mut left = shift;
     while left > 0 {
         let k = left.min(step);
         let wide = r << k;
