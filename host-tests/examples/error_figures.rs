@@ -27,8 +27,8 @@
 //! from a new run time over the hierarchy with its links (`Hierarchy::with_links`, as the
 //! host's `Baked` reads it), its update and the indexed write, best of eleven or of as many as
 //! take a tenth of a second; *all cores ms*
-//! the same with the update on all cores (`Tessellator::update_parallel`), its frames taken in
-//! turn with the first's so that the machine's busy moments fall on both; *Mtri/s* the first's
+//! the same with the update on all cores (`Tessellator::update_parallel`), the two timed in
+//! three turns each so that a busy moment of the machine spoils at most one; *Mtri/s* the first's
 //! triangles per second. *Full / GLU* and *all cores / GLU* divide them by GLU's time.
 //!
 //! With `SPLIT` set, the kernel tessellates the model with every patch split into four
@@ -59,6 +59,9 @@ const TIMED: usize = 11;
 /// is timed many more than [`TIMED`] times, so that its best is not one a busy moment of the
 /// machine spoilt (a frame on all cores waits for both).
 const TIMED_FOR: f64 = 0.1;
+
+/// Turns of one-thread and all-core frames a case's timing takes (see [`TIMED_FOR`]).
+const ROUNDS: usize = 3;
 
 use host_tests::frame_checks::check_watertight_of_parts;
 use host_tests::glu::run_glu;
@@ -402,9 +405,10 @@ fn main() {
         let tree = hierarchy.linked_tree(&mut links);
         let mut store = VecStorage::new(&tree, 1 << 12, 1 << 16);
         let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
-        // The best of `TIMED` frames or more (`TIMED_FOR`) on one thread and on all cores, the
-        // two taken in turn so that a busy moment of the machine falls on both alike; and
-        // each frame's figures.
+        // The best of `TIMED` frames or more (`TIMED_FOR`) on one thread and on all cores, in
+        // `ROUNDS` turns of each, so that a busy moment of the machine spoils at most one turn
+        // of one of them (a pause between turns lets the pool's idle threads sleep, which
+        // would otherwise spin beside the one-thread frames); and each frame's figures.
         let mut frame = |all_cores: bool| {
             let start = Instant::now();
             let mut s = store.tessellator(tree);
@@ -419,14 +423,22 @@ fn main() {
         };
         let (mut best, mut all_cores) = (f64::INFINITY, f64::INFINITY);
         let (mut frames, mut parallel_frames) = (Vec::new(), Vec::new());
-        let began = Instant::now();
-        while frames.len() < TIMED || began.elapsed().as_secs_f64() < 2.0 * TIMED_FOR {
-            let (ms, stats) = frame(false);
-            best = best.min(ms);
-            frames.push(stats);
-            let (ms, stats) = frame(true);
-            all_cores = all_cores.min(ms);
-            parallel_frames.push(stats);
+        for _ in 0..ROUNDS {
+            for parallel in [false, true] {
+                let (best, frames) = match parallel {
+                    false => (&mut best, &mut frames),
+                    true => (&mut all_cores, &mut parallel_frames),
+                };
+                let (began, taken) = (Instant::now(), frames.len());
+                while frames.len() - taken < TIMED.div_ceil(ROUNDS)
+                    || began.elapsed().as_secs_f64() < TIMED_FOR / ROUNDS as f64
+                {
+                    let (ms, stats) = frame(parallel);
+                    *best = best.min(ms);
+                    frames.push(stats);
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
         }
         let last = frames.last().expect("a frame");
         let (count, left_over) = (last.triangles, last.left_over);
