@@ -16,7 +16,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::{Pixel, Point, Size};
 use embedded_graphics::primitives::Rectangle;
 use spline_tess::render::{
-    IndexedMesh, Light, RenderError, RenderStats, Renderer, Shading, Style, Wireframe,
+    IndexedMesh, Light, Planes, RenderError, RenderStats, Renderer, Shading, Style, Wireframe,
 };
 use spline_tess::{Camera, Projection, Vec3, Vertex};
 
@@ -77,6 +77,7 @@ fn draw(
     area: Rectangle,
     band_values: usize,
     fail_after: Option<u64>,
+    planes: Planes,
 ) -> (Result<RenderStats, RenderError<Refused>>, Recorder) {
     let mut target = Recorder {
         area,
@@ -86,7 +87,10 @@ fn draw(
         fail_after,
     };
     let mut depth = vec![0u16; band_values];
-    let result = Renderer::new(&mut depth).draw(mesh, camera, style, &mut target);
+    let result =
+        Renderer::new(&mut depth)
+            .with_planes(planes)
+            .draw(mesh, camera, style, &mut target);
     (result, target)
 }
 
@@ -152,6 +156,11 @@ pub fn render(data: &[u8]) {
     };
     let size = Size::new((r.u8() % 112) as u32, (r.u8() % 112) as u32);
     let band_values = r.u16() as usize % 4096;
+    // Either set-up of the depth and shade, by the band's parity.
+    let planes = match band_values % 2 {
+        0 => Planes::Float,
+        _ => Planes::Integer,
+    };
     let stop = r.u8();
     // Past the bytes the target read before its viewports grew (0 past the end: what it did
     // then): a viewport up to 300 times larger, and a target that starts anywhere in it.
@@ -166,8 +175,8 @@ pub fn render(data: &[u8]) {
         return;
     };
     let area = Rectangle::new(top_left, size);
-    let (first, image) = draw(&mesh, &camera, &style, area, band_values, None);
-    let (second, again) = draw(&mesh, &camera, &style, area, band_values, None);
+    let (first, image) = draw(&mesh, &camera, &style, area, band_values, None, planes);
+    let (second, again) = draw(&mesh, &camera, &style, area, band_values, None, planes);
     assert_eq!(first, second, "the same draw twice differs");
     assert!(
         image.image == again.image && image.sent == again.sent,
@@ -182,7 +191,7 @@ pub fn render(data: &[u8]) {
     );
     // The whole drawn area (within the target) as one band gives the same image.
     let whole = (size.width as usize + 1) * (size.height as usize + 1);
-    let (one_band, whole_image) = draw(&mesh, &camera, &style, area, whole, None);
+    let (one_band, whole_image) = draw(&mesh, &camera, &style, area, whole, None, planes);
     let one_band = one_band.expect("a larger depth buffer draws too");
     assert!(one_band.bands <= 1, "{one_band:?}");
     assert!(
@@ -192,7 +201,15 @@ pub fn render(data: &[u8]) {
     // A target that fails stops the draw with its error.
     if image.sent > 0 {
         let stop = u64::from(stop) % image.sent;
-        let (failed, partial) = draw(&mesh, &camera, &style, area, band_values, Some(stop));
+        let (failed, partial) = draw(
+            &mesh,
+            &camera,
+            &style,
+            area,
+            band_values,
+            Some(stop),
+            planes,
+        );
         assert_eq!(failed, Err(RenderError::Target(Refused)));
         assert_eq!(partial.sent, stop);
     }

@@ -33,6 +33,8 @@ pub(crate) struct Polygon {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Frustum {
     planes: [(Vec3, f32); 5],
+    /// The near distance and the side planes' slopes, with a perspective camera.
+    perspective: Option<(f32, [f32; 2])>,
 }
 
 impl Frustum {
@@ -57,7 +59,10 @@ impl Frustum {
                 (Vec3::new(0.0, 1.0, 0.0), sy),
             ]
         };
-        Frustum { planes }
+        Frustum {
+            planes,
+            perspective: perspective.then_some((near, [sx, sy])),
+        }
     }
 
     fn distance(&self, k: usize, v: Vec3) -> f32 {
@@ -68,7 +73,18 @@ impl Frustum {
     /// Whether `v` is on the inner side of every plane (a triangle whose corners all are needs
     /// no clipping: [`clip`](Self::clip) would return it unchanged).
     pub fn contains(&self, v: Vec3) -> bool {
-        (0..self.planes.len()).all(|k| self.distance(k, v) >= 0.0)
+        match self.perspective {
+            // The planes' distances without their products by 0 and 1 (where `f32` is
+            // software, each costs a call): `(-x + 0 y) + s z` is `s z - x` exactly, and a
+            // coordinate that is not finite fails a plane either way (`0 · ∞` is NaN in the
+            // products; here the plane of that coordinate is not finite or NaN).
+            Some((near, [sx, sy])) => {
+                let (x, y, z) = (v.x, v.y, v.z);
+                let (ax, ay) = (sx * z, sy * z);
+                z - near >= 0.0 && ax - x >= 0.0 && ax + x >= 0.0 && ay - y >= 0.0 && ay + y >= 0.0
+            }
+            None => (0..self.planes.len()).all(|k| self.distance(k, v) >= 0.0),
+        }
     }
 
     /// Clips triangle `t`; `wire[i]` marks the edge from corner `i` to `i + 1`. An empty
@@ -129,6 +145,39 @@ mod tests {
         ClipVertex {
             view: Vec3::new(x, y, z),
             shade: z,
+        }
+    }
+
+    /// `contains` says what the five planes' distances say, for points inside, outside, on
+    /// the planes and not finite, with either projection.
+    #[test]
+    fn containment_is_the_planes_test() {
+        let mut rng = crate::test_rng::TestRng::new(0xc1_1b);
+        let special = [
+            0.0,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            1e30,
+            -1e-30,
+        ];
+        for perspective in [true, false] {
+            let f = Frustum::new(0.25, [0.75, 0.5], perspective);
+            for k in 0..20_000 {
+                let mut c = [0; 3].map(|_| rng.signed(1 << 12) as f32 / 1024.0);
+                if k % 5 == 0 {
+                    c[k % 3] = special[k % special.len()];
+                }
+                if k % 7 == 0 {
+                    // On a side plane, or the near plane.
+                    c[0] = 1.5 * c[2];
+                    c[2] = if k % 2 == 0 { 0.25 } else { c[2] };
+                }
+                let v = Vec3::from_array(c);
+                let planes = (0..5).all(|k| f.distance(k, v) >= 0.0);
+                assert_eq!(f.contains(v), planes, "{v:?}, perspective {perspective}");
+            }
         }
     }
 
