@@ -176,9 +176,11 @@ x n* over the other. *Over* counts triangles above the tolerance; *bound / true*
 each triangle's bound in model units over its measured deviation (at least 1 is the soundness
 claim); *off screen* counts the written triangles with no sample on screen; *full ms* is a
 frame of a new tessellator over the hierarchy with its links (`Hierarchy::with_links`, as
-`host::Baked` reads it), update and indexed write, best of eleven or of as many as take a
-tenth of a second, and *all cores ms* the same with the update spread over the machine's
-cores (`Tessellator::update_parallel`, the same mesh); GLU's time is its tessellation alone, best of five, and *full / GLU*, *all cores / GLU*
+`host::Baked` reads it), update and indexed write, best of eleven or of as many as take half
+a second, and *all cores ms* the same with the update spread over the machine's cores
+(`Tessellator::update_parallel`, the same mesh), the two timed in five turns each so that a
+busy moment of the machine spoils at most one; GLU's time is its tessellation alone, best of
+fifteen, and *full / GLU*, *all cores / GLU*
 divide by it. Times vary 10-30% from run to run on this machine (GLU's too).
 
 {read("error_1e-3.md")}

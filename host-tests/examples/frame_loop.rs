@@ -14,7 +14,7 @@
 //! (`host_tests::screen::ERROR_VIEWS`, each model baked at `BAKE_REL`, default 1e-3 there as in
 //! the error table): a cold frame of the view (median of 21), the same on all cores
 //! (`Tessellator::update_parallel`, median of 21) and, with `GLU_PEER` set,
-//! libGLU's NURBS tessellator on the same camera (best of five, its peer's own figure); then
+//! libGLU's NURBS tessellator on the same camera (best of fifteen, its peer's own figure); then
 //! an orbit of 48 steps from the view (the eye a degree further around the target's vertical
 //! each), each step's view as a cold frame (best of three, median over the steps) and as a step
 //! from the one before (the tessellator kept; median over the steps); and the same view again
@@ -77,6 +77,12 @@ fn main() {
     };
     let (eye, target) = (point("EYE", eye), point("TARGET", target));
     let tolerance_px: f32 = env("TOL", 1.0);
+    // `SIZE=240x240` for another viewport.
+    let size: Vec<u32> = std::env::var("SIZE")
+        .unwrap_or_else(|_| "1024x768".into())
+        .split('x')
+        .map(|v| v.parse().expect("a size"))
+        .collect();
     let orbit = std::env::var("ORBIT").is_ok_and(|v| v == "1");
     let view_at = |frame: usize| {
         let angle = if orbit {
@@ -95,7 +101,7 @@ fn main() {
                 fov_y_degrees: 40.0,
             },
             0.01 * diag,
-            [1024, 768],
+            [size[0], size[1]],
         )
         .expect("a valid camera");
         View::Screen {

@@ -16,7 +16,7 @@ fn widen(p: [f32; 3]) -> V3 {
 pub struct GluRun {
     /// Each triangle's patch, corner parameters and corner points.
     pub triangles: Vec<(usize, [[f64; 2]; 3], [V3; 3])>,
-    /// Its best time of five, in milliseconds, the tessellation alone.
+    /// Its best time of fifteen, in milliseconds, the tessellation alone.
     pub ms: f64,
 }
 
