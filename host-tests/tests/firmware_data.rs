@@ -380,7 +380,6 @@ fn fw_teapot_lists_of_any_length_draw_the_same() {
         for f in 0..fw_teapot::FRAMES.len() {
             fw_teapot::update(tess, f).expect("frame updates");
             let mut draw = |list: &mut [ListSlot], map: &mut [u16]| {
-                let planes = Planes::default();
                 let stats = fw_teapot::render(
                     tess,
                     f,
@@ -389,7 +388,7 @@ fn fw_teapot_lists_of_any_length_draw_the_same() {
                     list,
                     map,
                     &mut display,
-                    planes,
+                    Planes::default(),
                 )
                 .expect("frame draws");
                 (

@@ -69,7 +69,7 @@ use super::edge::{ceil_div, counter_clockwise, edge_set_up, wire_limit, EdgeSetU
 #[cfg(doc)]
 use super::Triangle;
 use super::{inv_sqrt, Plane, Planes, Snapped, HALF, SUBPIXELS};
-use crate::render::project::shade_from_u8;
+use crate::render::project::{depth_from_u16, shade_from_u8};
 use crate::render::walk::{FixedRamp, SpanWalk, DEPTH_BITS, LEVEL_BITS};
 
 /// A plane in fixed point: its value at the scan's first pixel and its change per pixel
@@ -322,7 +322,7 @@ impl Snapped {
             Planes::Float => {
                 let edges = edges.map(|e| e.map(|v| v as f32));
                 let inv_area = 1.0 / area as f32;
-                let depth = Plane::through(depth.map(f32::from), &edges, inv_area);
+                let depth = Plane::through(depth.map(depth_from_u16), &edges, inv_area);
                 scan.depth = FixedPlane::new(&depth, 1.0, DEPTH_BITS, corner, first);
                 let shade = Plane::through(shade.map(shade_from_u8), &edges, inv_area);
                 scan.level = FixedPlane::new(&shade, 255.0, LEVEL_BITS, corner, first);
