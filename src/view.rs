@@ -303,6 +303,12 @@ impl Camera {
         self.corner_ray
     }
 
+    /// The rotation into view coordinates by its rows: the right, up and forward unit
+    /// vectors in model coordinates (each within a few `ε` of unit length).
+    pub(crate) fn view_rows(&self) -> [[f32; 3]; 3] {
+        [self.right, self.up, self.forward]
+    }
+
     /// Direction `d` in view coordinates (rotation only).
     pub(crate) fn rotate_to_view(&self, d: Vec3) -> Vec3 {
         Vec3::new(

@@ -19,7 +19,7 @@ use std::sync::OnceLock;
 
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
+use spline_tess::tessellator::{Arithmetic, PoolSlot, StackSlot, Tessellator};
 use spline_tess::{Camera, Projection, TriangleSink, Vec3, Vertex, View, WriteError};
 
 use super::bytes::Bytes;
@@ -228,8 +228,15 @@ fn run(data: &[u8], limits: &Limits) {
     let mut bits = vec![0u32; tree.bit_words()];
     let mut stack_slots = vec![StackSlot::default(); stack];
     let mut pool_slots = vec![PoolSlot::default(); pool];
+    // Bounds in either arithmetic, by the stack's parity (no byte of its own: the seeds keep
+    // their meaning).
+    let arithmetic = match stack % 2 {
+        0 => Arithmetic::Float,
+        _ => Arithmetic::Integer,
+    };
     let mut s = Tessellator::from_slices(tree, &mut bits, &mut stack_slots, &mut pool_slots)
-        .expect("storage sized for the tree");
+        .expect("storage sized for the tree")
+        .with_arithmetic(arithmetic);
     let aabb = b.file.patches().aabb().expect("a model has patches");
     let (center, diag) = ((aabb.min + aabb.max) * 0.5, aabb.diagonal());
     for _ in 0..4 {

@@ -32,7 +32,7 @@ use host_tests::runtime::{triangle_set, Mesh};
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::BudgetError;
+use spline_tess::tessellator::{Arithmetic, BudgetError};
 use spline_tess::{EdgeLink, Vertex, View};
 
 const BAKE: BakeSettings = BakeSettings {
@@ -84,7 +84,8 @@ fn run_model(path: &std::path::Path) {
     let mut fresh_storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
     // A stack of 8: leaves it has no room for are found by walks, to the same mesh.
     let mut short_storage = VecStorage::new(&tree, 8, 1 << 16);
-    let mut sweeps = 0;
+    let mut integer_storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
+    let (mut sweeps, mut integer_apart) = (0, 0);
     let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
     let mut selection = storage.tessellator(tree);
     let mut left_over_frames = 0;
@@ -193,8 +194,30 @@ fn run_model(path: &std::path::Path) {
         sweeps += short.update(&step.view).unwrap().sweeps;
         let c: HashSet<_> = triangle_set(&streamed(&short)).into_iter().collect();
         assert!(a == c, "{what}: the mesh differs with a short stack");
+        // Bounds from the kept vectors in integers (what a part without an FPU computes):
+        // sound too, where they take other triangles.
+        let mut integer = integer_storage
+            .tessellator(tree)
+            .with_arithmetic(Arithmetic::Integer);
+        let integer_stats = integer.update(&step.view).unwrap();
+        let d: HashSet<_> = triangle_set(&streamed(&integer)).into_iter().collect();
+        if a != d {
+            integer_apart += 1;
+            let allowed = tolerance.max(integer_stats.worst_bound as f64);
+            let (worst, tightest) = measure_frame(&refs, &streamed(&integer), step.meter.as_ref());
+            println!(
+                "{what}, bounds in integers: {} triangles, measured {worst:.3} (allowed \
+                 {allowed:.3})",
+                integer_stats.triangles
+            );
+            assert!(
+                tightest >= 1.0 && worst <= allowed * 1.001 + slack,
+                "{what}, bounds in integers: deviation {worst} > {allowed}"
+            );
+        }
     }
     assert!(sweeps > 0, "{label}: a stack of 8 never ran short");
+    println!("{label}: bounds in integers took other triangles in {integer_apart} views");
     // Budget mode on the mid view: within the budget, within the bound it reports, and
     // minimal (1% less tolerance exceeds the budget).
     let path = camera_path(center, diag, aabb.min.z);

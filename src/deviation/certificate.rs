@@ -261,8 +261,7 @@ impl<'a> Moved<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::deviation::screen::{bound_on_screen, isotropic_bound_on_screen};
-    use crate::math::sqrt_above;
+    use crate::deviation::screen::{bound_on_screen, isotropic_bound_on_screen, view_extent};
     use crate::test_rng::TestRng;
     use crate::BoundingSphere;
 
@@ -278,11 +277,12 @@ mod tests {
         tolerance: f32,
     ) -> bool {
         let viewed = corners.map(|p| camera.to_view(p));
-        if isotropic_bound_on_screen(camera, viewed, big + r, r) <= tolerance {
+        let size = view_extent(&viewed);
+        if isotropic_bound_on_screen(camera, viewed, size, big + r, r) <= tolerance {
             return false;
         }
         let e = vectors.map(|v| camera.rotate_to_view(v));
-        bound_on_screen(camera, viewed, &e, big, r, r, sqrt_above, tolerance) > tolerance
+        bound_on_screen(camera, viewed, size, &e, big, r, r, tolerance) > tolerance
     }
 
     fn camera(eye: Vec3, target: Vec3) -> Option<Camera> {
@@ -364,7 +364,8 @@ mod tests {
             let viewed = corners.map(|p| c0.to_view(p));
             let e = vectors.map(|v| c0.rotate_to_view(v));
             // The tolerance within a factor of two of the bound, either side.
-            let bound = bound_on_screen(&c0, viewed, &e, big, r, r, sqrt_above, f32::INFINITY);
+            let size = view_extent(&viewed);
+            let bound = bound_on_screen(&c0, viewed, size, &e, big, r, r, f32::INFINITY);
             if !(bound.is_finite() && bound > 0.0) {
                 continue;
             }
@@ -502,8 +503,9 @@ mod tests {
                 };
                 let viewed = corners.map(|p| c1.to_view(p));
                 let e = vectors.map(|v| c1.rotate_to_view(v));
-                let i = isotropic_bound_on_screen(&c1, viewed, big + r, r);
-                let d = bound_on_screen(&c1, viewed, &e, big, r, r, sqrt_above, f32::INFINITY);
+                let size = view_extent(&viewed);
+                let i = isotropic_bound_on_screen(&c1, viewed, size, big + r, r);
+                let d = bound_on_screen(&c1, viewed, size, &e, big, r, r, f32::INFINITY);
                 let slack = 1.0 + 1.0 / 4096.0;
                 assert!(
                     i_low <= i * slack && i <= i_up * slack,

@@ -68,6 +68,7 @@ pub(crate) mod kept;
 pub(crate) mod lattice;
 mod patch_bounds;
 mod screen;
+pub(crate) mod vectors;
 
 pub use patch_bounds::PatchBounds;
 pub(crate) use screen::{bound_on_screen, isotropic_bound_on_screen, view_extent};

@@ -50,7 +50,8 @@
 //! `dτ = 2 η (1 + |τ_x| + |τ_y|) / (z_i - η)`, which moves `φ` by at most `m dτ` (its slope in
 //! `τ` is `|e_z| <= m`). The rotation of each `e_k` and the cancellation in `e_⊥ - τ e_z` are
 //! covered by `16 ε m (1 + |τ_x| + |τ_y|)`, the few relative roundings of the sums and the
-//! final scale by `2^-10`. A view whose near plane is within `η` of the eye gives no bound
+//! final scale by `2^-10`. (A node's kept vectors read in integers cover their own roundings
+//! in `max_k φ`: see `vectors`.) A view whose near plane is within `η` of the eye gives no bound
 //! (infinity): the isotropic one decides there.
 //!
 //! **The isotropic bound without the vectors.** Every vertex `v` of `F` has `v_z >= z_f =
@@ -77,8 +78,9 @@
 
 use glam::Vec3;
 
+use super::vectors::Deviations;
 use super::EPS;
-use crate::math::{max, min};
+use crate::math::{max, min, sqrt_above};
 use crate::view::{Camera, Projection};
 
 /// Most vertices of a triangle clipped by five planes.
@@ -156,38 +158,35 @@ impl Polygon {
 }
 
 /// The bound on `camera`'s screen, in pixels, of a deviation `e(x) ∈ conv{e_k} + B(r)` over
-/// the flat triangle `corners` (moved into view coordinates by `camera.to_view`), with the
+/// the flat triangle `corners` (moved into view coordinates by `camera.to_view`; `size` at
+/// least their [`view_extent`], which a caller finds once for every bound), with the
 /// vectors `e_k` in view coordinates too (rotated, not moved), `big` at least their largest
 /// length and `slack` the rounding slack of the corners (see the module docs). `e` may hold
-/// any vectors whose hull, widened by `r`, holds the deviation: a lattice's, or a bake's few
-/// kept ones. `root` is the square root, or any upper bound of it ([`sqrt_above`]: the bound
-/// stays a bound).
+/// any vectors whose hull, widened by `r`, holds the deviation: a lattice's in view
+/// coordinates, or a bake's few kept ones as quantised (see `vectors`). Its roots are
+/// [`sqrt_above`]'s, upper bounds: the bound stays a bound.
 ///
 /// Once the vertices of the clipped polygon taken so far put it above `stop`, it stops there
 /// and returns that: a value above `stop` and at most the bound (the bound is the largest
 /// term of all vertices at the least depth of all, and fewer vertices give a smaller or equal
 /// term at a greater or equal depth, computed the same way: rounding keeps the order). With
 /// `stop` infinite, the bound.
-///
-/// [`sqrt_above`]: crate::math::sqrt_above
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bound_on_screen(
     camera: &Camera,
     corners: [Vec3; 3],
-    e: &[Vec3],
+    size: f32,
+    e: &impl Deviations,
     big: f32,
     r: f32,
     slack: f32,
-    root: impl Fn(f32) -> f32,
     stop: f32,
 ) -> f32 {
     let m = big + r;
     let focal = camera.focal();
     if let Projection::Orthographic { .. } = camera.projection() {
-        let worst = e.iter().map(|d| d.x * d.x + d.y * d.y).fold(0.0f32, max);
-        return focal * ((root(worst) + r) * SCREEN_SLACK + 16.0 * EPS * m);
+        return focal * ((e.worst(camera, [0.0, 0.0]) + r) * SCREEN_SLACK + 16.0 * EPS * m);
     }
-    let size = view_extent(&corners);
     let eta = slack + 16.0 * EPS * size;
     let near = camera.near() - eta;
     if near.is_nan() || near <= 0.0 || !m.is_finite() || !eta.is_finite() {
@@ -252,15 +251,10 @@ pub(crate) fn bound_on_screen(
         }
         let (tx, ty) = (v.x / v.z, v.y / v.z);
         let spread = 1.0 + tx.abs() + ty.abs();
-        let phi = e
-            .iter()
-            .map(|d| {
-                let (a, b) = (d.x - tx * d.z, d.y - ty * d.z);
-                a * a + b * b
-            })
-            .fold(0.0f32, max);
         let widen = 2.0 * eta * spread / z;
-        let g = root(phi) + r * root(1.0 + tx * tx + ty * ty) + m * (widen + 16.0 * EPS * spread);
+        let g = e.worst(camera, [tx, ty])
+            + r * sqrt_above(1.0 + tx * tx + ty * ty)
+            + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
         // Over already? Asked without a division (`f g > stop z`, a few roundings from the
         // quotient's test), then the bound so far found and returned only where it is over.
@@ -306,20 +300,20 @@ pub(crate) fn view_extent(points: &[Vec3; 3]) -> f32 {
 }
 
 /// An upper bound of [`bound_on_screen`]'s bound (and so of the deviation on screen) from the
-/// corners alone: the isotropic bound over the rays that the flat triangle's part that can
+/// corners alone (`size` at least their [`view_extent`]): the isotropic bound over the rays that the flat triangle's part that can
 /// show may have (see the module docs), for a deviation at most `m` long of which `slack` is
 /// the corners' rounding. Infinity where the view's near plane or the triangle come within
 /// the rounding of the eye.
 pub(crate) fn isotropic_bound_on_screen(
     camera: &Camera,
     corners: [Vec3; 3],
+    size: f32,
     m: f32,
     slack: f32,
 ) -> f32 {
     if let Projection::Orthographic { .. } = camera.projection() {
         return camera.focal() * (m * SCREEN_SLACK + 16.0 * EPS * m);
     }
-    let size = view_extent(&corners);
     let z_corner = corners.iter().map(|v| v.z).fold(f32::INFINITY, min);
     isotropic_from(camera, z_corner, size, m, slack)
 }
@@ -357,7 +351,6 @@ pub(crate) fn isotropic_from(camera: &Camera, z_corner: f32, size: f32, m: f32, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::sqrt_above;
     use crate::test_rng::TestRng;
 
     /// A random case `k` of the tests below: a camera, a triangle in its view coordinates
@@ -401,17 +394,18 @@ mod tests {
         let (mut compared, mut worst_ratio) = (0, 0.0f32);
         for k in 0..4000 {
             let (camera, corners, vectors, longest, r) = random_case(&mut rng, k);
+            let size = view_extent(&corners);
             let directional = bound_on_screen(
                 &camera,
                 corners,
+                size,
                 &vectors,
                 longest,
                 r,
                 r,
-                sqrt_above,
                 f32::INFINITY,
             );
-            let isotropic = isotropic_bound_on_screen(&camera, corners, longest + r, r);
+            let isotropic = isotropic_bound_on_screen(&camera, corners, size, longest + r, r);
             assert!(
                 isotropic >= directional,
                 "{k}: isotropic {isotropic} below directional {directional}"
@@ -433,8 +427,9 @@ mod tests {
         let (mut stopped, mut under) = (0, 0);
         for k in 0..4000 {
             let (camera, corners, vectors, longest, r) = random_case(&mut rng, k);
+            let size = view_extent(&corners);
             let bound =
-                |stop| bound_on_screen(&camera, corners, &vectors, longest, r, r, sqrt_above, stop);
+                |stop| bound_on_screen(&camera, corners, size, &vectors, longest, r, r, stop);
             let full = bound(f32::INFINITY);
             if !full.is_finite() || full == 0.0 {
                 continue;

@@ -22,9 +22,40 @@ use super::hierarchy::Pending;
 use super::select::Tessellator;
 use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
+use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
 use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
-use crate::math::sqrt_above;
 use crate::view::{Camera, Projection, View};
+
+/// How a tessellator computes a triangle's directional bound on screen from its node's kept
+/// vectors (see [`Tessellator::with_arithmetic`]).
+///
+/// Both are bounds, derived in the crate's `deviation` module: the integer one reads the
+/// six-bit vectors as integers, with no vector in `f32` nor rotated into the view, and is
+/// above the float one by about `2^-21` of a vector's length. The two seldom judge a triangle
+/// apart: on `fw_teapot`'s frames they take the same triangles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Arithmetic {
+    /// The vectors in `f32`, rotated into the view once a triangle: the cheaper where `f32`
+    /// is hardware, and the default there.
+    Float,
+    /// The vectors in integers, against the view's rays in fixed point: the default where
+    /// `f32` is software (ARMv6-M, RV32IMC), where it takes 13% off `fw_teapot`'s update
+    /// (ARMv6-M, frame 0).
+    Integer,
+}
+
+impl Default for Arithmetic {
+    /// [`Arithmetic::Float`] where `f32` is hardware, [`Arithmetic::Integer`] where it is
+    /// software.
+    fn default() -> Self {
+        if crate::math::HARD_FLOAT {
+            Arithmetic::Float
+        } else {
+            Arithmetic::Integer
+        }
+    }
+}
 
 /// A triangle's bound in a view's units (pixels or model units), and whether it is hidden.
 #[derive(Clone, Copy, Debug)]
@@ -89,7 +120,14 @@ pub(super) fn judge(
                 Some(corners) => corners.map(|p| camera.to_view(p)),
                 None => viewed(selection, h, camera),
             },
-            || node.kept(),
+            |camera| match selection.arithmetic {
+                Arithmetic::Integer => {
+                    NodeVectors::Integer(Quantised::new(node.vectors, node.scale))
+                }
+                Arithmetic::Float => {
+                    NodeVectors::Float(node.kept().map(|v| camera.rotate_to_view(v)))
+                }
+            },
             big,
             node.remainder,
             stop,
@@ -124,7 +162,7 @@ pub(super) fn judge(
     let own = judge_vectors(
         view,
         |camera| corners.map(|p| camera.to_view(p)),
-        || vectors,
+        |camera| vectors.map(|v| camera.rotate_to_view(v)),
         big,
         remainder,
         stop,
@@ -162,13 +200,13 @@ fn viewed(selection: &Tessellator<'_, '_>, h: &Pending, camera: &Camera) -> [Vec
 }
 
 /// Judges the flat triangle whose corners `viewed` gives in a camera's view coordinates and
-/// whose deviation lies in the hull of zero and the vectors `vectors` gives (none longer than
-/// `big`) widened by `remainder`; a directional bound over `stop` may stop there (see
-/// [`judge`]), and with `budgets` the judgement comes with its certificate.
-fn judge_vectors<const K: usize>(
+/// whose deviation lies in the hull of zero and the vectors `vectors` gives for a camera
+/// (none longer than `big`) widened by `remainder`; a directional bound over `stop` may stop
+/// there (see [`judge`]), and with `budgets` the judgement comes with its certificate.
+fn judge_vectors<D: Deviations>(
     view: &View,
     viewed: impl FnOnce(&Camera) -> [Vec3; 3],
-    vectors: impl FnOnce() -> [Vec3; K],
+    vectors: impl FnOnce(&Camera) -> D,
     big: f32,
     remainder: f32,
     stop: f32,
@@ -178,36 +216,41 @@ fn judge_vectors<const K: usize>(
         View::Object { .. } => Judged::bare(big + remainder, false),
         View::Screen { camera, .. } => {
             let viewed = viewed(camera);
-            if beyond_one_plane(camera, viewed, big + remainder) {
+            let size = view_extent(&viewed);
+            if beyond_one_plane(camera, viewed, size, big + remainder) {
                 return Judged::bare(0.0, true);
             }
             let tolerance = view.tolerance();
             // Most triangles a frame judges are within the tolerance by the isotropic bound
             // already, which needs no vectors; the others take the directional one.
             let m = big + remainder;
-            let isotropic = isotropic_bound_on_screen(camera, viewed, m, remainder);
+            let isotropic = isotropic_bound_on_screen(camera, viewed, size, m, remainder);
             let budgets = if cfg!(feature = "reuse") {
                 budgets
             } else {
                 &[]
             };
-            let certify = |e: &[Vec3]| {
+            let certify = |e: &D| {
                 crate::deviation::certificate::lasting(
-                    camera, viewed, e, big, remainder, remainder, tolerance, budgets,
+                    camera,
+                    viewed,
+                    e.in_view(camera).as_ref(),
+                    big,
+                    remainder,
+                    remainder,
+                    tolerance,
+                    budgets,
                 )
             };
             if isotropic <= tolerance {
                 let mut j = Judged::bare(isotropic, false);
                 if !budgets.is_empty() {
-                    let e = vectors().map(|v| camera.rotate_to_view(v));
-                    j.lasting = certify(&e);
+                    j.lasting = certify(&vectors(camera));
                 }
                 return j;
             }
-            let e = vectors().map(|v| camera.rotate_to_view(v));
-            let bound = bound_on_screen(
-                camera, viewed, &e, big, remainder, remainder, sqrt_above, stop,
-            );
+            let e = vectors(camera);
+            let bound = bound_on_screen(camera, viewed, size, &e, big, remainder, remainder, stop);
             Judged {
                 bound,
                 hidden: false,
@@ -238,17 +281,17 @@ pub(super) fn hidden_below_the_bake(
     let viewed = h
         .corners
         .map(|v| camera.to_view(Vec3::from_array(selection.position(v))));
-    margin.is_finite() && beyond_one_plane(camera, viewed, margin)
+    margin.is_finite() && beyond_one_plane(camera, viewed, view_extent(&viewed), margin)
 }
 
-/// Whether the three points `view` (in `camera`'s view coordinates) lie beyond one plane of
-/// the view by more than `margin` (and the rounding of moving them into view coordinates).
+/// Whether the three points `view` (in `camera`'s view coordinates, `size` their
+/// [`view_extent`]) lie beyond one plane of the view by more than `margin` (and the rounding
+/// of moving them into view coordinates).
 /// Never for an orthographic camera (it has no side planes here).
-fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], margin: f32) -> bool {
+fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], size: f32, margin: f32) -> bool {
     if let Projection::Orthographic { .. } = camera.projection() {
         return false;
     }
-    let size = view_extent(&view);
     let w = margin + 16.0 * EPS * size;
     if !w.is_finite() {
         return false;

@@ -31,6 +31,7 @@ use std::vec::Vec;
 
 use super::bits::set;
 use super::hierarchy::{Hierarchy, Pending};
+use super::judge::Arithmetic;
 use super::select::{FrameStats, Part, RootAt, Tessellator, UpdateError};
 use super::storage::StackSlot;
 use crate::math::max;
@@ -99,12 +100,20 @@ impl Thread {
 
     /// Searches part `number`, the roots `lo..hi` of `tree`, in `view`, adding to this
     /// thread's bits and figures.
-    fn search(mut self, tree: Hierarchy<'_>, view: &View, number: usize, (lo, hi): Part) -> Thread {
-        let Ok(mut part) = Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut [])
+    fn search(
+        mut self,
+        tree: Hierarchy<'_>,
+        view: &View,
+        number: usize,
+        (lo, hi): Part,
+        arithmetic: Arithmetic,
+    ) -> Thread {
+        let Ok(part) = Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut [])
         else {
             self.failed = true;
             return self;
         };
+        let mut part = part.with_arithmetic(arithmetic);
         let mut left = Vec::new();
         part.group = Some(Group {
             lo,
@@ -152,7 +161,7 @@ impl Tessellator<'_, '_> {
         if self.is_last_view(view)? {
             return Ok(self.stats);
         }
-        let tree = self.tree;
+        let (tree, arithmetic) = (self.tree, self.arithmetic);
         let words = tree.bit_words();
         // One storage a thread: each takes the next part not yet taken until none is left
         // (rayon's `fold` would make storage for every piece of work it splits off).
@@ -164,7 +173,7 @@ impl Tessellator<'_, '_> {
                 let Some(&part) = parts.get(number) else {
                     return thread;
                 };
-                thread = thread.search(tree, view, number, part);
+                thread = thread.search(tree, view, number, part, arithmetic);
             }
         });
         if threads.iter().any(|t| t.failed) {

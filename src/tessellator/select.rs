@@ -36,7 +36,7 @@ use core::fmt;
 use super::address::{on_side, Tri};
 use super::bits::{bit, clear, set, Layout};
 use super::hierarchy::{walk, walk_roots, Hierarchy, Pending, RUN_TIME};
-use super::judge::judge;
+use super::judge::{judge, Arithmetic};
 use super::refine::{key, Pool, PoolSlot};
 #[cfg(feature = "reuse")]
 use super::reuse::Judgement;
@@ -182,6 +182,8 @@ pub struct Tessellator<'t, 's> {
     model_box: Option<crate::bound::Aabb>,
     /// The frame's last corners in view coordinates (see [`viewed`](Self::viewed)).
     viewed: ViewedCorners,
+    /// How triangles' bounds are computed from their kept vectors.
+    pub(super) arithmetic: Arithmetic,
     /// A part of a frame searched on a thread of its own (see `parallel`); `None`: the whole
     /// model.
     #[cfg(all(feature = "std", not(target_os = "none")))]
@@ -335,6 +337,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
             viewed: ViewedCorners::new(),
+            arithmetic: Arithmetic::default(),
             #[cfg(all(feature = "std", not(target_os = "none")))]
             group: None,
         })
@@ -371,6 +374,24 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.reuse = crate::bound::BoundingSphere::of_points(self.tree.model.points())
             .map(|sphere| Reuse::new(judgements, sphere));
         Ok(self)
+    }
+
+    /// This tessellator, computing triangles' bounds from their kept vectors in `arithmetic`
+    /// (by default in `f32` where it is hardware, in integers where it is software): a host
+    /// takes [`Arithmetic::Integer`] to find the frames a part without an FPU finds.
+    ///
+    /// ```
+    /// # use spline_tess::tessellator::{Arithmetic, Hierarchy, Tessellator, TessellatorStorage};
+    /// # fn run(tree: Hierarchy<'_>) {
+    /// let mut storage = TessellatorStorage::<1024, 64, 0>::new();
+    /// let tessellator = Tessellator::new(tree, &mut storage)
+    ///     .expect("storage sized for the hierarchy")
+    ///     .with_arithmetic(Arithmetic::Integer);
+    /// # }
+    /// ```
+    pub fn with_arithmetic(mut self, arithmetic: Arithmetic) -> Self {
+        self.arithmetic = arithmetic;
+        self
     }
 
     /// The model's box, kept from [`new`](Self::new).
