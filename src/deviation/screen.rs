@@ -48,9 +48,10 @@
 //! intersection within a few `ε Σ`). So `F` is taken with the near plane moved in by `η`
 //! and the side planes out by `m + η`, `z_min` with `η` less, and each ray `τ_i` is widened by
 //! `dτ = 2 η (1 + |τ_x| + |τ_y|) / (z_i - η)`, which moves `φ` by at most `m dτ` (its slope in
-//! `τ` is `|e_z| <= m`). The rotation of each `e_k` and the cancellation in `e_⊥ - τ e_z` are
-//! covered by `16 ε m (1 + |τ_x| + |τ_y|)`, the few relative roundings of the sums and the
-//! final scale by `2^-10`. (A node's kept vectors read in integers cover their own roundings
+//! `τ` is `|e_z| <= m`). The rotation of each `e_k`, the cancellation in `e_⊥ - τ e_z` and the
+//! ray's own two roundings (`v_⊥` times `1 / v_z`: `τ` within `2 ε |τ|`, which moves `φ` by
+//! at most `2 ε m |τ|`) are covered by `16 ε m (1 + |τ_x| + |τ_y|)`, the few relative
+//! roundings of the sums and the final scale by `2^-10`. (A node's kept vectors read in integers cover their own roundings
 //! in `max_k φ`: see `vectors`.) A view whose near plane is within `η` of the eye gives no bound
 //! (infinity): the isotropic one decides there.
 //!
@@ -80,7 +81,7 @@ use glam::Vec3;
 
 use super::vectors::Deviations;
 use super::EPS;
-use crate::math::{max, min, sqrt_above};
+use crate::math::{max, min, sqrt_one_plus_above};
 use crate::view::{Camera, Projection};
 
 /// Most vertices of a triangle clipped by five planes.
@@ -163,8 +164,9 @@ impl Polygon {
 /// vectors `e_k` in view coordinates too (rotated, not moved), `big` at least their largest
 /// length and `slack` the rounding slack of the corners (see the module docs). `e` may hold
 /// any vectors whose hull, widened by `r`, holds the deviation: a lattice's in view
-/// coordinates, or a bake's few kept ones as quantised (see `vectors`). Its roots are
-/// [`sqrt_above`]'s, upper bounds: the bound stays a bound.
+/// coordinates, or a bake's few kept ones as quantised (see `vectors`). Its roots are upper
+/// bounds ([`sqrt_one_plus_above`](crate::math::sqrt_one_plus_above), and the vectors'
+/// `sqrt_above`): the bound stays a bound.
 ///
 /// Once the vertices of the clipped polygon taken so far put it above `stop`, it stops there
 /// and returns that: a value above `stop` and at most the bound (the bound is the largest
@@ -249,11 +251,13 @@ pub(crate) fn bound_on_screen(
         if z.is_nan() || z <= 0.0 {
             return f32::INFINITY;
         }
-        let (tx, ty) = (v.x / v.z, v.y / v.z);
+        // The ray through `v` by its depth's reciprocal (two roundings, see the module docs).
+        let inverse = 1.0 / v.z;
+        let (tx, ty) = (v.x * inverse, v.y * inverse);
         let spread = 1.0 + tx.abs() + ty.abs();
         let widen = 2.0 * eta * spread / z;
         let g = e.worst(camera, [tx, ty])
-            + r * sqrt_above(1.0 + tx * tx + ty * ty)
+            + r * sqrt_one_plus_above(tx * tx + ty * ty)
             + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
         // Over already? Asked without a division (`f g > stop z`, a few roundings from the
