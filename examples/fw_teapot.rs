@@ -67,8 +67,9 @@ mod spi_display;
 mod teapot;
 
 use spi_display::SpiDisplay;
-use spline_tess::render::{ListSlot, Planes};
+use spline_tess::render::ListSlot;
 use spline_tess::tessellator::{Hierarchy, PoolSlot, StackSlot, Tessellator, TessellatorStorage};
+use spline_tess::Arithmetic;
 use spline_tess::PatchSet;
 
 /// Words of bits the hierarchy takes.
@@ -154,7 +155,7 @@ fn frame(
         &mut buffers.list,
         &mut buffers.map,
         display,
-        Planes::default(),
+        Arithmetic::default(),
     )?;
     let t2 = clock();
     // The vertices the mesh uses, for the host's report: counted by a walk of the mesh, which
@@ -216,10 +217,10 @@ fn run(
             return false;
         };
         // (Element by element: an array comparison links `memcmp`, 116 bytes of flash.)
-        // (The host's frames drawn as this target draws them: see `Planes` and `Arithmetic`.)
-        let want = match Planes::default() {
-            Planes::Float => expected::FRAMES[k],
-            Planes::Integer => expected::FRAMES_WITHOUT_FPU[k],
+        // (The host's frames found and drawn as this target does: see `Arithmetic`.)
+        let want = match Arithmetic::default() {
+            Arithmetic::Float => expected::FRAMES[k],
+            Arithmetic::Integer => expected::FRAMES_WITHOUT_FPU[k],
         };
         let ok = m.triangles == want[0]
             && m.pixels == want[1]

@@ -203,6 +203,7 @@
 #[cfg(all(feature = "std", not(target_os = "none")))]
 extern crate std;
 
+mod arithmetic;
 pub mod bake;
 mod basis;
 mod bound;
@@ -226,6 +227,7 @@ pub mod tessellator;
 mod test_rng;
 mod view;
 
+pub use arithmetic::Arithmetic;
 pub use bound::{Aabb, BoundingSphere};
 pub use facing::NormalCone;
 pub use frame::SurfacePoint;

@@ -7,8 +7,9 @@
 // the bake. `no_std`, no allocation. Hand-written.
 
 use embedded_graphics::pixelcolor::Rgb888;
-use spline_tess::render::{ListSlot, Planes, RenderStats, Renderer, Shading, Style, Wireframe};
+use spline_tess::render::{ListSlot, RenderStats, Renderer, Shading, Style, Wireframe};
 use spline_tess::tessellator::{FrameStats, Tessellator};
+use spline_tess::Arithmetic;
 use spline_tess::{Camera, Projection, Vec3, View};
 
 use super::spi_display::SpiDisplay;
@@ -102,7 +103,7 @@ pub fn update(selection: &mut Tessellator<'_, '_>, k: usize) -> Option<FrameStat
 /// values) and `colors` (`2 * BAND` bytes, big-endian Rgb565) hold one band, each band's bytes
 /// are pushed as they are (as to a DMA transfer), `list` (may be empty) the frame's triangles,
 /// `map` (may be empty) the list's vertex map (one entry per vertex of the hierarchy), the
-/// depth and shade set up as `planes` says (the target's default on the device). Not
+/// depth and shade set up in `arithmetic` (the target's default on the device). Not
 /// inlined: the renderer's locals then take the stack after the update's, not beside them.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)] // (each a buffer of the caller's, or the frame's choice)
@@ -114,14 +115,14 @@ pub fn render(
     list: &mut [ListSlot],
     map: &mut [u16],
     display: &mut SpiDisplay,
-    planes: Planes,
+    arithmetic: Arithmetic,
 ) -> Option<RenderStats> {
     let camera = camera(k)?;
     let style = style(k)?;
     display.begin_frame();
     Renderer::with_triangle_list(depth, list)
         .with_vertex_map(map)
-        .with_planes(planes)
+        .with_arithmetic(arithmetic)
         .draw_bands_rgb565(selection, &camera, &style, colors, |area, bytes| {
             display.push_band(area, bytes);
             Ok::<(), core::convert::Infallible>(())

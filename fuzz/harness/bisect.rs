@@ -19,7 +19,8 @@ use std::sync::OnceLock;
 
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::{Arithmetic, PoolSlot, StackSlot, Tessellator};
+use spline_tess::tessellator::{PoolSlot, StackSlot, Tessellator};
+use spline_tess::Arithmetic;
 use spline_tess::{Camera, Projection, TriangleSink, Vec3, Vertex, View, WriteError};
 
 use super::bytes::Bytes;

@@ -16,8 +16,9 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::{Pixel, Point, Size};
 use embedded_graphics::primitives::Rectangle;
 use spline_tess::render::{
-    IndexedMesh, Light, Planes, RenderError, RenderStats, Renderer, Shading, Style, Wireframe,
+    IndexedMesh, Light, RenderError, RenderStats, Renderer, Shading, Style, Wireframe,
 };
+use spline_tess::Arithmetic;
 use spline_tess::{Camera, Projection, Vec3, Vertex};
 
 use super::bytes::Bytes;
@@ -77,7 +78,7 @@ fn draw(
     area: Rectangle,
     band_values: usize,
     fail_after: Option<u64>,
-    planes: Planes,
+    arithmetic: Arithmetic,
 ) -> (Result<RenderStats, RenderError<Refused>>, Recorder) {
     let mut target = Recorder {
         area,
@@ -87,10 +88,12 @@ fn draw(
         fail_after,
     };
     let mut depth = vec![0u16; band_values];
-    let result =
-        Renderer::new(&mut depth)
-            .with_planes(planes)
-            .draw(mesh, camera, style, &mut target);
+    let result = Renderer::new(&mut depth).with_arithmetic(arithmetic).draw(
+        mesh,
+        camera,
+        style,
+        &mut target,
+    );
     (result, target)
 }
 
@@ -157,9 +160,9 @@ pub fn render(data: &[u8]) {
     let size = Size::new((r.u8() % 112) as u32, (r.u8() % 112) as u32);
     let band_values = r.u16() as usize % 4096;
     // Either set-up of the depth and shade, by the band's parity.
-    let planes = match band_values % 2 {
-        0 => Planes::Float,
-        _ => Planes::Integer,
+    let arithmetic = match band_values % 2 {
+        0 => Arithmetic::Float,
+        _ => Arithmetic::Integer,
     };
     let stop = r.u8();
     // Past the bytes the target read before its viewports grew (0 past the end: what it did
@@ -175,8 +178,8 @@ pub fn render(data: &[u8]) {
         return;
     };
     let area = Rectangle::new(top_left, size);
-    let (first, image) = draw(&mesh, &camera, &style, area, band_values, None, planes);
-    let (second, again) = draw(&mesh, &camera, &style, area, band_values, None, planes);
+    let (first, image) = draw(&mesh, &camera, &style, area, band_values, None, arithmetic);
+    let (second, again) = draw(&mesh, &camera, &style, area, band_values, None, arithmetic);
     assert_eq!(first, second, "the same draw twice differs");
     assert!(
         image.image == again.image && image.sent == again.sent,
@@ -191,7 +194,7 @@ pub fn render(data: &[u8]) {
     );
     // The whole drawn area (within the target) as one band gives the same image.
     let whole = (size.width as usize + 1) * (size.height as usize + 1);
-    let (one_band, whole_image) = draw(&mesh, &camera, &style, area, whole, None, planes);
+    let (one_band, whole_image) = draw(&mesh, &camera, &style, area, whole, None, arithmetic);
     let one_band = one_band.expect("a larger depth buffer draws too");
     assert!(one_band.bands <= 1, "{one_band:?}");
     assert!(
@@ -208,7 +211,7 @@ pub fn render(data: &[u8]) {
             area,
             band_values,
             Some(stop),
-            planes,
+            arithmetic,
         );
         assert_eq!(failed, Err(RenderError::Target(Refused)));
         assert_eq!(partial.sent, stop);

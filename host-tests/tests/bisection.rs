@@ -32,7 +32,8 @@ use host_tests::runtime::{triangle_set, Mesh};
 use host_tests::{bpt_models, name, nurbs_fixtures};
 use spline_tess::bake::BakeSettings;
 use spline_tess::bake::Tolerance;
-use spline_tess::tessellator::{Arithmetic, BudgetError};
+use spline_tess::tessellator::BudgetError;
+use spline_tess::Arithmetic;
 use spline_tess::{EdgeLink, Vertex, View};
 
 const BAKE: BakeSettings = BakeSettings {

@@ -122,7 +122,7 @@ impl Quantised {
 }
 
 /// A node's kept vectors as a tessellator reads them: rotated into the view in floats, or
-/// quantised, in integers (see `tessellator::Arithmetic`). One type for both, so that a
+/// quantised, in integers (see `Arithmetic`). One type for both, so that a
 /// triangle's judgement is one function either way (flash), choosing per vector set.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum NodeVectors {
@@ -257,16 +257,15 @@ mod tests {
     use crate::test_rng::TestRng;
     use crate::view::Projection;
 
-    /// The quantised vectors' worst term covers the same vectors' exact term, computed in
-    /// `f64` from the exact vectors and the camera's rows, and is within `10^-5` of it plus
-    /// the `u |c|_1` terms; across rays near and far from the view's centre, and
-    /// vectors of every size.
+    /// The spill's constants are what the module docs derive.
     #[test]
     fn the_spill_is_root_two_times_the_entries_error() {
         assert!(SPILL as f64 >= 2.0f64.sqrt() * 2.5);
         assert!(2.01 * 6.0f64.sqrt() / 4.0 < 1.24);
     }
 
+    /// The integer form of `x 2^s` is the float product truncated, over every exponent that
+    /// fits, zeros and subnormals too.
     #[test]
     fn a_power_of_two_taken_in_integers_is_the_float_product_truncated() {
         let mut rng = TestRng::new(0x2e1f_0b17);
@@ -289,6 +288,7 @@ mod tests {
         }
     }
 
+    /// A `u64` square taken to `f32` is never below it, and at most an `f32` step above.
     #[test]
     fn a_square_taken_to_floats_is_not_rounded_down() {
         let mut rng = TestRng::new(0x5a7e_0001);
@@ -299,6 +299,14 @@ mod tests {
             assert!(f as f64 >= x as f64 && (f as u128) >= x as u128, "{x}: {f}");
             assert!((f as f64) <= x as f64 * (1.0 + 2.0 * f32::EPSILON as f64) + 1.0);
         }
+    }
+
+    /// A 240x240 camera at `eye` looking at the origin, up `+z`, if one can be made there.
+    fn looking_at_origin(eye: Vec3) -> Option<Camera> {
+        let projection = Projection::Perspective {
+            fov_y_degrees: 40.0,
+        };
+        Camera::new(eye, Vec3::ZERO, Vec3::Z, projection, 0.05, [240, 240]).ok()
     }
 
     /// `max_k φ(τ, e_k)` in `f64`, from the exact vectors and the camera's rows.
@@ -319,17 +327,7 @@ mod tests {
     /// never NaN nor an overflow.
     #[test]
     fn extreme_rays_give_a_bound_or_infinity() {
-        let camera = Camera::new(
-            Vec3::new(3.0, -4.0, 2.0),
-            Vec3::ZERO,
-            Vec3::Z,
-            Projection::Perspective {
-                fov_y_degrees: 40.0,
-            },
-            0.05,
-            [240, 240],
-        )
-        .unwrap();
+        let camera = looking_at_origin(Vec3::new(3.0, -4.0, 2.0)).unwrap();
         let q = Quantised::new([[-128, 127, 5], [31, -32, 0], [0, 0, 0], [1, 1, 1]], 2e-3);
         for big in [1e6, 1e20, 1e30, f32::MAX, f32::INFINITY, f32::NAN] {
             for ray in [[big, 0.0], [0.0, -big], [big, big], [-big, 1.0]] {
@@ -350,6 +348,10 @@ mod tests {
         );
     }
 
+    /// The quantised vectors' worst term covers the same vectors' exact term, computed in
+    /// `f64` from the exact vectors and the camera's rows, and is within `10^-5` of it plus
+    /// the `u |c|_1` terms; across rays near and far from the view's centre, and
+    /// vectors of every size.
     #[test]
     fn quantised_vectors_cover_their_exact_term() {
         let mut rng = TestRng::new(0x0e17_a5c1);
@@ -362,16 +364,7 @@ mod tests {
                 unit(&mut rng, 10.0),
                 unit(&mut rng, 10.0),
             );
-            let Ok(camera) = Camera::new(
-                eye,
-                Vec3::ZERO,
-                Vec3::Z,
-                Projection::Perspective {
-                    fov_y_degrees: 40.0,
-                },
-                0.05,
-                [240, 240],
-            ) else {
+            let Some(camera) = looking_at_origin(eye) else {
                 continue;
             };
             let reach = [0.5, 3.0, 40.0][k % 3];

@@ -12,10 +12,11 @@ use embedded_graphics::primitives::Rectangle;
 use super::clip::ClipVertex;
 use super::list::{for_each_listed, ListSlot, SubpixelRows};
 use super::project::{CornerCache, Setup};
-use super::raster::{faces_away, BandScan, Planes, Scan, Snapped, Triangle};
+use super::raster::{faces_away, BandScan, Scan, Snapped, Triangle};
 use super::walk::{draw_span, SpanWalk};
 use super::{RenderStats, Style};
 use crate::sink::{TriangleSink, Vertex};
+use crate::Arithmetic;
 
 /// Where a band's visible pixels go.
 pub(super) trait BandOutput {
@@ -442,7 +443,7 @@ pub(super) struct Band<'a, 'b, O: BandOutput> {
     pub one_sided: &'a dyn Fn(u32) -> bool,
     pub patch: Option<(u32, bool)>,
     /// How triangles' depth and shade are set up.
-    pub planes: Planes,
+    pub arithmetic: Arithmetic,
 }
 
 impl<O: BandOutput> TriangleSink for Band<'_, '_, O> {
@@ -525,7 +526,7 @@ impl<O: BandOutput> Band<'_, '_, O> {
         }
         let style = self.setup.style;
         let half_width = style.wireframe.map(|w| w.half_width);
-        match snapped.band_scan(self.rows(), self.columns(), half_width, self.planes) {
+        match snapped.band_scan(self.rows(), self.columns(), half_width, self.arithmetic) {
             BandScan::Off => {}
             BandScan::Rows { scan, top, rows } => {
                 match self

@@ -106,10 +106,10 @@ use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
 use crate::view::Camera;
+use crate::Arithmetic;
 use band::{Band, BandOutput, BandPixels, Buffered, Rgb565Be, Runs, Typed};
 pub use list::ListSlot;
 use project::{CornerCache, Setup};
-pub use raster::Planes;
 pub use source::{IndexedMesh, TriangleSource};
 pub use style::{Light, Shading, Style, Wireframe};
 
@@ -224,7 +224,7 @@ pub struct Renderer<'d> {
     depth: &'d mut [u16],
     list: &'d mut [ListSlot],
     map: &'d mut [u16],
-    planes: Planes,
+    arithmetic: Arithmetic,
 }
 
 /// The drawn area and its bands.
@@ -243,7 +243,7 @@ impl<'d> Renderer<'d> {
             depth,
             list: &mut [],
             map: &mut [],
-            planes: Planes::default(),
+            arithmetic: Arithmetic::default(),
         }
     }
 
@@ -266,7 +266,7 @@ impl<'d> Renderer<'d> {
             depth,
             list,
             map: &mut [],
-            planes: Planes::default(),
+            arithmetic: Arithmetic::default(),
         }
     }
 
@@ -290,19 +290,20 @@ impl<'d> Renderer<'d> {
         Renderer { map, ..self }
     }
 
-    /// This renderer with the depth and shade across each triangle set up as `planes` says,
-    /// instead of the target's default ([`Planes::default`]). A host takes
-    /// [`Planes::Integer`] to draw the pixels a firmware without an FPU draws (the tests
+    /// This renderer with the depth and shade across each triangle set up in `arithmetic`
+    /// (its planes: see [`Arithmetic`]), instead of the target's default. A host takes
+    /// [`Arithmetic::Integer`] to draw the pixels a firmware without an FPU draws (the tests
     /// compare them so).
     ///
     /// ```
-    /// use spline_tess::render::{Planes, Renderer};
+    /// use spline_tess::render::Renderer;
+    /// use spline_tess::Arithmetic;
     /// let mut depth = [0u16; 240 * 8];
-    /// let renderer = Renderer::new(&mut depth).with_planes(Planes::Integer);
+    /// let renderer = Renderer::new(&mut depth).with_arithmetic(Arithmetic::Integer);
     /// # let _ = renderer;
     /// ```
-    pub fn with_planes(self, planes: Planes) -> Self {
-        Renderer { planes, ..self }
+    pub fn with_arithmetic(self, arithmetic: Arithmetic) -> Self {
+        Renderer { arithmetic, ..self }
     }
 
     /// Draws `source` as `camera` sees it onto `target`, sending visible pixels run by run.
@@ -556,7 +557,7 @@ impl<'d> Renderer<'d> {
                 corners: &mut corners,
                 one_sided: &one_sided,
                 patch: None,
-                planes: self.planes,
+                arithmetic: self.arithmetic,
             };
             let rows = top as u32..bottom as u32;
             match listed {

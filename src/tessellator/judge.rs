@@ -25,37 +25,7 @@ use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STE
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
 use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
 use crate::view::{Camera, Projection, View};
-
-/// How a tessellator computes a triangle's directional bound on screen from its node's kept
-/// vectors (see [`Tessellator::with_arithmetic`]).
-///
-/// Both are bounds, derived in the crate's `deviation` module: the integer one reads the
-/// six-bit vectors as integers, with no vector in `f32` nor rotated into the view, and is
-/// above the float one by about `2^-21` of a vector's length. The two seldom judge a triangle
-/// apart: on `fw_teapot`'s frames they take the same triangles.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Arithmetic {
-    /// The vectors in `f32`, rotated into the view once a triangle: the cheaper where `f32`
-    /// is hardware, and the default there.
-    Float,
-    /// The vectors in integers, against the view's rays in fixed point: the default where
-    /// `f32` is software (ARMv6-M, RV32IMC), where it takes 13% off `fw_teapot`'s update
-    /// (ARMv6-M, frame 0).
-    Integer,
-}
-
-impl Default for Arithmetic {
-    /// [`Arithmetic::Float`] where `f32` is hardware, [`Arithmetic::Integer`] where it is
-    /// software.
-    fn default() -> Self {
-        if crate::math::HARD_FLOAT {
-            Arithmetic::Float
-        } else {
-            Arithmetic::Integer
-        }
-    }
-}
+use crate::Arithmetic;
 
 /// A triangle's bound in a view's units (pixels or model units), and whether it is hidden.
 #[derive(Clone, Copy, Debug)]

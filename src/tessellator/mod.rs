@@ -81,7 +81,6 @@ pub use bits::bit_words_for;
 pub use budget::{BudgetError, BudgetFit};
 pub use format::{model_fingerprint, FormatError, Part, FORMAT_VERSION, MAGIC};
 pub use hierarchy::{Hierarchy, HierarchyError, PatchInfo};
-pub use judge::Arithmetic;
 pub use links::{LinkError, NodeLink};
 pub use refine::PoolSlot;
 pub use reuse::{Judgement, LEVELS as REUSE_LEVELS};

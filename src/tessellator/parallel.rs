@@ -31,11 +31,11 @@ use std::vec::Vec;
 
 use super::bits::set;
 use super::hierarchy::{Hierarchy, Pending};
-use super::judge::Arithmetic;
 use super::select::{FrameStats, Part, RootAt, Tessellator, UpdateError};
 use super::storage::StackSlot;
 use crate::math::max;
 use crate::view::View;
+use crate::Arithmetic;
 
 /// Parts per thread: enough for the threads' work to even out, where the parts' roots differ
 /// in what a view makes of them.

@@ -36,7 +36,7 @@ use core::fmt;
 use super::address::{on_side, Tri};
 use super::bits::{bit, clear, set, Layout};
 use super::hierarchy::{walk, walk_roots, Hierarchy, Pending, RUN_TIME};
-use super::judge::{judge, Arithmetic};
+use super::judge::judge;
 use super::refine::{key, Pool, PoolSlot};
 #[cfg(feature = "reuse")]
 use super::reuse::Judgement;
@@ -46,6 +46,7 @@ use crate::deviation::PatchBounds;
 use crate::math::max;
 use crate::patch::Side;
 use crate::view::{Camera, View};
+use crate::Arithmetic;
 use glam::Vec3;
 
 /// What a frame did.
@@ -377,11 +378,12 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// This tessellator, computing triangles' bounds from their kept vectors in `arithmetic`
-    /// (by default in `f32` where it is hardware, in integers where it is software): a host
-    /// takes [`Arithmetic::Integer`] to find the frames a part without an FPU finds.
+    /// (see [`Arithmetic`]) instead of the target's default: a host takes
+    /// [`Arithmetic::Integer`] to find the frames a part without an FPU finds.
     ///
     /// ```
-    /// # use spline_tess::tessellator::{Arithmetic, Hierarchy, Tessellator, TessellatorStorage};
+    /// # use spline_tess::tessellator::{Hierarchy, Tessellator, TessellatorStorage};
+    /// # use spline_tess::Arithmetic;
     /// # fn run(tree: Hierarchy<'_>) {
     /// let mut storage = TessellatorStorage::<1024, 64, 0>::new();
     /// let tessellator = Tessellator::new(tree, &mut storage)

@@ -5,7 +5,7 @@
 //! down by `ε²`. That perturbation is the same for every triangle, so triangles that share
 //! edges (and vertices) cover each pixel of their union exactly once. Every inside test is exact
 //! integer arithmetic; the attributes (depth, shade) are planes through the first corner, set
-//! up once per triangle in `f32` ([`Planes::Float`]) or in integers ([`Planes::Integer`]) and
+//! up once per triangle in `f32` ([`Arithmetic::Float`]) or in integers ([`Arithmetic::Integer`]) and
 //! put in fixed point for the scan (`scan`). Triangles
 //! with a corner beyond 512 pixels of the origin (only with feature `large-viewports`) go span
 //! by span in 64-bit edge arithmetic instead ([`Triangle::span`]), with `f32` attributes at
@@ -25,37 +25,6 @@ use edge::{
     ceil_div, counter_clockwise, edge_set_up, inside_columns, wide_columns, wire_limit, wire_ramp,
     EdgeInt, Edges, NARROW_LIMIT,
 };
-
-/// How the rasteriser sets up a triangle's depth and shade across its pixels, from the
-/// corners' depth keys and shade levels (see [`Renderer::with_planes`](super::Renderer::with_planes)).
-///
-/// Both give each pixel its plane's value at the pixel's centre to within a few hundred
-/// `2^-14` of a depth key and `2^-16` of a shade level across a triangle a few hundred pixels
-/// wide, so their pictures differ at most where two surfaces meet within that (a few pixels of
-/// a frame, where at all). Triangles with a corner beyond 512 pixels (feature
-/// `large-viewports`) take `f32` spans either way.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Planes {
-    /// In `f32`, then in fixed point: the cheaper where `f32` is hardware, and the default
-    /// there.
-    Float,
-    /// In integers alone, exact but for the last fixed-point bit of each step: the default
-    /// where `f32` is software (ARMv6-M, RV32IMC), where it takes 28% off `fw_teapot`'s
-    /// render (ARMv6-M, frame 0).
-    Integer,
-}
-
-impl Default for Planes {
-    /// [`Planes::Float`] where `f32` is hardware, [`Planes::Integer`] where it is software.
-    fn default() -> Self {
-        if crate::math::HARD_FLOAT {
-            Planes::Float
-        } else {
-            Planes::Integer
-        }
-    }
-}
 
 /// Subpixel steps per pixel.
 pub(crate) const SUBPIXELS: i64 = 16;

@@ -14,7 +14,7 @@
 //!
 //! # The planes in fixed point
 //!
-//! With [`Planes::Float`], depth and shade are the `f32` planes of the module above
+//! With [`Arithmetic::Float`], depth and shade are the `f32` planes of the module above
 //! ([`Plane::through`], per subpixel from the first corner), put in fixed point once per
 //! triangle and band: a depth key plus 1/2
 //! with `b = 14` fractional bits, a shade level plus 1/2 with `b = 16`. The value is computed
@@ -40,7 +40,7 @@
 //! The tests below check the scan against the spans and a steep sliver against its plane in
 //! `f64`.
 //!
-//! # The planes in integers ([`Planes::Integer`])
+//! # The planes in integers ([`Arithmetic::Integer`])
 //!
 //! Where `f32` is software, the same fixed-point planes come from integers alone. The corners'
 //! values `v_i` are integers (depth keys, shade levels), so the plane's change per subpixel is
@@ -68,9 +68,10 @@ use core::ops::Range;
 use super::edge::{ceil_div, counter_clockwise, edge_set_up, wire_limit, EdgeSetUp, NARROW_LIMIT};
 #[cfg(doc)]
 use super::Triangle;
-use super::{inv_sqrt, Plane, Planes, Snapped, HALF, SUBPIXELS};
+use super::{inv_sqrt, Plane, Snapped, HALF, SUBPIXELS};
 use crate::render::project::{depth_from_u16, shade_from_u8};
 use crate::render::walk::{FixedRamp, SpanWalk, DEPTH_BITS, LEVEL_BITS};
+use crate::Arithmetic;
 
 /// A plane in fixed point: its value at the scan's first pixel and its change per pixel
 /// right and per row down.
@@ -252,7 +253,7 @@ impl Snapped {
         rows: Range<i32>,
         columns: Range<i32>,
         half_width: Option<f32>,
-        planes: Planes,
+        arithmetic: Arithmetic,
     ) -> BandScan {
         let narrow = NARROW_LIMIT as i32;
         if !self
@@ -313,13 +314,13 @@ impl Snapped {
             }
         }
         let (corner, first) = ([x[0], y[0]], [x0, top]);
-        match planes {
-            Planes::Integer => {
+        match arithmetic {
+            Arithmetic::Integer => {
                 let (depth, level) = (depth.map(i32::from), shade.map(i32::from));
                 scan.depth = FixedPlane::through(depth, &edges, area, DEPTH_BITS, corner, first);
                 scan.level = FixedPlane::through(level, &edges, area, LEVEL_BITS, corner, first);
             }
-            Planes::Float => {
+            Arithmetic::Float => {
                 let edges = edges.map(|e| e.map(|v| v as f32));
                 let inv_area = 1.0 / area as f32;
                 let depth = Plane::through(depth.map(depth_from_u16), &edges, inv_area);
@@ -461,9 +462,9 @@ mod tests {
         s: &Snapped,
         rows: Range<i32>,
         columns: Range<i32>,
-        planes: Planes,
+        arithmetic: Arithmetic,
     ) -> Option<(Scan, i32)> {
-        match s.band_scan(rows, columns, Some(0.35), planes) {
+        match s.band_scan(rows, columns, Some(0.35), arithmetic) {
             BandScan::Rows { scan, top, .. } => Some((scan, top)),
             _ => None,
         }
@@ -503,18 +504,18 @@ mod tests {
     /// wireframe pixels.
     #[test]
     fn a_scan_covers_what_spans_cover() {
-        for planes in [Planes::Float, Planes::Integer] {
-            scan_covers_what_spans_cover(planes);
+        for arithmetic in [Arithmetic::Float, Arithmetic::Integer] {
+            scan_covers_what_spans_cover(arithmetic);
         }
     }
 
-    fn scan_covers_what_spans_cover(planes: Planes) {
+    fn scan_covers_what_spans_cover(arithmetic: Arithmetic) {
         let (mut scanned, mut rows, mut pixels, mut far_keys, mut wire_apart) = (0, 0, 0, 0, 0);
         for (tri, snapped) in triangles(3000, 2000) {
             let [first, last] = tri.rows();
             for columns in [0..400, 195..205] {
                 let Some((mut scan, top)) =
-                    small(&snapped, first..last + 1, columns.clone(), planes)
+                    small(&snapped, first..last + 1, columns.clone(), arithmetic)
                 else {
                     continue;
                 };
@@ -557,12 +558,12 @@ mod tests {
     /// `draw` depth-tests and paints the pixels `next_row` walks, with the same values.
     #[test]
     fn drawing_a_scan_in_one_loop_walks_its_rows() {
-        for planes in [Planes::Float, Planes::Integer] {
-            drawing_walks_rows(planes);
+        for arithmetic in [Arithmetic::Float, Arithmetic::Integer] {
+            drawing_walks_rows(arithmetic);
         }
     }
 
-    fn drawing_walks_rows(planes: Planes) {
+    fn drawing_walks_rows(arithmetic: Arithmetic) {
         const WIDTH: usize = 64;
         const HEIGHT: usize = 48;
         let (width, height) = (WIDTH, HEIGHT);
@@ -572,7 +573,7 @@ mod tests {
             let (top, bottom) = (first.max(80), last.min(80 + height as i32 - 1));
             let columns = 170..170 + width as i32;
             let band = 80..80 + height as i32;
-            let Some((scan, first_row)) = small(&snapped, band, columns.clone(), planes) else {
+            let Some((scan, first_row)) = small(&snapped, band, columns.clone(), arithmetic) else {
                 continue;
             };
             assert_eq!(first_row, top);
@@ -611,7 +612,7 @@ mod tests {
         assert!(drawn_total > 1000, "{drawn_total}");
     }
 
-    /// The integer planes' values are the exact plane's (in `f64`, from the corners) plus 1/2,
+    /// The integer arithmetic' values are the exact plane's (in `f64`, from the corners) plus 1/2,
     /// in fixed point, to within `2 + |Δx| + |Δy|` of their last bit at a pixel `(Δx, Δy)`
     /// pixels from the anchor, as the module docs derive: for small triangles, slivers and
     /// triangles across the whole 32-bit reach, depth keys and shade levels alike.
@@ -691,12 +692,12 @@ mod tests {
     /// off it.
     #[test]
     fn only_far_corners_are_left_to_spans() {
-        for planes in [Planes::Float, Planes::Integer] {
-            far_corners_to_spans(planes);
+        for arithmetic in [Arithmetic::Float, Arithmetic::Integer] {
+            far_corners_to_spans(arithmetic);
         }
     }
 
-    fn far_corners_to_spans(planes: Planes) {
+    fn far_corners_to_spans(arithmetic: Arithmetic) {
         let v = |x: f32, y: f32, depth: f32| ScreenVertex {
             xy: [x, y],
             depth,
@@ -705,7 +706,7 @@ mod tests {
         let scan = |corners: [ScreenVertex; 3]| {
             Snapped::new(corners, [false; 3])
                 .unwrap()
-                .band_scan(0..100, 0..100, None, planes)
+                .band_scan(0..100, 0..100, None, arithmetic)
         };
         let wide = scan([v(0.5, 0.5, 1.0), v(40.5, 2.5, 1.0), v(3.5, 9.5, 1.0)]);
         assert!(matches!(
@@ -799,7 +800,7 @@ mod tests {
             for &w in &widths {
                 let columns = 0..400;
                 let BandScan::Rows { mut scan, top, .. } =
-                    snapped.band_scan(first..last + 1, columns.clone(), Some(w), Planes::Float)
+                    snapped.band_scan(first..last + 1, columns.clone(), Some(w), Arithmetic::Float)
                 else {
                     continue;
                 };
@@ -846,9 +847,13 @@ mod tests {
                 (i32::MAX - 16..i32::MAX, 0..400),
                 (0..400, -400..-300),
             ] {
-                let planes = [Planes::Float, Planes::Integer][rows.start as usize % 2];
-                let scan =
-                    snapped.band_scan(rows.clone(), columns.clone(), Some(f32::INFINITY), planes);
+                let arithmetic = [Arithmetic::Float, Arithmetic::Integer][rows.start as usize % 2];
+                let scan = snapped.band_scan(
+                    rows.clone(),
+                    columns.clone(),
+                    Some(f32::INFINITY),
+                    arithmetic,
+                );
                 let drawn = match scan {
                     BandScan::Off => 0,
                     BandScan::Rows { scan, rows, .. } => {

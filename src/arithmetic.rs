@@ -1,0 +1,55 @@
+//! Which arithmetic the per-triangle work takes: `f32`, or integers where `f32` is software.
+
+/// How the kernel does its per-triangle arithmetic: in `f32`, or in integers, for parts
+/// without an FPU.
+///
+/// Two parts of a frame take it:
+///
+/// - **The tessellator's bounds** ([`Tessellator::with_arithmetic`]): a triangle's directional
+///   bound on screen from its node's six-bit kept vectors, rotated into the view in `f32`, or
+///   read as integers against each ray of the view in 22-bit fixed point. Both are bounds
+///   (derived in the crate's `deviation` module); the integer one is above the float one by
+///   about `2^-21` of a vector's length, and the two took the same triangles on every view
+///   of the crate's soundness tests and of `fw_teapot`.
+/// - **The rasteriser's planes** ([`Renderer::with_arithmetic`]): a triangle's depth and shade
+///   across its pixels, set up from the corners' depth keys and shade levels in `f32` and then
+///   in fixed point, or in integers alone, exact but for the last fixed-point bit of each
+///   step. Both give each pixel its plane's value at the pixel's centre to within a few
+///   hundred `2^-14` of a depth key and `2^-16` of a shade level across a triangle a few
+///   hundred pixels wide, so their pictures differ at most where two surfaces meet within
+///   that (a few pixels of a frame, where at all). Triangles with a corner beyond 512 pixels
+///   (feature `large-viewports`) take `f32` spans either way.
+///
+/// The default follows the target: a host takes [`Arithmetic::Integer`] to find and draw the
+/// frames that a part without an FPU finds and draws, bit for bit.
+///
+/// ```
+/// use spline_tess::Arithmetic;
+///
+/// // `f32` is hardware on a host.
+/// assert_eq!(Arithmetic::default(), Arithmetic::Float);
+/// ```
+///
+/// [`Tessellator::with_arithmetic`]: crate::Tessellator::with_arithmetic
+/// [`Renderer::with_arithmetic`]: crate::render::Renderer::with_arithmetic
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Arithmetic {
+    /// In `f32`: the cheaper where `f32` is hardware, and the default there.
+    Float,
+    /// In integers: the default where `f32` is software (ARMv6-M, RV32IMC). On `fw_teapot`'s
+    /// frame 0 (ARMv6-M) it takes 16% off the update and 28% off the render.
+    Integer,
+}
+
+impl Default for Arithmetic {
+    /// [`Arithmetic::Float`] where `f32` is hardware, [`Arithmetic::Integer`] where it is
+    /// software.
+    fn default() -> Self {
+        if crate::math::HARD_FLOAT {
+            Arithmetic::Float
+        } else {
+            Arithmetic::Integer
+        }
+    }
+}
