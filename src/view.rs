@@ -103,6 +103,9 @@ pub struct Camera {
     /// At least `sqrt(1 + s_x² + s_y²)`: the length of the ray `(s_x, s_y, 1)` to a corner of
     /// the view (perspective; 1 orthographic).
     corner_ray: f32,
+    /// The viewport's centre in pixels, `0.5 w` and `0.5 h` (found once: a pixel position
+    /// takes it for every corner).
+    centre: [f32; 2],
 }
 
 impl Camera {
@@ -253,6 +256,7 @@ impl Camera {
                 Projection::Orthographic { .. } => [1.0; 2],
             },
             corner_ray: crate::math::sqrt_above(1.0 + slope[0] * slope[0] + slope[1] * slope[1]),
+            centre: [0.5 * w, 0.5 * h],
         })
     }
 
@@ -336,12 +340,11 @@ impl Camera {
 
     /// Pixel coordinates of a point given in view coordinates (in front of the eye).
     pub(crate) fn view_to_pixel(&self, v: Vec3) -> [f32; 2] {
-        let (w, h) = (self.viewport[0] as f32, self.viewport[1] as f32);
         let s = match self.projection {
             Projection::Perspective { .. } => self.focal / v.z,
             Projection::Orthographic { .. } => self.focal,
         };
-        [0.5 * w + v.x * s, 0.5 * h - v.y * s]
+        [self.centre[0] + v.x * s, self.centre[1] - v.y * s]
     }
 
     #[cfg(feature = "embedded-graphics")]

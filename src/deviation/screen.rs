@@ -245,6 +245,11 @@ pub(crate) fn bound_on_screen(
     }
     let mut z_low = f32::INFINITY;
     let mut worst = 0.0f32;
+    // Over `stop` yet? Asked without a division: `f S g > stop z_min` (a few roundings from
+    // the quotient's test); the bound so far is then found and returned only where it is
+    // over.
+    let stops = stop < f32::INFINITY;
+    let focal = camera.focal() * SCREEN_SLACK;
     for &v in front {
         z_low = min(z_low, v.z);
         let z = v.z - eta;
@@ -260,9 +265,7 @@ pub(crate) fn bound_on_screen(
             + r * sqrt_one_plus_above(tx * tx + ty * ty)
             + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
-        // Over already? Asked without a division (`f g > stop z`, a few roundings from the
-        // quotient's test), then the bound so far found and returned only where it is over.
-        if stop < f32::INFINITY && over_stop(camera, z_low, m, eta, worst, stop) {
+        if stops && focal * worst > stop * max(camera.near(), z_low - m - eta) {
             let so_far = on_screen(camera, z_low, m, eta, worst);
             if so_far > stop {
                 return so_far;
@@ -284,14 +287,6 @@ fn on_screen(camera: &Camera, z_low: f32, m: f32, eta: f32, g: f32) -> f32 {
     } else {
         bound
     }
-}
-
-/// Whether [`on_screen`]'s bound is about over `stop`: `f g S > stop z_min`, its test
-/// without the division (so within a few roundings of it: the caller checks the quotient
-/// before it takes it).
-fn over_stop(camera: &Camera, z_low: f32, m: f32, eta: f32, g: f32, stop: f32) -> bool {
-    let z_min = max(camera.near(), z_low - m - eta);
-    camera.focal() * g * SCREEN_SLACK > stop * z_min
 }
 
 /// The largest `|x| + |y| + |z|` of points in view coordinates: the `Σ` of the rounding
