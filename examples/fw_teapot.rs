@@ -30,10 +30,13 @@
 //! and at the end the RAM in bytes: the run time's storage (its bits, its stack of waiting
 //! triangles and its pool of vertices below the bake), the bands (depth and colour), the
 //! stack the frames used (painted before the first frame, on top of the buffers, which sit on
-//! the stack here), static RAM, and the triangle list with its vertex map:
+//! the stack here), static RAM, the triangle list with its vertex map, and the rest of what
+//! the demo holds on the stack before its frames (the tessellator itself, with its cache of
+//! corners in view coordinates where `f32` is software, the hierarchy's and the model's
+//! handles, the display model, the demo's own frames):
 //!
 //! ```text
-//! fw_teapot: ram total N storage S bands B stack K static D list L
+//! fw_teapot: ram total N storage S bands B stack K static D list L other O
 //! fw_teapot: flash kernel K model M total T
 //! ```
 //!
@@ -244,11 +247,15 @@ mod firmware;
 /// (semihosting). Never returns: exits QEMU with the check's outcome.
 #[cfg(target_os = "none")]
 fn firmware_main(_print: impl Fn(core::fmt::Arguments<'_>)) -> ! {
-    use firmware::{finish, flash_used, instructions, repaint_stack, stack_used_below, static_ram};
+    use firmware::{
+        finish, flash_used, instructions, repaint_stack, stack_start, stack_used_below, static_ram,
+    };
     if cfg!(fw_baseline) {
         // Size baseline: the start-up, clock and exit code without the kernel.
         finish(true);
     }
+    // All that the program holds on the stack before its frames lies below the top.
+    let top = stack_start();
     let mut sp = 0;
     let ok = run(
         |_k, _m, _ok| {
@@ -279,15 +286,19 @@ fn firmware_main(_print: impl Fn(core::fmt::Arguments<'_>)) -> ! {
     );
     let _stack = stack_used_below(sp);
     let _static = static_ram();
+    // Held on the stack before the frames: the buffers, and the rest (`_other`).
+    let _held = top.saturating_sub(sp);
+    let _other = _held.saturating_sub(STORAGE_BYTES + BAND_BYTES + LIST_BYTES);
     #[cfg(not(fw_quiet))]
     _print(format_args!(
-        "fw_teapot: ram total {} storage {} bands {} stack {} static {} list {}",
-        STORAGE_BYTES + BAND_BYTES + _stack + _static + LIST_BYTES,
+        "fw_teapot: ram total {} storage {} bands {} stack {} static {} list {} other {}",
+        STORAGE_BYTES + BAND_BYTES + _stack + _static + LIST_BYTES + _other,
         STORAGE_BYTES,
         BAND_BYTES,
         _stack,
         _static,
         LIST_BYTES,
+        _other,
     ));
     let (_total, _model) = (flash_used(), MODEL_BYTES);
     #[cfg(not(fw_quiet))]

@@ -61,12 +61,21 @@ pub fn finish(ok: bool) -> ! {
 }
 
 extern "C" {
+    // The top of the stack region, where the stack pointer starts at reset.
+    static _stack_start: u32;
     static _stack_end: u32;
 }
 
 fn stack_end() -> usize {
     // Only the address is taken (no read), which is safe.
     core::ptr::addr_of!(_stack_end) as usize
+}
+
+/// The top of the stack region: everything the program holds on the stack lies below.
+#[allow(dead_code)]
+pub fn stack_start() -> usize {
+    // Only the address is taken (no read), which is safe.
+    core::ptr::addr_of!(_stack_start) as usize
 }
 
 /// Paints the free stack (from the bottom of the stack region to a little below the current

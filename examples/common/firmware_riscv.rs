@@ -28,6 +28,8 @@ pub fn finish(ok: bool) -> ! {
 const PAINT: u32 = 0xCCCC_CCCC;
 
 extern "C" {
+    // The top of the stack region, where the stack pointer starts at reset.
+    static _stack_start: u32;
     // The bottom of `riscv-rt`'s stack region (its `.stack` section starts there).
     static __estack: u32;
 }
@@ -35,6 +37,13 @@ extern "C" {
 fn stack_end() -> usize {
     // Only the address is taken (no read), which is safe.
     core::ptr::addr_of!(__estack) as usize
+}
+
+/// The top of the stack region: everything the program holds on the stack lies below.
+#[allow(dead_code)]
+pub fn stack_start() -> usize {
+    // Only the address is taken (no read), which is safe.
+    core::ptr::addr_of!(_stack_start) as usize
 }
 
 /// About the stack pointer of the caller: the address of a local of this function, which is

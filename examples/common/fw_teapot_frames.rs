@@ -29,12 +29,16 @@ pub const BAND_ROWS: u32 = 16;
 pub const BAND: usize = (WIDTH * BAND_ROWS) as usize;
 /// Slots of the triangle list (8 bytes each: a group header per patch, one slot per two
 /// Gouraud-shaded or one flat-shaded triangle, and one per distinct corner), with a vertex map
-/// beside it (2 bytes per vertex of the hierarchy). Frames 0, 1 and 3 take 1,156, 1,155 and
-/// 2,235 (the host run prints `list_slots`): frames 0 and 1 fit; frames 2 (flat-shaded) and 3
-/// keep their first patches there and stream the rest band by band (see `BAND_ROWS` for what
-/// that costs). `--cfg fw_no_list` builds the demo without a list, to measure the streaming
-/// path on every frame.
-pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 2000 };
+/// beside it (2 bytes per vertex of the hierarchy). Frames 0 and 1 take 1,131 and 1,135 (the
+/// firmware prints `list_slots`) and fit; frames 2 (flat-shaded) and 3 keep their first
+/// patches there and stream the rest band by band (see `BAND_ROWS` for what that costs).
+/// 1,800 slots keep the demo's RAM, all of it counted from the top of the stack, within
+/// 48 KiB on every part class; 2,000 (1,600 bytes more) took 49,896 bytes on the Cortex-M4F
+/// and 50,528 on ARMv6-M, and rendered frames 2 and 3 in 10.13M and 10.75M instructions
+/// (Cortex-M4F) where 1,800 take 11.10M and 12.26M (measured 2026-11-28 under QEMU).
+/// `--cfg fw_no_list` builds the demo without a list, to measure the streaming path on every
+/// frame.
+pub const LIST: usize = if cfg!(fw_no_list) { 0 } else { 1800 };
 
 /// Triangles waiting to be judged (`StackSlot`, 32 bytes each). Measured 2026-11-25 under QEMU:
 /// 256 entries instead of 64 (6 KiB more) spare frames 0 and 1 2% of their update.
