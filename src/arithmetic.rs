@@ -11,14 +11,20 @@
 ///   (derived in the crate's `deviation` module); the integer one is above the float one by
 ///   about `2^-21` of a vector's length, and the two took the same triangles on every view
 ///   of the crate's soundness tests and of `fw_teapot`.
-/// - **The rasteriser's planes** ([`Renderer::with_arithmetic`]): a triangle's depth and shade
-///   across its pixels, set up from the corners' depth keys and shade levels in `f32` and then
-///   in fixed point, or in integers alone, exact but for the last fixed-point bit of each
-///   step. Both give each pixel its plane's value at the pixel's centre to within a few
-///   hundred `2^-14` of a depth key and `2^-16` of a shade level across a triangle a few
-///   hundred pixels wide, so their pictures differ at most where two surfaces meet within
-///   that (a few pixels of a frame, where at all). Triangles with a corner beyond 512 pixels
-///   (feature `large-viewports`) take `f32` spans either way.
+/// - **The rasteriser's planes** (`render::Renderer::with_arithmetic`, feature
+///   `embedded-graphics`): a triangle's depth and shade across its pixels, set up from the
+///   corners' depth keys and shade levels in `f32` and then in fixed point, or in integers
+///   alone, exact but for the last fixed-point bit of each step. Both give each pixel its
+///   plane's value at the pixel's centre to within a few hundred `2^-14` of a depth key and
+///   `2^-16` of a shade level across a triangle a few hundred pixels wide, so their pictures
+///   differ at most where two surfaces meet within that (a few pixels of a frame, where at
+///   all). Triangles with a corner beyond 512 pixels (feature `large-viewports`) take `f32`
+///   spans either way.
+///
+/// Judgements kept from frame to frame (`Tessellator::with_reuse`, feature `reuse`) keep no
+/// certificate for a triangle of the bake whose bound was computed in integers: a certificate
+/// bounds the float bound over a camera step, which the integer one may stand above by its
+/// roundings. Such judgements are made again every frame, and the frames stay the view's own.
 ///
 /// The default follows the target: a host takes [`Arithmetic::Integer`] to find and draw the
 /// frames that a part without an FPU finds and draws, bit for bit.
@@ -31,7 +37,6 @@
 /// ```
 ///
 /// [`Tessellator::with_arithmetic`]: crate::Tessellator::with_arithmetic
-/// [`Renderer::with_arithmetic`]: crate::render::Renderer::with_arithmetic
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Arithmetic {

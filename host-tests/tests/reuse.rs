@@ -11,7 +11,7 @@ use host_tests::runtime::{indexed, VecStorage};
 use host_tests::screen::camera_40;
 use host_tests::{bpt_models, models_dir, name, nurbs_fixtures};
 use spline_tess::tessellator::Judgement;
-use spline_tess::{Hierarchy, Vec3, View};
+use spline_tess::{Arithmetic, Hierarchy, Vec3, View};
 
 /// The path: from `(1, -1.3, 0.7)` diagonals off the centre, orbits around the vertical of
 /// 24 steps of 0.25°, 24 of 1° and 6 of 4°, a dolly in by 2% a frame, a turn of the head
@@ -59,14 +59,15 @@ fn path(tree: &Hierarchy<'_>) -> Vec<(String, View)> {
     views
 }
 
-/// Along the path, a tessellator keeping its judgements gives a fresh one's frames; returns
-/// the judgements kept and made.
-fn follow(name: &str, tree: Hierarchy<'_>) -> (usize, usize) {
+/// Along the path, a tessellator keeping its judgements gives a fresh one's frames, both
+/// computing their bounds in `arithmetic`; returns the judgements kept and made.
+fn follow(name: &str, tree: Hierarchy<'_>, arithmetic: Arithmetic) -> (usize, usize) {
     let mut storage = VecStorage::new(&tree, 256, 1 << 14);
     let mut fresh_storage = VecStorage::new(&tree, 256, 1 << 14);
     let mut judgements = vec![Judgement::NONE; tree.judgement_slots()];
     let mut kept = storage
         .tessellator(tree)
+        .with_arithmetic(arithmetic)
         .with_reuse(&mut judgements)
         .unwrap();
     let (mut kept_count, mut judged) = (0, 0);
@@ -74,7 +75,7 @@ fn follow(name: &str, tree: Hierarchy<'_>) -> (usize, usize) {
         let stats = kept.update(&view).unwrap();
         kept_count += stats.kept;
         judged += stats.judged;
-        let mut fresh = fresh_storage.tessellator(tree);
+        let mut fresh = fresh_storage.tessellator(tree).with_arithmetic(arithmetic);
         let expected = fresh.update(&view).unwrap();
         assert_eq!(stats.triangles, expected.triangles, "{name} {label}");
         assert_eq!(stats.left_over, expected.left_over, "{name} {label}");
@@ -105,7 +106,7 @@ fn kept_judgements_give_the_fresh_frames() {
         ("gumbo.bpt", 2e-3),
     ] {
         let baked = bake(&models_dir().join(model), relative);
-        let (kept, judged) = follow(model, baked.tree());
+        let (kept, judged) = follow(model, baked.tree(), Arithmetic::Float);
         // Most of the small steps' judgements carry over.
         assert!(kept > judged / 2, "{model}: {kept} kept, {judged} judged");
     }
@@ -117,15 +118,27 @@ fn kept_judgements_give_the_fresh_frames() {
         .filter(|p| !["teapot.bpt", "teaspoon.bpt", "gumbo.bpt"].contains(&name(p).as_str()));
     for path in others {
         let baked = bake(&path, 5e-3);
-        follow(&name(&path), baked.tree());
+        follow(&name(&path), baked.tree(), Arithmetic::Float);
     }
     // The compact bytes, as a firmware reads them.
     let baked = bake(&models_dir().join("teapot.bpt"), 2e-3);
     let bytes = baked.encoded();
-    let (kept, judged) = follow("teapot bytes", baked.tree_from(&bytes));
+    let (kept, judged) = follow("teapot bytes", baked.tree_from(&bytes), Arithmetic::Float);
     assert!(
         kept > judged / 2,
         "teapot bytes: {kept} kept, {judged} judged"
+    );
+    // With the bounds in integers (a part without an FPU), the triangles of the bake keep no
+    // certificate: every frame is still the fresh one, and only judgements below the bake
+    // carry over.
+    let (kept, judged) = follow(
+        "teapot bytes, integer bounds",
+        baked.tree_from(&bytes),
+        Arithmetic::Integer,
+    );
+    assert!(
+        kept < judged / 10,
+        "integer bounds: {kept} kept, {judged} judged"
     );
 }
 

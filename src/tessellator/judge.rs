@@ -101,7 +101,13 @@ pub(super) fn judge(
             big,
             node.remainder,
             stop,
-            budgets,
+            // A certificate bounds the float vectors' bound over a camera step; the integer
+            // one may stand above it by its own roundings, which no certificate covers: its
+            // judgements keep none, and are made again every frame.
+            match selection.arithmetic {
+                Arithmetic::Float => budgets,
+                Arithmetic::Integer => &[],
+            },
         );
         // A leaf of the bake keeps one bound, no vector: where it is over, the run time's
         // own lattice (with `refine`) may be within, as it is for a triangle below the bake.
