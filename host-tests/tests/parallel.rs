@@ -1,13 +1,13 @@
 //! A frame searched on several threads (`Tessellator::update_parallel`) is the frame searched
 //! on one, bit for bit: on every model of the repository, from its records with links and
 //! from its bytes without, within the bake and below it, on pools of 1, 2 and 3 threads, with a
-//! tessellator kept from view to view.
+//! tessellator kept from view to view, with the bounds in floats and in integers.
 
 use host_tests::bake_relative as bake;
 use host_tests::runtime::{indexed, VecStorage};
 use host_tests::{bpt_models, nurbs_fixtures};
 use spline_tess::tessellator::{FrameStats, NodeLink};
-use spline_tess::{Camera, Hierarchy, Projection, Vec3, View};
+use spline_tess::{Arithmetic, Camera, Hierarchy, Projection, Vec3, View};
 
 /// Views of a model: in model units within and below the bake, and cameras from afar, from
 /// close by (below the bake) and from inside its box.
@@ -83,7 +83,12 @@ fn parallel_frames_are_the_frames_of_one_thread() {
                 .unwrap();
             let mut a = VecStorage::new(&tree, 256, 1 << 18);
             let mut b = VecStorage::new(&tree, 256, 1 << 18);
-            let (mut x, mut y) = (a.tessellator(tree), b.tessellator(tree));
+            // Bounds in either arithmetic: the threads take the tessellator's.
+            let arithmetic = [Arithmetic::Float, Arithmetic::Integer][(k + store) % 2];
+            let (mut x, mut y) = (
+                a.tessellator(tree).with_arithmetic(arithmetic),
+                b.tessellator(tree).with_arithmetic(arithmetic),
+            );
             for view in views(&tree) {
                 let sx = x.update(&view).unwrap();
                 let sy = pool.install(|| y.update_parallel(&view)).unwrap();
