@@ -45,7 +45,7 @@
 //! # Reuse from frame to frame
 //!
 //! A view equal to the last keeps its mesh. With room for a judgement per node
-//! ([`Tessellator::with_reuse`], feature `reuse`), a tessellator keeps each triangle's
+//! (`Tessellator::with_reuse`, feature `reuse`), a tessellator keeps each triangle's
 //! judgement with a certificate of how far the camera may move before it can change (derived
 //! in `deviation/certificate.rs`; `reuse` keeps the odometer that measures the camera's
 //! steps): the search takes a kept judgement where it would judge, so a camera step judges

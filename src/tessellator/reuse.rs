@@ -42,7 +42,7 @@ pub const LEVELS: [f32; 3] = [1.0 / 32.0, 1.0 / 8.0, 1.0 / 2.0];
 pub const RESET: f32 = 64.0;
 
 /// One node's kept judgement: opaque, the caller only provides room for them
-/// ([`Tessellator::with_reuse`](super::Tessellator::with_reuse)).
+/// (`Tessellator::with_reuse`, feature `reuse`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Judgement {

@@ -59,7 +59,7 @@ pub struct FrameStats {
     /// Triangles judged.
     pub judged: usize,
     /// Triangles whose judgement was kept from a frame before, certified to hold (see
-    /// [`Tessellator::with_reuse`]): not judged again, and not counted in `judged`.
+    /// `Tessellator::with_reuse`, feature `reuse`): not judged again, and not counted in `judged`.
     pub kept: usize,
     /// Triangles left out for lying beyond a plane of the view.
     pub hidden: usize,
