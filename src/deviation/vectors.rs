@@ -39,7 +39,9 @@
 //!   least the square (its leading 24 bits plus one where it has more); the sum and products
 //!   after it are of nonnegative numbers, with four roundings of at most `ε` each in all (the
 //!   product `√2 u |c|_1`, the sum, `scale (1 + 8 ε)` and the last product; `2^-s` is exact,
-//!   and a result below `f32`'s normal range is raised to it), which `1 + 8 ε` covers.
+//!   a scale below `f32`'s normal range is taken as twice its least number, and a result below
+//!   that range is raised to it), which `1 + 8 ε` covers. (A negative scale counts by its
+//!   magnitude: `|scale c|` is `|scale| |c|`.)
 //!
 //! The result is at least the exact `max_k φ(τ, e_k)` of the vectors the node stands for,
 //! at the ray `τ` as computed. Where the largest `|P_ij|` is not finite, or its scale out of
@@ -190,10 +192,25 @@ impl Deviations for Quantised {
             square = square.max((a * a + b * b) as u64);
         }
         let down = f32::from_bits(((127 - s) as u32) << 23);
-        let worst = (sqrt_above(at_least(square)) + self.spill) * down * self.scale_up;
-        if worst.is_nan() {
+        // (`g 2^-s` is exact: `g` is 0 or at least the spill, 3.54, and `s <= 126`.)
+        let scaled = (sqrt_above(at_least(square)) + self.spill) * down;
+        // `|scale| (1 + 8 ε)`, and where that is below `f32`'s normal range (where a product's
+        // rounding is not a relative one), twice the least normal number, which is more.
+        // (Compared by their bits, which order nonnegative numbers as their values: no
+        // library call where `f32` is software. A NaN stays NaN, and the bound infinite.)
+        let scale_up = f32::from_bits(self.scale_up.to_bits() & 0x7fff_ffff);
+        let scale_up = if scale_up.to_bits() < f32::MIN_POSITIVE.to_bits() {
+            2.0 * f32::MIN_POSITIVE
+        } else {
+            scale_up
+        };
+        let worst = scaled * scale_up;
+        // (Nonnegative or NaN: tested by its bits, as the scale.)
+        let bits = worst.to_bits() & 0x7fff_ffff;
+        if bits > f32::INFINITY.to_bits() {
             f32::INFINITY
-        } else if worst < f32::MIN_POSITIVE && worst != 0.0 {
+        } else if bits < f32::MIN_POSITIVE.to_bits() && scaled.to_bits() != 0 {
+            // Below the normal range (or rounded to zero): raised to its least number.
             f32::MIN_POSITIVE
         } else {
             worst
@@ -346,6 +363,17 @@ mod tests {
             Quantised::new([[0; 3]; KEPT], 1.0).worst(&camera, [0.3, -0.2]),
             0.0
         );
+        // Scales below the normal range, far below it and negative: still bounds.
+        let vectors = [[-128, 127, 5], [31, -32, 0], [0, 0, 1], [1, 1, 1]];
+        for scale in [1e-39, f32::from_bits(1), 1e-30, -2e-3, -1e-40, 3e38] {
+            let q = Quantised::new(vectors, scale);
+            for ray in [[0.0, 0.0], [0.3, -0.2], [-1e3, 2.0]] {
+                let w = q.worst(&camera, ray);
+                let exact = exact_worst(&camera, &vectors, scale, ray);
+                assert!(w as f64 >= exact, "{scale} {ray:?}: {w} under {exact}");
+                assert!(w > 0.0, "{scale} {ray:?}: {w}");
+            }
+        }
     }
 
     /// The quantised vectors' worst term covers the same vectors' exact term, computed in
