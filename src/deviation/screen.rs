@@ -51,9 +51,9 @@
 //! `τ` is `|e_z| <= m`). The rotation of each `e_k`, the cancellation in `e_⊥ - τ e_z` and the
 //! ray's own two roundings (`v_⊥` times `1 / v_z`: `τ` within `2 ε |τ|`, which moves `φ` by
 //! at most `2 ε m |τ|`) are covered by `16 ε m (1 + |τ_x| + |τ_y|)`, the few relative
-//! roundings of the sums and the final scale by `2^-10`. (A node's kept vectors read in integers cover their own roundings
-//! in `max_k φ`: see `vectors`.) A view whose near plane is within `η` of the eye gives no bound
-//! (infinity): the isotropic one decides there.
+//! roundings of the sums and the final scale by `2^-10`. (A node's kept vectors read in
+//! integers cover their own roundings in `max_k φ`: see `vectors`.) A view whose near plane is
+//! within `η` of the eye gives no bound (infinity): the isotropic one decides there.
 //!
 //! **The isotropic bound without the vectors.** Every vertex `v` of `F` has `v_z >= z_f =
 //! max(min_corners z, near - η)` (clipping only cuts the flat triangle) and lies within the
@@ -249,7 +249,7 @@ pub(crate) fn bound_on_screen(
     // the quotient's test); the bound so far is then found and returned only where it is
     // over.
     let stops = stop < f32::INFINITY;
-    let focal = camera.focal() * SCREEN_SLACK;
+    let focal_slack = camera.focal() * SCREEN_SLACK;
     for &v in front {
         z_low = min(z_low, v.z);
         let z = v.z - eta;
@@ -265,7 +265,7 @@ pub(crate) fn bound_on_screen(
             + r * sqrt_one_plus_above(tx * tx + ty * ty)
             + m * (widen + 16.0 * EPS * spread);
         worst = max(worst, g);
-        if stops && focal * worst > stop * max(camera.near(), z_low - m - eta) {
+        if stops && focal_slack * worst > stop * least_depth(camera, z_low, m, eta) {
             let so_far = on_screen(camera, z_low, m, eta, worst);
             if so_far > stop {
                 return so_far;
@@ -280,13 +280,19 @@ pub(crate) fn bound_on_screen(
 /// `g` at the least depth the deviation can reach, `z_low - m - eta` but not nearer than the
 /// near plane, in pixels with the screen's slack; infinity for NaN.
 fn on_screen(camera: &Camera, z_low: f32, m: f32, eta: f32, g: f32) -> f32 {
-    let z_min = max(camera.near(), z_low - m - eta);
-    let bound = camera.focal() / z_min * g * SCREEN_SLACK;
+    let bound = camera.focal() / least_depth(camera, z_low, m, eta) * g * SCREEN_SLACK;
     if bound.is_nan() {
         f32::INFINITY
     } else {
         bound
     }
+}
+
+/// The least depth a deviation at most `m` long can reach from corners whose nearest depth is
+/// `z_low`, with their rounding `eta`, but not nearer than the near plane: the `z_min` of the
+/// module docs.
+fn least_depth(camera: &Camera, z_low: f32, m: f32, eta: f32) -> f32 {
+    max(camera.near(), z_low - m - eta)
 }
 
 /// The largest `|x| + |y| + |z|` of points in view coordinates: the `Σ` of the rounding
@@ -299,9 +305,9 @@ pub(crate) fn view_extent(points: &[Vec3; 3]) -> f32 {
 }
 
 /// An upper bound of [`bound_on_screen`]'s bound (and so of the deviation on screen) from the
-/// corners alone (`size` at least their [`view_extent`]): the isotropic bound over the rays that the flat triangle's part that can
-/// show may have (see the module docs), for a deviation at most `m` long of which `slack` is
-/// the corners' rounding. Infinity where the view's near plane or the triangle come within
+/// corners alone (`size` at least their [`view_extent`]): the isotropic bound over the rays
+/// that the flat triangle's part that can show may have (see the module docs), for a deviation
+/// at most `m` long of which `slack` is the corners' rounding. Infinity where the view's near plane or the triangle come within
 /// the rounding of the eye.
 pub(crate) fn isotropic_bound_on_screen(
     camera: &Camera,

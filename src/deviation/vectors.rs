@@ -191,8 +191,9 @@ impl Deviations for Quantised {
             let (a, b) = (dot(&fixed[0]) as i64, dot(&fixed[1]) as i64);
             square = square.max((a * a + b * b) as u64);
         }
-        let down = f32::from_bits(((127 - s) as u32) << 23);
-        // (`g 2^-s` is exact: `g` is 0 or at least the spill, 3.54, and `s <= 126`.)
+        let down = power_of_two(-s);
+        // (`g 2^-s` is exact, or infinite: `g` is 0 or at least the spill, 3.54, and
+        // `s <= 126`.)
         let scaled = (sqrt_above(at_least(square)) + self.spill) * down;
         // `|scale| (1 + 8 ε)`, and where that is below `f32`'s normal range (where a product's
         // rounding is not a relative one), twice the least normal number, which is more.
@@ -224,10 +225,16 @@ impl Deviations for Quantised {
 #[inline(always)]
 fn times_power_of_two(x: f32, s: i32) -> i32 {
     if crate::math::HARD_FLOAT {
-        (x * f32::from_bits(((127 + s) as u32) << 23)) as i32
+        (x * power_of_two(s)) as i32
     } else {
         times_power_of_two_in_integers(x, s)
     }
+}
+
+/// `2^k`, for `k` in `-126..=127`.
+#[inline(always)]
+fn power_of_two(k: i32) -> f32 {
+    f32::from_bits(((127 + k) as u32) << 23)
 }
 
 /// [`times_power_of_two`] in integer operations.
@@ -293,7 +300,7 @@ mod tests {
             let biased = rng.signed(top as i64 + 1).unsigned_abs() as u32 % (top as u32 + 1);
             let bits = (rng.signed(1 << 23).unsigned_abs() as u32 & 0x7f_ffff) | biased << 23;
             let x = f32::from_bits(bits | ((k & 1) << 31));
-            let product = x * f32::from_bits(((127 + s) as u32) << 23);
+            let product = x * power_of_two(s);
             if product.abs() >= 2_147_483_648.0 {
                 continue;
             }
