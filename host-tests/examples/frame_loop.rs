@@ -6,9 +6,10 @@
 //! model, seen as the error table's 1.3-diagonal views see it. With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
 //! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). With
 //! `PARALLEL=1` each update searches on all cores (`Tessellator::update_parallel`). Prints the last frame's
-//! triangles, the best and mean frame times, and the mean triangles judged and judgements
-//! kept a frame. The bake happens before the loop and is not
-//! timed (a profile of the whole run includes it).
+//! triangles, the best, mean and median frame times and the median update's, the mean
+//! triangles judged and judgements kept a frame, and how many frames were steps from the one
+//! before (`FrameStats::stepped`). The bake happens before the loop and is not timed (a
+//! profile of the whole run includes it).
 //!
 //! With `TABLE=1`, a table instead: for each camera view of the error table
 //! (`host_tests::screen::ERROR_VIEWS`, each model baked at `BAKE_REL`, default 1e-3 there as in
@@ -17,8 +18,11 @@
 //! libGLU's NURBS tessellator on the same camera (best of fifteen, its peer's own figure); then
 //! an orbit of 48 steps from the view (the eye a degree further around the target's vertical
 //! each), each step's view as a cold frame (best of three, median over the steps) and as a step
-//! from the one before (the tessellator kept; median over the steps); and the same view again
-//! (median of 21). All in this one run; a frame is an update and an indexed write.
+//! from the one before (the tessellator kept; median over the steps), without and with reuse;
+//! for the orbit's cold frames and its steps with reuse, the update alone too (the cold
+//! update's best of three, median over the steps), and how many of those frames were steps
+//! from the one before; and the same view again (median of 21). All in this one run; a frame
+//! is an update and an indexed write.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example frame_loop
@@ -130,7 +134,8 @@ fn main() {
         let mut vertices = vec![Vertex::default(); 1 << 20];
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
-        let (mut judged, mut kept, mut refined) = (0, 0, 0);
+        let (mut judged, mut kept, mut refined, mut stepped) = (0, 0, 0, 0);
+        let (mut updates, mut whole) = (Vec::new(), Vec::new());
         for k in 1..=frames {
             let view = view_at(k);
             if !orbit && !reuse {
@@ -143,10 +148,13 @@ fn main() {
                 false => selection.update(&view),
             }
             .unwrap();
+            updates.push(start.elapsed().as_secs_f64() * 1e3);
             selection
                 .write_mesh(&mut vertices, &mut triangles, &mut remap)
                 .expect("room");
             let ms = start.elapsed().as_secs_f64() * 1e3;
+            whole.push(ms);
+            stepped += usize::from(stats.stepped);
             best = best.min(ms);
             total += ms;
             count = stats.triangles;
@@ -155,8 +163,10 @@ fn main() {
             refined += stats.refined;
         }
         println!(
-            "triangles {count} best {best:.3} ms mean {:.3} ms judged {} kept {} refined {} (means)",
+            "triangles {count} best {best:.3} ms mean {:.3} ms median {:.3} ms (update {:.3} ms) judged {} kept {} refined {} (means) stepped {stepped} of {frames}",
             total / frames as f64,
+            median(&mut whole),
+            median(&mut updates),
             judged / frames,
             kept / frames,
             refined / frames
@@ -177,9 +187,9 @@ fn table() {
     const REPEATS: usize = 21;
     const STEPS: usize = 48;
     println!(
-        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | cold ms, all cores | all cores / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | judgements kept | same view again ms |"
+        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | cold ms, all cores | all cores / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | orbit update: cold ms | orbit update: step with reuse ms | update: step / cold | frames stepped | judgements kept | same view again ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baked: Vec<(&str, ModelFile, BakedHierarchy)> = Vec::new();
     for v in ERROR_VIEWS {
         if !baked.iter().any(|(m, ..)| *m == v.model) {
@@ -213,56 +223,68 @@ fn table() {
         let mut triangles = vec![[0u32; 3]; 1 << 21];
         let view = view_at(0.0);
         let all_cores = std::cell::Cell::new(false);
-        let mut frame = |selection: &mut spline_tess::Tessellator<'_, '_>, view: &View| {
+        // The frame's time, its update's alone, and its figures.
+        let mut timed = |selection: &mut spline_tess::Tessellator<'_, '_>, view: &View| {
             let start = Instant::now();
             let stats = match all_cores.get() {
                 true => selection.update_parallel(view),
                 false => selection.update(view),
             }
             .expect("a valid view");
+            let update = start.elapsed().as_secs_f64() * 1e3;
             selection
                 .write_mesh(&mut vertices, &mut triangles, &mut remap)
                 .expect("room");
-            (start.elapsed().as_secs_f64() * 1e3, stats.triangles)
+            (start.elapsed().as_secs_f64() * 1e3, update, stats)
         };
         let (mut cold, mut parallel) = (Vec::new(), Vec::new());
         let mut count = 0;
         for _ in 0..REPEATS {
             let mut selection = storage.tessellator(tree);
-            let (ms, n) = frame(&mut selection, &view);
+            let (ms, _, stats) = timed(&mut selection, &view);
             cold.push(ms);
-            count = n;
+            count = stats.triangles;
         }
         all_cores.set(true);
         for _ in 0..REPEATS {
             let mut selection = storage.tessellator(tree);
-            let (ms, n) = frame(&mut selection, &view);
-            assert_eq!(n, count, "{}: the same mesh on all cores", v.name);
+            let (ms, _, stats) = timed(&mut selection, &view);
+            assert_eq!(
+                stats.triangles, count,
+                "{}: the same mesh on all cores",
+                v.name
+            );
             parallel.push(ms);
         }
         all_cores.set(false);
-        // The orbit's views, each cold (best of three) and as a step from the one before.
+        // The orbit's views, each cold (best of three, and its update's best) and as a step
+        // from the one before.
         let (mut orbit_cold, mut orbit) = (Vec::new(), Vec::new());
+        let mut cold_updates = Vec::new();
         for k in 1..=STEPS {
             let step_view = view_at(k as f32);
-            let best = (0..3)
-                .map(|_| frame(&mut storage.tessellator(tree), &step_view).0)
-                .fold(f64::INFINITY, f64::min);
+            let (mut best, mut best_update) = (f64::INFINITY, f64::INFINITY);
+            for _ in 0..3 {
+                let (ms, update, _) = timed(&mut storage.tessellator(tree), &step_view);
+                (best, best_update) = (best.min(ms), best_update.min(update));
+            }
             orbit_cold.push(best);
+            cold_updates.push(best_update);
         }
         let mut again = Vec::new();
         {
             let mut selection = storage.tessellator(tree);
-            frame(&mut selection, &view);
+            timed(&mut selection, &view);
             for _ in 0..REPEATS {
-                again.push(frame(&mut selection, &view).0);
+                again.push(timed(&mut selection, &view).0);
             }
             for k in 1..=STEPS {
-                orbit.push(frame(&mut selection, &view_at(k as f32)).0);
+                orbit.push(timed(&mut selection, &view_at(k as f32)).0);
             }
         }
         // The same orbit with the judgements kept from step to step.
         let (mut reused, mut kept, mut judged) = (Vec::new(), 0, 0);
+        let (mut reused_updates, mut stepped) = (Vec::new(), 0);
         {
             let mut judgements =
                 vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
@@ -270,20 +292,18 @@ fn table() {
                 .tessellator(tree)
                 .with_reuse(&mut judgements)
                 .expect("slots for every node");
-            frame(&mut selection, &view);
+            timed(&mut selection, &view);
             for k in 1..=STEPS {
-                let step_view = view_at(k as f32);
-                let start = Instant::now();
-                let stats = selection.update(&step_view).expect("a valid view");
-                selection
-                    .write_mesh(&mut vertices, &mut triangles, &mut remap)
-                    .expect("room");
-                reused.push(start.elapsed().as_secs_f64() * 1e3);
+                let (ms, update, stats) = timed(&mut selection, &view_at(k as f32));
+                reused.push(ms);
+                reused_updates.push(update);
                 kept += stats.kept;
                 judged += stats.judged;
+                stepped += usize::from(stats.stepped);
             }
         }
         let reused = median(&mut reused);
+        let (cold_update, reused_update) = (median(&mut cold_updates), median(&mut reused_updates));
         let kept_share = kept as f64 / (kept + judged).max(1) as f64;
         let (cold, again) = (median(&mut cold), median(&mut again));
         let parallel = median(&mut parallel);
@@ -314,9 +334,10 @@ fn table() {
             None => ("-".into(), "-".into(), "-".into(), "-".into()),
         };
         println!(
-            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {parallel:.2} | {parallel_ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {:.0}% | {again:.3} |",
+            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {parallel:.2} | {parallel_ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {cold_update:.3} | {reused_update:.3} | {:.2} | {stepped} of {STEPS} | {:.0}% | {again:.3} |",
             v.name,
             reused / orbit_cold,
+            reused_update / cold_update,
             100.0 * kept_share
         );
     }

@@ -56,6 +56,8 @@ fn figures(s: FrameStats) -> FrameStats {
         kept: 0,
         stack_peak: 0,
         sweeps: 0,
+        // (Whether a frame was a step from the one before: the same mesh either way.)
+        stepped: false,
         worst_bound: if s.kept > 0 { 0.0 } else { s.worst_bound },
         ..s
     }

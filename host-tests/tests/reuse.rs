@@ -60,8 +60,14 @@ fn path(tree: &Hierarchy<'_>) -> Vec<(String, View)> {
 }
 
 /// Along the path, a tessellator keeping its judgements gives a fresh one's frames, both
-/// computing their bounds in `arithmetic`; returns the judgements kept and made.
-fn follow(name: &str, tree: Hierarchy<'_>, arithmetic: Arithmetic) -> (usize, usize) {
+/// computing their bounds in `arithmetic`; returns the judgements kept and made, and the
+/// frames that were steps from the one before. `linked`: `tree` has its links.
+fn follow(
+    name: &str,
+    tree: Hierarchy<'_>,
+    arithmetic: Arithmetic,
+    linked: bool,
+) -> (usize, usize, usize) {
     let mut storage = VecStorage::new(&tree, 256, 1 << 14);
     let mut fresh_storage = VecStorage::new(&tree, 256, 1 << 14);
     let mut judgements = vec![Judgement::NONE; tree.judgement_slots()];
@@ -70,7 +76,7 @@ fn follow(name: &str, tree: Hierarchy<'_>, arithmetic: Arithmetic) -> (usize, us
         .with_arithmetic(arithmetic)
         .with_reuse(&mut judgements)
         .unwrap();
-    let (mut kept_count, mut judged) = (0, 0);
+    let (mut kept_count, mut judged, mut steps) = (0, 0, 0);
     for (label, view) in path(&tree) {
         let stats = kept.update(&view).unwrap();
         kept_count += stats.kept;
@@ -80,11 +86,23 @@ fn follow(name: &str, tree: Hierarchy<'_>, arithmetic: Arithmetic) -> (usize, us
         assert_eq!(stats.triangles, expected.triangles, "{name} {label}");
         assert_eq!(stats.left_over, expected.left_over, "{name} {label}");
         assert_eq!(stats.refined, expected.refined, "{name} {label}");
-        assert_eq!(
-            stats.kept + stats.judged,
-            expected.judged,
-            "{name} {label}: the same triangles looked at"
-        );
+        if stats.stepped {
+            steps += 1;
+        } else if linked {
+            // A search that keeps why each triangle is halved, for the steps to come, judges
+            // too the triangles halved for another's sake (see `Tessellator::split`).
+            assert!(
+                stats.kept + stats.judged >= expected.judged,
+                "{name} {label}: at least the triangles a search looks at"
+            );
+        } else {
+            assert_eq!(
+                stats.kept + stats.judged,
+                expected.judged,
+                "{name} {label}: the same triangles looked at"
+            );
+        }
+        assert_eq!(stats.hidden, expected.hidden, "{name} {label}");
         assert!(
             stats.worst_bound <= view.tolerance() || stats.left_over > 0,
             "{name} {label}"
@@ -95,7 +113,7 @@ fn follow(name: &str, tree: Hierarchy<'_>, arithmetic: Arithmetic) -> (usize, us
             "{name} {label}: the mesh"
         );
     }
-    (kept_count, judged)
+    (kept_count, judged, steps)
 }
 
 #[test]
@@ -106,9 +124,25 @@ fn kept_judgements_give_the_fresh_frames() {
         ("gumbo.bpt", 2e-3),
     ] {
         let baked = bake(&models_dir().join(model), relative);
-        let (kept, judged) = follow(model, baked.tree(), Arithmetic::Float);
-        // Most of the small steps' judgements carry over.
+        let (kept, judged, steps) = follow(model, baked.tree(), Arithmetic::Float, false);
+        // Most of the small steps' judgements carry over; without links, no frame steps.
         assert!(kept > judged / 2, "{model}: {kept} kept, {judged} judged");
+        assert_eq!(steps, 0, "{model}: steps without links");
+        // With links, most frames are steps from the one before.
+        let mut links = Vec::new();
+        let label = format!("{model} with links");
+        let (_, _, steps) = follow(
+            &label,
+            baked.linked_tree(&mut links),
+            Arithmetic::Float,
+            true,
+        );
+        let frames = path(&baked.tree()).len();
+        eprintln!("{label}: {steps} of {frames} frames steps");
+        assert!(
+            steps > frames / 2,
+            "{label}: {steps} of {frames} frames steps"
+        );
     }
     // Every other model of the repository (rational patches, poles, open models): the frames
     // must agree; how much is kept is not asked.
@@ -118,23 +152,34 @@ fn kept_judgements_give_the_fresh_frames() {
         .filter(|p| !["teapot.bpt", "teaspoon.bpt", "gumbo.bpt"].contains(&name(p).as_str()));
     for path in others {
         let baked = bake(&path, 5e-3);
-        follow(&name(&path), baked.tree(), Arithmetic::Float);
+        let mut links = Vec::new();
+        follow(
+            &name(&path),
+            baked.linked_tree(&mut links),
+            Arithmetic::Float,
+            true,
+        );
     }
     // The compact bytes, as a firmware reads them.
     let baked = bake(&models_dir().join("teapot.bpt"), 2e-3);
     let bytes = baked.encoded();
-    let (kept, judged) = follow("teapot bytes", baked.tree_from(&bytes), Arithmetic::Float);
+    let mut links = vec![Default::default(); baked.tree().link_slots()];
+    let linked = baked.tree_from(&bytes);
+    linked.fill_links(&mut links).unwrap();
+    let linked = linked.with_links(&links).unwrap();
+    let (kept, judged, steps) = follow("teapot bytes", linked, Arithmetic::Float, true);
     assert!(
-        kept > judged / 2,
-        "teapot bytes: {kept} kept, {judged} judged"
+        kept > judged / 2 && steps > 0,
+        "teapot bytes: {kept} kept, {judged} judged, {steps} steps"
     );
     // With the bounds in integers (a part without an FPU), the triangles of the bake keep no
     // certificate: every frame is still the fresh one, and only judgements below the bake
     // carry over.
-    let (kept, judged) = follow(
+    let (kept, judged, _) = follow(
         "teapot bytes, integer bounds",
         baked.tree_from(&bytes),
         Arithmetic::Integer,
+        false,
     );
     assert!(
         kept < judged / 10,
@@ -156,4 +201,62 @@ fn too_few_judgement_slots_are_refused() {
             }
         )
     );
+}
+
+/// Random walks of the camera (fixed seeds): steps of every size from a tenth of a degree to
+/// several, the eye nearing and backing off, the target and the tolerance wandering a little;
+/// a tessellator that steps from frame to frame gives the fresh frames, and most frames are
+/// steps. Where a judgement flips at a coarse triangle, a step takes away whole subtrees and
+/// makes halvings again: the walks reach those.
+#[test]
+fn random_walks_step_to_the_fresh_frames() {
+    for (model, relative, seed) in [
+        ("teapot.bpt", 2e-3, 11),
+        ("gumbo.bpt", 2e-3, 12),
+        ("teacup.bpt", 2e-3, 13),
+    ] {
+        let baked = bake(&models_dir().join(model), relative);
+        let mut links = Vec::new();
+        let tree = baked.linked_tree(&mut links);
+        let b = tree.model().aabb().unwrap();
+        let (c, d) = (b.center(), b.diagonal());
+        let mut rng = host_tests::Rng::for_test(seed);
+        let mut storage = VecStorage::new(&tree, 256, 1 << 14);
+        let mut fresh_storage = VecStorage::new(&tree, 256, 1 << 14);
+        let mut judgements = vec![Judgement::NONE; tree.judgement_slots()];
+        let mut kept = storage
+            .tessellator(tree)
+            .with_reuse(&mut judgements)
+            .unwrap();
+        let (mut angle, mut distance, mut steps) = (0.0f32, 1.0f32, 0);
+        let frames = 60;
+        for k in 0..frames {
+            // Mostly small steps, now and then a large one.
+            let u = rng.unit() as f32;
+            angle += if u < 0.8 { 2.0 * u } else { 30.0 * (u - 0.8) };
+            distance = (distance * (0.97 + 0.06 * rng.unit() as f32)).clamp(0.5, 1.5);
+            let (s, q) = angle.to_radians().sin_cos();
+            let r = Vec3::new(1.0, -1.3, 0.0) * distance * d;
+            let eye = c + Vec3::new(q * r.x - s * r.y, s * r.x + q * r.y, 0.7 * distance * d);
+            let target = c + Vec3::new(rng.unit() as f32 - 0.5, 0.0, 0.0) * 0.01 * d;
+            let tolerance_px = if rng.unit() < 0.9 { 1.0 } else { 0.75 };
+            let view = View::Screen {
+                camera: camera_40(eye, target, 0.01 * d, [320, 240]),
+                tolerance_px,
+            };
+            let stats = kept.update(&view).unwrap();
+            steps += usize::from(stats.stepped);
+            let mut fresh = fresh_storage.tessellator(tree);
+            let expected = fresh.update(&view).unwrap();
+            let label = format!("{model} frame {k}");
+            assert_eq!(stats.triangles, expected.triangles, "{label}");
+            assert_eq!(stats.hidden, expected.hidden, "{label}");
+            assert_eq!(stats.left_over, expected.left_over, "{label}");
+            assert_eq!(indexed(&mut kept), indexed(&mut fresh), "{label}: the mesh");
+        }
+        assert!(
+            steps > frames / 2,
+            "{model}: {steps} of {frames} frames steps"
+        );
+    }
 }

@@ -48,24 +48,37 @@ impl Tessellator<'_, '_> {
             return;
         }
         let culled = self.layout().culled;
-        for p in 0..self.tree.patch_count() {
-            // (A part of a frame culls its own patches: see `parallel`.)
-            if !self.in_group(p as u32) {
-                continue;
+        for p in 0..self.tree.patch_count() as u32 {
+            if self.faces_away(camera, p) {
+                set(&mut self.bits[culled..], p);
             }
-            let (Some(cone), Some(patch)) = (self.tree.cone(p), self.tree.patch_of(p as u32))
-            else {
-                continue;
-            };
-            let away = match camera.projection() {
-                Projection::Perspective { .. } => {
-                    cone.faces_away_from(patch.points(), camera.eye())
-                }
-                Projection::Orthographic { .. } => cone.faces_away_along(camera.forward()),
-            };
-            if away {
-                set(&mut self.bits[culled..], p as u32);
-            }
+        }
+    }
+
+    /// Whether `camera` culls the patches the current frame culls (see
+    /// [`cull`](Self::cull)), and no other.
+    #[cfg_attr(not(feature = "reuse"), allow(dead_code))]
+    pub(super) fn culls_alike(&self, camera: &Camera) -> bool {
+        if self.sphere.is_none() {
+            return true;
+        }
+        let outside = self.seen_from_outside(camera);
+        (0..self.tree.patch_count() as u32)
+            .all(|p| self.is_culled(p) == (outside && self.faces_away(camera, p)))
+    }
+
+    /// Whether patch `p`, one of this search's, faces away from `camera`, seen from outside.
+    fn faces_away(&self, camera: &Camera, p: u32) -> bool {
+        // (A part of a frame culls its own patches: see `parallel`.)
+        if !self.in_group(p) {
+            return false;
+        }
+        let (Some(cone), Some(patch)) = (self.tree.cone(p as usize), self.tree.patch_of(p)) else {
+            return false;
+        };
+        match camera.projection() {
+            Projection::Perspective { .. } => cone.faces_away_from(patch.points(), camera.eye()),
+            Projection::Orthographic { .. } => cone.faces_away_along(camera.forward()),
         }
     }
 

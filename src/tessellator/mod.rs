@@ -49,7 +49,10 @@
 //! judgement with a certificate of how far the camera may move before it can change (derived
 //! in `deviation/certificate.rs`; `reuse` keeps the odometer that measures the camera's
 //! steps): the search takes a kept judgement where it would judge, so a camera step judges
-//! again only the triangles whose certificates ran out, and finds the same unique mesh.
+//! again only the triangles whose certificates ran out, and finds the same unique mesh. With
+//! the hierarchy's links too, a frame within the bake is a *step* from the one before (see
+//! `step`): the last mesh is kept, the judgements that ran out are made again, and the mesh
+//! changes only where one of them flipped, with no search from the roots.
 //!
 //! # Storage
 //!
@@ -73,6 +76,7 @@ pub(crate) mod quantize;
 mod refine;
 mod reuse;
 mod select;
+mod step;
 mod storage;
 
 pub use crate::deviation::kept::KEPT;

@@ -81,6 +81,12 @@ pub struct FrameStats {
     /// larger pool gives a finer frame (the leaves it left whole are in
     /// [`left_over`](Self::left_over)).
     pub pool_full: bool,
+    /// The mesh is the last frame's, changed where the view changed it (a step: see
+    /// `Tessellator::with_reuse`, feature `reuse`), not searched from the roots. The same
+    /// mesh either way; [`judged`](Self::judged) and [`kept`](Self::kept) then count the
+    /// mesh's triangles and the triangles it halves for their own bound, not every triangle a
+    /// search looks at.
+    pub stepped: bool,
 }
 
 /// Why a tessellator could not be made: its storage is too small for its hierarchy.
@@ -153,16 +159,16 @@ pub struct Tessellator<'t, 's> {
     pub(super) tree: Hierarchy<'t>,
     pub(super) bits: &'s mut [u32],
     pub(super) pool: Pool<'s>,
-    stack: &'s mut [StackSlot],
-    len: usize,
-    full: bool,
+    pub(super) stack: &'s mut [StackSlot],
+    pub(super) len: usize,
+    pub(super) full: bool,
     /// The patches of the triangles the stack had no room for, as bit `patch % 32` (a walk
     /// looks for them in these patches only).
-    dropped_patches: u32,
+    pub(super) dropped_patches: u32,
     /// A triangle below the bake found no room on the stack this frame.
-    dropped_below: bool,
+    pub(super) dropped_below: bool,
     /// A walk judged leaves below the bake again: the figures need a recount.
-    recount: bool,
+    pub(super) recount: bool,
     /// Triangles below the bake being judged at once, one inside the other.
     inline: usize,
     /// The vertices the frame's written triangles use, once a walk counted them (see
@@ -170,7 +176,7 @@ pub struct Tessellator<'t, 's> {
     pub(super) vertices: Option<usize>,
     pub(super) layout: Layout,
     /// The last frame's view.
-    view: Option<View>,
+    pub(super) view: Option<View>,
     /// The sphere around the model's control points, where patches can be culled for facing
     /// away (see `cull`).
     pub(super) sphere: Option<crate::bound::BoundingSphere>,
@@ -182,9 +188,12 @@ pub struct Tessellator<'t, 's> {
     #[cfg(feature = "embedded-graphics")]
     model_box: Option<crate::bound::Aabb>,
     /// The frame's last corners in view coordinates (see [`viewed`](Self::viewed)).
-    viewed: ViewedCorners,
+    pub(super) viewed: ViewedCorners,
     /// How triangles' bounds are computed from their kept vectors.
     pub(super) arithmetic: Arithmetic,
+    /// The node whose judgement over the tolerance is halving triangles now (kept with
+    /// each halving for reuse: see `step`).
+    pub(super) trigger: u32,
     /// A part of a frame searched on a thread of its own (see `parallel`); `None`: the whole
     /// model.
     #[cfg(all(feature = "std", not(target_os = "none")))]
@@ -215,7 +224,7 @@ const _: () = assert!(VIEWED.is_power_of_two());
 /// its sibling's, each moved once instead of once a triangle. Emptied by every frame (a view
 /// of its own); the same bits as moving them again.
 #[derive(Debug)]
-struct ViewedCorners([Cell<(u32, [f32; 3])>; VIEWED]);
+pub(super) struct ViewedCorners([Cell<(u32, [f32; 3])>; VIEWED]);
 
 impl ViewedCorners {
     const EMPTY: (u32, [f32; 3]) = (u32::MAX, [0.0; 3]);
@@ -224,7 +233,7 @@ impl ViewedCorners {
         ViewedCorners(core::array::from_fn(|_| Cell::new(Self::EMPTY)))
     }
 
-    fn clear(&self) {
+    pub(super) fn clear(&self) {
         for e in &self.0 {
             e.set(Self::EMPTY);
         }
@@ -339,6 +348,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             model_box: tree.model.aabb(),
             viewed: ViewedCorners::new(),
             arithmetic: Arithmetic::default(),
+            trigger: super::reuse::NO_NODE,
             #[cfg(all(feature = "std", not(target_os = "none")))]
             group: None,
         })
@@ -348,9 +358,12 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// [`Hierarchy::judgement_slots`], emptied here) with certificates of how far the camera
     /// may move before they can change, so that a camera step judges again only the
     /// triangles whose certificates ran out (see `reuse` and `deviation/certificate.rs`).
+    /// With the hierarchy's links ([`Hierarchy::with_links`]), a frame within the bake is
+    /// then a step from the one before ([`FrameStats::stepped`]): the last mesh changed only
+    /// where a judgement made again flipped, with no search from the roots (see `step`).
     /// Every frame is still the view's unique mesh, the same a tessellator without them
-    /// finds; only [`FrameStats::judged`], [`FrameStats::kept`] and
-    /// [`FrameStats::worst_bound`] tell them apart.
+    /// finds; only [`FrameStats::judged`], [`FrameStats::kept`],
+    /// [`FrameStats::worst_bound`] and [`FrameStats::stepped`] tell them apart.
     ///
     /// ```
     /// # use spline_tess::tessellator::{Hierarchy, Judgement, Tessellator, TessellatorStorage};
@@ -417,7 +430,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// The nodes' bits: set where the frame's mesh halves a node.
-    fn halved(&self) -> &[u32] {
+    pub(super) fn halved(&self) -> &[u32] {
         &self.bits[self.layout().halved..self.layout().judged]
     }
 
@@ -609,6 +622,9 @@ impl<'t, 's> Tessellator<'t, 's> {
         if self.is_last_view(view)? {
             return Ok(self.stats);
         }
+        if self.step(view) {
+            return Ok(self.stats);
+        }
         Ok(self.select(view))
     }
 
@@ -633,12 +649,16 @@ impl<'t, 's> Tessellator<'t, 's> {
             }
             for k in 0..tree.root_count(p) {
                 if root_in_part(part, (p, k as u32)) {
-                    self.push(tree.root(p, k));
+                    let root = tree.root(p, k);
+                    self.list(root.node);
+                    self.push(root);
                     self.drain(view, tolerance);
                 }
             }
         }
-        self.finish(view)
+        let stats = self.finish(view);
+        self.mark_steady();
+        stats
     }
 
     /// Empties the frame's bits, pool and figures for `view`, and culls its patches.
@@ -651,13 +671,20 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.pool.clear();
         self.stats = FrameStats::default();
         self.vertices = None;
+        let whole = self.part().is_none();
         if let Some(reuse) = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse")) {
             reuse.advance(self.view.as_ref(), view);
+            if whole {
+                reuse.steady = false;
+                reuse.unlist_all();
+            }
         }
         self.view = Some(*view);
         self.viewed.clear();
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         self.dropped_patches = 0;
+        // (Empty but after a step that gave up: see `step`.)
+        self.len = 0;
         self.cull(view);
     }
 
@@ -788,7 +815,7 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// Judges leaf `h` (if it still is one, and not judged yet), halving it if it is over
     /// `tolerance`.
-    fn process(&mut self, view: &View, tolerance: f32, h: Pending) {
+    pub(super) fn process(&mut self, view: &View, tolerance: f32, h: Pending) {
         let layout = self.layout();
         if self.is_split(&h) || self.is_judged(&h) {
             return;
@@ -855,7 +882,16 @@ impl<'t, 's> Tessellator<'t, 's> {
             self.leave_to_frame(&h);
             return;
         }
-        if !parted && !self.split(&h, 0) {
+        // (The halvings this makes are `h`'s: see `step`.)
+        let before = self.trigger;
+        if cfg!(feature = "reuse") {
+            self.trigger = h.node;
+        }
+        let halved = !parted && self.split(&h, 0);
+        if cfg!(feature = "reuse") {
+            self.trigger = before;
+        }
+        if !parted && !halved {
             // (Its bound in full, where the judgement stopped once it was over or was kept.)
             let bound = match over_by {
                 Some(b) => b,
@@ -900,7 +936,30 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// finest step is reached), and then `h` stays whole. `depth` bounds the recursion (a
     /// coarser triangle across is at least one level up, so 64 is never reached by the
     /// 24 levels of a cell).
+    ///
+    /// Where reuse keeps why each node is halved for a step (see `step`: it takes the
+    /// hierarchy's links), a triangle halved for another's sake is judged too: one over the tolerance by itself is halved for its own sake, so
+    /// that the halving stands while it does, whatever becomes of the other.
     pub(super) fn split(&mut self, h: &Pending, depth: u32) -> bool {
+        if !cfg!(feature = "reuse")
+            || self.reuse.is_none()
+            || h.node == self.trigger
+            || self.tree.linked(h.node).is_none()
+            || self.is_split(h)
+        {
+            return self.halve_with_across(h, depth);
+        }
+        let before = self.trigger;
+        if self.over_by_itself(h) {
+            self.trigger = h.node;
+        }
+        let done = self.halve_with_across(h, depth);
+        self.trigger = before;
+        done
+    }
+
+    /// [`split`](Self::split), its trigger decided.
+    fn halve_with_across(&mut self, h: &Pending, depth: u32) -> bool {
         if self.is_split(h) {
             return true;
         }
@@ -961,6 +1020,7 @@ impl<'t, 's> Tessellator<'t, 's> {
                 for x in [across, Some(*h)].into_iter().flatten() {
                     if self.tree.is_baked(&x) {
                         set(self.bits, x.node);
+                        self.note_trigger(x.node);
                     }
                 }
                 v
@@ -973,6 +1033,7 @@ impl<'t, 's> Tessellator<'t, 's> {
                     for x in [across, Some(*h)].into_iter().flatten() {
                         if self.tree.is_baked(&x) {
                             set(self.bits, x.node);
+                            self.note_trigger(x.node);
                         }
                     }
                     v
@@ -998,6 +1059,8 @@ impl<'t, 's> Tessellator<'t, 's> {
         // into `h` before it goes across.
         for x in [across, Some(*h)].into_iter().flatten() {
             let [h0, h1] = self.tree.halves(&x, v);
+            self.list(h0.node);
+            self.list(h1.node);
             self.push(h1);
             self.push(h0);
         }

@@ -1,0 +1,432 @@
+//! A camera step: the last frame's mesh changed where the view changed it, instead of a
+//! search from the patches' roots (feature `reuse`, with room for a judgement per node).
+//!
+//! # What a step does
+//!
+//! A frame's mesh is the least fixed point of the search (see `select`): the least set of
+//! halvings such that every triangle of the mesh or halved by it ("in the mesh", its parent
+//! halved) that is over the tolerance is halved, and every halving has the halvings it needs
+//! (the triangle across the hypotenuse, halved with it; coarser ones first). The search
+//! makes each halving for a reason: a triangle judged over (its *trigger*), which halves its
+//! diamond and every coarser diamond that one needs. A step keeps the reasons: every halved
+//! node holds its trigger (in its [`Judgement`](super::Judgement) slot), and the list of the
+//! nodes in the mesh is kept too.
+//!
+//! A step then:
+//!
+//! 1. judges again the nodes of the list whose judgement no longer holds (the odometer of
+//!    `reuse` ran past its certificate), leaves and triggers, and notes those that *flip*:
+//!    a leaf now over, a trigger now within;
+//! 2. takes away, for each trigger now within, every halving it made; and with each halving
+//!    taken away, the triangles it made leave the mesh, and with them every halving that one
+//!    of them triggered;
+//! 3. makes again the halvings that a halving still standing needs (its parent, taken away in
+//!    2, with the same trigger);
+//! 4. judges the triangles that became leaves of the mesh, and halves those over the tolerance
+//!    and the leaves that flipped to over, as the search does.
+//!
+//! # Why it is the view's mesh
+//!
+//! After 2 and 3, every standing halving has a trigger that is in the mesh and over the
+//! tolerance in this view, and the halvings it needs: ordered by when they were made, each
+//! is one the search would make, so the set is within the view's least fixed point. Step 4
+//! is the search itself from there, and every leaf it ends with is judged in this view (a
+//! judgement that holds is this view's, by its certificate): the search's end, the least
+//! fixed point, the view's unique mesh. A tessellator without reuse finds the same mesh, which
+//! the tests check frame by frame along camera paths.
+//!
+//! A step needs the last frame whole (searched or stepped on one thread, within the bake:
+//! no vertex in the pool, nothing left over, no walk for a full stack), the same lens and
+//! tolerance and the same patches culled, float bounds (integer ones keep no certificate) and
+//! the hierarchy's links. Where any of these fails, or a step runs out of room (its stack, or
+//! its short lists of flips and repairs), the frame is searched from the roots: the same mesh,
+//! at a cold frame's cost.
+
+use super::bits::{bit, clear, set};
+use super::hierarchy::{Pending, RUN_TIME};
+use super::judge::{judge, Judged};
+use super::reuse::NO_NODE;
+use super::select::Tessellator;
+use crate::math::max;
+use crate::view::View;
+use crate::Arithmetic;
+
+/// Most nodes a step notes as flipped, and most halvings it makes again: a step needing more
+/// is left to a search from the roots. (A one-degree orbit step flips a few dozen.)
+const ROOM: usize = 1024;
+
+/// Deepest recursion of a step's taking away (a hierarchy is 24 halvings deep in a cell, and
+/// a coarser triangle is always at least one level up).
+const DEEPEST: u32 = 64;
+
+/// What a step has noted: flipped nodes, halvings to make again, and whether it ran out of
+/// room.
+struct Notes {
+    flips: Nodes,
+    repairs: Nodes,
+    failed: bool,
+}
+
+/// A short list of nodes.
+struct Nodes {
+    nodes: [u32; ROOM],
+    len: usize,
+}
+
+impl Nodes {
+    const fn new() -> Nodes {
+        Nodes {
+            nodes: [0; ROOM],
+            len: 0,
+        }
+    }
+
+    /// Adds `node`; false where the list is full.
+    fn push(&mut self, node: u32) -> bool {
+        let Some(slot) = self.nodes.get_mut(self.len) else {
+            return false;
+        };
+        *slot = node;
+        self.len += 1;
+        true
+    }
+
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn get(&self, k: usize) -> u32 {
+        self.nodes[k]
+    }
+}
+
+impl Tessellator<'_, '_> {
+    /// Adds baked node `node` to the list of the mesh's nodes, where reuse keeps one.
+    pub(super) fn list(&mut self, node: u32) {
+        if node == RUN_TIME {
+            return;
+        }
+        if let Some(r) = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse")) {
+            r.list(node);
+        }
+    }
+
+    /// Notes that the current trigger halved baked node `node`, where reuse keeps triggers.
+    pub(super) fn note_trigger(&mut self, node: u32) {
+        let trigger = self.trigger;
+        if let Some(r) = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse")) {
+            r.set_trigger(node, trigger);
+        }
+    }
+
+    /// Whether `h`, a triangle of the bake in the mesh, is over the tolerance by its own
+    /// bound: by its judgement kept, or judged now (and kept).
+    pub(super) fn over_by_itself(&mut self, h: &Pending) -> bool {
+        let Some(view) = self.view else {
+            return false;
+        };
+        let Some(r) = self.reuse.as_ref() else {
+            return false;
+        };
+        if self.is_culled(h.tri.patch) {
+            return false;
+        }
+        if let Some(over) = r.kept(h.node) {
+            return over;
+        }
+        let j = judge(self, &view, h, false, r.budgets());
+        self.stats.judged += 1;
+        if let (Some(r), Some((over, level))) = (self.reuse.as_mut(), j.lasting) {
+            r.keep(h.node, over, level);
+        }
+        is_over(&j, view.tolerance())
+    }
+
+    /// At the end of a search from the roots: whether the next frame may step from this one.
+    pub(super) fn mark_steady(&mut self) {
+        let steady = cfg!(feature = "reuse")
+            && self.part().is_none()
+            && self.whole_within_the_bake()
+            && self.arithmetic == Arithmetic::Float
+            && self.tree.linked(0).is_some()
+            && matches!(self.view, Some(View::Screen { .. }));
+        if let Some(r) = self.reuse.as_mut() {
+            r.steady = steady;
+        }
+    }
+
+    /// The frame searched or stepped every leaf within the bake: nothing left for a walk.
+    fn whole_within_the_bake(&self) -> bool {
+        !self.full && self.pool.used == 0 && self.stats.left_over == 0 && !self.recount
+    }
+
+    /// Finds `view`'s mesh by a step from the last frame's (see the module docs); false where
+    /// it cannot, and then the caller searches from the roots.
+    pub(super) fn step(&mut self, view: &View) -> bool {
+        if !cfg!(feature = "reuse") {
+            return false;
+        }
+        let View::Screen { camera, .. } = view else {
+            return false;
+        };
+        let steady = self.reuse.as_ref().is_some_and(|r| r.steady);
+        if !steady || self.arithmetic != Arithmetic::Float || !self.culls_alike(camera) {
+            return false;
+        }
+        let last = self.view;
+        let Some(r) = self.reuse.as_mut() else {
+            return false;
+        };
+        r.advance(last.as_ref(), view);
+        // (A search from here moves the odometer by nothing.)
+        self.view = Some(*view);
+        if !self.reuse.as_ref().is_some_and(|r| r.steady) {
+            return false; // a view the judgements cannot carry over to
+        }
+        self.begin_step();
+        let mut notes = Notes {
+            flips: Nodes::new(),
+            repairs: Nodes::new(),
+            failed: false,
+        };
+        self.judge_the_lapsed(view, &mut notes);
+        for k in 0..notes.flips.len() {
+            let node = notes.flips.get(k);
+            if bit(self.halved(), node) {
+                if self.trigger_of(node) == node {
+                    self.take_away(node, node, 0, &mut notes);
+                }
+            } else if self.in_mesh(node) {
+                // A leaf now over: halved as the search halves it.
+                let Some(h) = self.place(node) else {
+                    notes.failed = true;
+                    break;
+                };
+                self.uncount_leaf(&h);
+                self.unjudge(node);
+                let hidden = self.layout().hidden;
+                clear(&mut self.bits[hidden..], node);
+                self.push(h);
+            }
+        }
+        for k in 0..notes.repairs.len() {
+            let node = notes.repairs.get(k);
+            if notes.failed || !bit(self.halved(), node) || self.in_mesh(node) {
+                continue;
+            }
+            let Some(parent) = self.tree.linked(node).map(|l| l.parent) else {
+                notes.failed = true;
+                break;
+            };
+            let trigger = self.trigger_of(node);
+            let before = core::mem::replace(&mut self.trigger, trigger);
+            notes.failed |= !self.halve_down_to(parent, 1);
+            self.trigger = before;
+        }
+        if notes.failed {
+            return false;
+        }
+        self.drain_in_mesh(view);
+        self.whole_within_the_bake()
+    }
+
+    /// The start of a step: the frame's figures but for its counts, which carry over.
+    fn begin_step(&mut self) {
+        let (triangles, hidden) = (self.stats.triangles, self.stats.hidden);
+        self.stats = super::FrameStats {
+            triangles,
+            hidden,
+            stepped: true,
+            ..Default::default()
+        };
+        self.vertices = None;
+        self.viewed.clear();
+        self.len = 0;
+        (self.full, self.dropped_below, self.recount) = (false, false, false);
+        self.dropped_patches = 0;
+    }
+
+    /// Judges again every node of the mesh whose judgement lapsed (leaves, and halved nodes
+    /// that are triggers), and notes those that flip.
+    fn judge_the_lapsed(&mut self, view: &View, notes: &mut Notes) {
+        let tolerance = view.tolerance();
+        let hidden = self.layout().hidden;
+        let listed = self.reuse.as_ref().map_or(0, |r| r.listed());
+        for k in 0..listed {
+            let Some(r) = self.reuse.as_ref() else {
+                return;
+            };
+            let node = r.listed_at(k);
+            let halved = bit(self.halved(), node);
+            if halved && r.trigger(node) != node {
+                continue; // halved for another's sake: its own judgement is not asked
+            }
+            if r.holds(node) {
+                self.stats.kept += 1;
+                if !halved {
+                    self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
+                }
+                continue;
+            }
+            let Some(h) = self.place(node) else {
+                notes.failed = true;
+                return;
+            };
+            let halvable = self.tree.baked_first_half(&h).is_some()
+                || (cfg!(feature = "refine") && !self.pool.is_full());
+            let budgets = r.budgets();
+            let j = judge(self, view, &h, !halvable, budgets);
+            self.stats.judged += 1;
+            if let (Some(r), Some((over, level))) = (self.reuse.as_mut(), j.lasting) {
+                r.keep(node, over, level);
+            }
+            let over = is_over(&j, tolerance);
+            if halved {
+                if !over && !notes.flips.push(node) {
+                    notes.failed = true;
+                }
+                continue;
+            }
+            if j.hidden != bit(&self.bits[hidden..], node) {
+                // Shown now and hidden before, or the other way round.
+                let written = usize::from(self.is_written(&h));
+                if j.hidden {
+                    set(&mut self.bits[hidden..], node);
+                    self.stats.hidden += 1;
+                    self.stats.triangles -= written;
+                } else {
+                    clear(&mut self.bits[hidden..], node);
+                    self.stats.hidden -= 1;
+                    self.stats.triangles += written;
+                }
+            }
+            if over {
+                if !notes.flips.push(node) {
+                    notes.failed = true;
+                }
+            } else if !j.hidden {
+                self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            }
+        }
+    }
+
+    /// Takes away halved node `x` with its mate where trigger `t` halved them, and every
+    /// coarser halving `t` made for them (their parents', and so on up).
+    fn take_away(&mut self, x: u32, t: u32, depth: u32, notes: &mut Notes) {
+        if depth > DEEPEST {
+            notes.failed = true;
+            return;
+        }
+        if !bit(self.halved(), x) || self.trigger_of(x) != t {
+            return;
+        }
+        let Some(link) = self.tree.linked(x) else {
+            notes.failed = true;
+            return;
+        };
+        let mate = link.mate;
+        let mate_too = mate != NO_NODE && bit(self.halved(), mate);
+        if mate_too && self.trigger_of(mate) != t {
+            // (A diamond's triangles are halved together, by one trigger.)
+            notes.failed = true;
+            return;
+        }
+        self.unhalve(x, t, depth, notes);
+        if mate_too {
+            self.unhalve(mate, t, depth, notes);
+        }
+        for z in [x, mate] {
+            if let Some(parent) = self.tree.linked(z).map(|l| l.parent) {
+                if parent != NO_NODE {
+                    self.take_away(parent, t, depth + 1, notes);
+                }
+            }
+        }
+    }
+
+    /// Takes away the halving of node `z` (halved by `t`): its halves leave the mesh, with
+    /// the halvings they triggered; a halving of theirs made for another's sake is noted, to
+    /// be made again if it still stands. `z` itself is queued, to be judged as a leaf if it
+    /// still is in the mesh.
+    fn unhalve(&mut self, z: u32, t: u32, depth: u32, notes: &mut Notes) {
+        let judged = self.layout().judged;
+        let hidden = self.layout().hidden;
+        clear(self.bits, z);
+        clear(&mut self.bits[judged..], z);
+        clear(&mut self.bits[hidden..], z);
+        let Some(h) = self.place(z) else {
+            notes.failed = true;
+            return;
+        };
+        let Some(first) = self.tree.baked_first_half(&h) else {
+            notes.failed = true;
+            return;
+        };
+        for c in [first, first + 1] {
+            if let Some(r) = self.reuse.as_mut() {
+                r.unlist(c);
+            }
+            if bit(self.halved(), c) {
+                let u = self.trigger_of(c);
+                if u == c {
+                    self.take_away(c, c, depth + 1, notes);
+                } else if u == t {
+                    self.take_away(c, t, depth + 1, notes);
+                } else if !notes.repairs.push(c) {
+                    notes.failed = true;
+                }
+            } else if bit(&self.bits[judged..], c) {
+                if let Some(leaf) = self.place(c) {
+                    self.uncount_leaf(&leaf);
+                }
+                clear(&mut self.bits[judged..], c);
+                clear(&mut self.bits[hidden..], c);
+            }
+        }
+        self.push(h);
+    }
+
+    /// Judges the queued leaves that are still in the mesh, halving those over the
+    /// tolerance.
+    fn drain_in_mesh(&mut self, view: &View) {
+        let tolerance = view.tolerance();
+        while self.len > 0 {
+            self.len -= 1;
+            let h = self.stack[self.len].0;
+            if h.node != RUN_TIME && !self.in_mesh(h.node) {
+                continue;
+            }
+            self.process(view, tolerance, h);
+        }
+    }
+
+    /// Whether node `node` is in the mesh: a root, or a half of a halved node.
+    fn in_mesh(&self, node: u32) -> bool {
+        match self.tree.linked(node) {
+            Some(l) => l.parent == NO_NODE || bit(self.halved(), l.parent),
+            None => false,
+        }
+    }
+
+    /// Node `node` as the search names it, by its link.
+    fn place(&self, node: u32) -> Option<Pending> {
+        self.tree.linked(node).map(|l| l.place)
+    }
+
+    /// The trigger kept for halved node `node`.
+    fn trigger_of(&self, node: u32) -> u32 {
+        self.reuse.as_ref().map_or(NO_NODE, |r| r.trigger(node))
+    }
+
+    /// Clears node `node`'s judged bit, so that the search judges it (again) as a leaf.
+    fn unjudge(&mut self, node: u32) {
+        let judged = self.layout().judged;
+        clear(&mut self.bits[judged..], node);
+    }
+}
+
+/// Whether judgement `j` is over `tolerance`, as the search takes it: shown, and its bound
+/// not within (a NaN bound is over).
+fn is_over(j: &Judged, tolerance: f32) -> bool {
+    !j.hidden && (j.bound > tolerance || j.bound.is_nan())
+}
