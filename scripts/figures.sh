@@ -20,8 +20,12 @@ rustup target list --installed | grep -qx "$T" || rustup target add "$T"
 if ! command -v qemu-system-arm >/dev/null || ! command -v arm-none-eabi-size >/dev/null ||
     ! command -v cc >/dev/null || [ ! -f /usr/include/GL/glu.h ]; then
     as_root apt-get update -q
+    # (As in `.ci/run`: a newer qemu-utils than the release's goes back to the release's.)
     DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -q qemu-system-arm \
-        binutils-arm-none-eabi gcc libglu1-mesa-dev
+        binutils-arm-none-eabi gcc libglu1-mesa-dev ||
+        DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -q --allow-downgrades \
+            qemu-system-arm "qemu-utils/$(. /etc/os-release && echo "$VERSION_CODENAME")" \
+            binutils-arm-none-eabi gcc libglu1-mesa-dev
 fi
 
 start=$(date +%s)
@@ -282,10 +286,15 @@ on one thread, and a small frame pays more for its threads than it saves. Withou
 reuse a tessellator keeps no work from one view to the next but for a view equal to the last
 (*same view again*: the indexed write alone), so an orbit step costs what a cold frame of its
 view costs, to this machine's noise. With `Tessellator::with_reuse` (*step with reuse*) it
-keeps the judgements whose certificates still hold (*judgements kept*: of all the triangles
-the steps looked at) and walks the mesh again: that saves most where judging is dear (at
-1e-3, where the bake's leaves are judged by run-time lattices), and little at 2.5e-4, where
-the walk is most of a frame and the certificates cost about what they save. On the firmware,
+keeps the judgements whose certificates still hold (*judgements kept*: of the triangles the
+frames looked at). With the hierarchy's links too (as here), a frame within the bake is a
+*step* from the one before (*frames stepped*; `src/tessellator/step.rs`): the last mesh is
+kept, the judgements that ran out are made again, and the mesh changes only where one of them
+flipped. A frame below the bake (the 0.5 px views and the close-up at 1e-3, where pool
+vertices are made) is searched from the roots with the kept judgements. *Orbit update* times
+the update alone, without the indexed write, for the orbit's cold frames and for its steps
+with reuse: a step's update is then mostly its judgements made again, each with a certificate
+(see the example's docs, and CHANGELOG for its instruction counts). On the firmware,
 `fw_teapot`'s frame 1 is an orbit step from frame 0 (its figures are in the display demo's
 section below; it has no RAM for the reuse's slots).
 

@@ -64,11 +64,34 @@ use crate::view::{Camera, Projection};
 /// The relative margin by which a certificate's bounds must clear the tolerance.
 const MARGIN: f32 = 1.0 / 256.0;
 
-/// The largest of `budgets` (camera steps, as `(δ, ρ)`, in increasing order) over which the
-/// judgement of the flat triangle `corners` (view coordinates, as `screen::bound_on_screen`
-/// takes them) with deviation in the hull of `e` (view coordinates, none longer than `big`)
-/// widened by `r`, and the corners' rounding `slack`, is certain: `(over, k)`, the judgement
-/// and the budget's index. `None` where not even the first is.
+/// The camera steps a certificate is asked for (as `(δ, ρ)`, in increasing order), and the
+/// one to try first: a triangle's last certificate is most often its next one's too, and
+/// the search goes up or down from there.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Asked<'a> {
+    pub steps: &'a [[f32; 2]],
+    pub start: usize,
+}
+
+impl Asked<'_> {
+    /// No certificate asked for.
+    pub const NONE: Asked<'static> = Asked {
+        steps: &[],
+        start: 0,
+    };
+
+    /// Whether no certificate is asked for.
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+}
+
+/// The largest of the steps `asked` over which the judgement of the flat triangle `corners`
+/// (view coordinates, as `screen::bound_on_screen` takes them) with deviation in the hull of
+/// `e` (view coordinates, none longer than `big`) widened by `r`, and the corners' rounding
+/// `slack`, is certain: `(over, k)`, the judgement and the step's index. `None` where not
+/// even the first is. (Certainty over a step is certainty over every smaller one, with the
+/// same judgement: the search may start anywhere.)
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn lasting(
     camera: &Camera,
@@ -78,33 +101,26 @@ pub(crate) fn lasting(
     r: f32,
     slack: f32,
     tolerance: f32,
-    budgets: &[[f32; 2]],
+    asked: Asked<'_>,
 ) -> Option<(bool, usize)> {
+    let steps = asked.steps;
     let mut triangle = Moved::new(camera, corners, e, big, r, slack)?;
-    let mut found = None;
-    for (k, &step) in budgets.iter().enumerate() {
-        let Some([i_low, i_up]) = triangle.isotropic(step) else {
-            break;
-        };
-        // Within by the isotropic bound alone: the vectors' terms are not needed.
-        let over = if i_up <= tolerance * (1.0 - MARGIN) {
-            false
-        } else {
-            let [d_low, d_up] = triangle.directional(step);
-            if d_up <= tolerance * (1.0 - MARGIN) {
-                false
-            } else if min(i_low, d_low) > tolerance * (1.0 + MARGIN) {
-                true
-            } else {
-                break;
+    let first = asked.start.min(steps.len().checked_sub(1)?);
+    match triangle.certain(steps[first], tolerance) {
+        Some(over) => {
+            let mut found = (over, first);
+            for (k, &step) in steps.iter().enumerate().skip(first + 1) {
+                match triangle.certain(step, tolerance) {
+                    Some(o) if o == over => found = (over, k),
+                    _ => break,
+                }
             }
-        };
-        match found {
-            Some((o, _)) if o != over => break,
-            _ => found = Some((over, k)),
+            Some(found)
         }
+        None => (0..first)
+            .rev()
+            .find_map(|k| triangle.certain(steps[k], tolerance).map(|over| (over, k))),
     }
-    found
 }
 
 /// A triangle judged in a view, ready to be bounded over camera steps (see the module docs).
@@ -127,6 +143,25 @@ pub(crate) struct Moved<'a> {
 }
 
 impl<'a> Moved<'a> {
+    /// The judgement, where it is certain over every camera within `step` of this one:
+    /// within when the upper bounds are within the tolerance by the margin, over when the
+    /// lower bounds are over it by the margin.
+    fn certain(&mut self, step: [f32; 2], tolerance: f32) -> Option<bool> {
+        let [i_low, i_up] = self.isotropic(step)?;
+        // Within by the isotropic bound alone: the vectors' terms are not needed.
+        if i_up <= tolerance * (1.0 - MARGIN) {
+            return Some(false);
+        }
+        let [d_low, d_up] = self.directional(step);
+        if d_up <= tolerance * (1.0 - MARGIN) {
+            Some(false)
+        } else if min(i_low, d_low) > tolerance * (1.0 + MARGIN) {
+            Some(true)
+        } else {
+            None
+        }
+    }
+
     /// The triangle `corners` (view coordinates of `camera`) with deviation in the hull of
     /// `e` widened by `r` (`big` at least the longest), and the corners' rounding `slack`;
     /// `None` where nothing can be certified (an orthographic view, a corner behind the eye,
@@ -374,8 +409,12 @@ mod tests {
                 continue;
             };
             let budgets = budgets_of(sphere.radius);
-            let Some((claim, level)) = lasting(&c0, viewed, &e, big, r, r, tolerance, &budgets)
-            else {
+            // (The search starts at every level in turn.)
+            let asked = Asked {
+                steps: &budgets,
+                start: k % budgets.len(),
+            };
+            let Some((claim, level)) = lasting(&c0, viewed, &e, big, r, r, tolerance, asked) else {
                 continue;
             };
             assert_eq!(

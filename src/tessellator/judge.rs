@@ -20,6 +20,7 @@ use glam::Vec3;
 use super::address::ONE;
 use super::hierarchy::Pending;
 use super::select::Tessellator;
+use crate::deviation::certificate::Asked;
 use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
@@ -52,14 +53,14 @@ impl Judged {
 /// Judges `h` in `view`: by its node's kept vectors, or below the bake by its own lattice
 /// (see `refine`). Not `exact`, a bound over the tolerance may be given as any value over it
 /// that the bound is at least (the directional bound stops as soon as it is over: most
-/// triangles judged over are halved, and need no more). With `budgets` (camera steps, see
+/// triangles judged over are halved, and need no more). With `asked` (camera steps, see
 /// `reuse`), the judgement comes with the largest of them it is certain over.
 pub(super) fn judge(
     selection: &Tessellator<'_, '_>,
     view: &View,
     h: &Pending,
     exact: bool,
-    budgets: &[[f32; 2]],
+    asked: Asked<'_>,
 ) -> Judged {
     if selection.is_culled(h.tri.patch) {
         // A patch facing away (see `cull`): nothing of it shows.
@@ -105,8 +106,8 @@ pub(super) fn judge(
             // one may stand above it by its own roundings, which no certificate covers: its
             // judgements keep none, and are made again every frame.
             match selection.arithmetic {
-                Arithmetic::Float => budgets,
-                Arithmetic::Integer => &[],
+                Arithmetic::Float => asked,
+                Arithmetic::Integer => Asked::NONE,
             },
         );
         // A leaf of the bake keeps one bound, no vector: where it is over, the run time's
@@ -142,7 +143,7 @@ pub(super) fn judge(
         big,
         remainder,
         stop,
-        budgets,
+        asked,
     );
     // Two bounds of one leaf: the smaller holds. Whether it is hidden stays the bake's
     // bound's say, so that a build without `refine` writes the same triangles.
@@ -178,7 +179,7 @@ fn viewed(selection: &Tessellator<'_, '_>, h: &Pending, camera: &Camera) -> [Vec
 /// Judges the flat triangle whose corners `viewed` gives in a camera's view coordinates and
 /// whose deviation lies in the hull of zero and the vectors `vectors` gives for a camera
 /// (none longer than `big`) widened by `remainder`; a directional bound over `stop` may stop
-/// there (see [`judge`]), and with `budgets` the judgement comes with its certificate.
+/// there (see [`judge`]), and with `asked` steps the judgement comes with its certificate.
 fn judge_vectors<D: Deviations>(
     view: &View,
     viewed: impl FnOnce(&Camera) -> [Vec3; 3],
@@ -186,7 +187,7 @@ fn judge_vectors<D: Deviations>(
     big: f32,
     remainder: f32,
     stop: f32,
-    budgets: &[[f32; 2]],
+    asked: Asked<'_>,
 ) -> Judged {
     match view {
         View::Object { .. } => Judged::bare(big + remainder, false),
@@ -201,10 +202,10 @@ fn judge_vectors<D: Deviations>(
             // already, which needs no vectors; the others take the directional one.
             let m = big + remainder;
             let isotropic = isotropic_bound_on_screen(camera, viewed, size, m, remainder);
-            let budgets = if cfg!(feature = "reuse") {
-                budgets
+            let asked = if cfg!(feature = "reuse") {
+                asked
             } else {
-                &[]
+                Asked::NONE
             };
             let certify = |e: &D| {
                 crate::deviation::certificate::lasting(
@@ -215,12 +216,12 @@ fn judge_vectors<D: Deviations>(
                     remainder,
                     remainder,
                     tolerance,
-                    budgets,
+                    asked,
                 )
             };
             if isotropic <= tolerance {
                 let mut j = Judged::bare(isotropic, false);
-                if !budgets.is_empty() {
+                if !asked.is_empty() {
                     j.lasting = certify(&vectors(camera));
                 }
                 return j;
@@ -230,7 +231,7 @@ fn judge_vectors<D: Deviations>(
             Judged {
                 bound,
                 hidden: false,
-                lasting: match budgets.is_empty() {
+                lasting: match asked.is_empty() {
                     true => None,
                     false => certify(&e),
                 },

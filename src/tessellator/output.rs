@@ -165,7 +165,14 @@ impl Tessellator<'_, '_> {
 
     /// The bound of leaf `h` in model units: its node's, or below the bake its own lattice's.
     fn object_bound(&self, h: &Pending) -> f32 {
-        super::judge::judge(self, &crate::View::Object { tolerance: 0.0 }, h, true, &[]).bound
+        super::judge::judge(
+            self,
+            &crate::View::Object { tolerance: 0.0 },
+            h,
+            true,
+            crate::deviation::certificate::Asked::NONE,
+        )
+        .bound
     }
 
     /// Size of the mesh [`write_mesh`](Self::write_mesh) writes: the frame's triangles, and

@@ -29,6 +29,7 @@
 
 use super::hierarchy::Hierarchy;
 use crate::bound::BoundingSphere;
+use crate::deviation::certificate::Asked;
 use crate::view::{Camera, View};
 
 /// The steps a certificate may cover, in odometer units (of turn: the change of the camera's
@@ -47,6 +48,9 @@ pub const LEVELS: [f32; 6] = [
     1.0 / 2.0,
 ];
 
+/// Judgements made without asking for a certificate after one could not be given.
+pub const PLAIN: u8 = 4;
+
 /// The odometer reading past which every slot is emptied and it starts again (so that its
 /// sums keep their precision).
 pub const RESET: f32 = 64.0;
@@ -61,6 +65,12 @@ pub struct Judgement {
     expires: f32,
     /// Over the tolerance (else within).
     over: bool,
+    /// The level of the last certificate, where the next search for one starts.
+    level: u8,
+    /// Judgements still to be made without asking for a certificate, after one was asked
+    /// for and none could be given (the triangle is near the tolerance: most likely none can
+    /// be given the next time either, and a judgement costs about half as much without).
+    plain: u8,
     /// Where the mesh halves this node: the node whose judgement over the tolerance halved
     /// it, itself or one finer that needed it halved (see `step`).
     trigger: u32,
@@ -75,6 +85,8 @@ impl Judgement {
     pub const NONE: Judgement = Judgement {
         expires: f32::NEG_INFINITY,
         over: false,
+        level: 0,
+        plain: 0,
         trigger: NO_NODE,
         at: NO_NODE,
         listed: NO_NODE,
@@ -136,9 +148,35 @@ impl<'s> Reuse<'s> {
         }
     }
 
-    /// The steps certificates are asked for.
-    pub fn budgets(&self) -> &[[f32; 2]] {
-        &self.budgets
+    /// The steps a certificate for node `node` is asked for (none for a node with no slot).
+    pub fn asked(&self, node: u32) -> Asked<'_> {
+        match self.slots.get(node as usize) {
+            Some(j) => Asked {
+                steps: &self.budgets,
+                start: j.level as usize,
+            },
+            None => Asked::NONE,
+        }
+    }
+
+    /// Whether node `node`'s next judgement goes without a certificate (see
+    /// [`Judgement::plain`]), counting it.
+    pub fn plain(&mut self, node: u32) -> bool {
+        match self.slots.get_mut(node as usize) {
+            Some(j) if j.plain > 0 => {
+                j.plain -= 1;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Notes that no certificate could be given to node `node`'s judgement: the next
+    /// [`PLAIN`] go without asking.
+    pub fn missed(&mut self, node: u32) {
+        if let Some(j) = self.slots.get_mut(node as usize) {
+            (j.level, j.plain) = (0, PLAIN);
+        }
     }
 
     /// Moves the odometer from `last` (the frame before, if any) to `view`, or empties the
@@ -256,7 +294,7 @@ impl<'s> Reuse<'s> {
         };
         let expires = (self.reading + s) * (1.0 - 1.0 / 4_194_304.0);
         if let Some(j) = self.slots.get_mut(node as usize) {
-            (j.expires, j.over) = (expires, over);
+            (j.expires, j.over, j.level) = (expires, over, level as u8);
         }
     }
 }

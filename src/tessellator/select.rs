@@ -42,6 +42,7 @@ use super::refine::{key, Pool, PoolSlot};
 use super::reuse::Judgement;
 use super::reuse::Reuse;
 use super::storage::{StackSlot, TessellatorStorage};
+use crate::deviation::certificate::Asked;
 use crate::deviation::PatchBounds;
 use crate::math::max;
 use crate::patch::Side;
@@ -793,7 +794,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
-            let j = judge(self, view, h, true, &[]);
+            let j = judge(self, view, h, true, Asked::NONE);
             if !j.hidden {
                 worst = max(worst, j.bound);
                 over += usize::from(j.bound > tolerance || j.bound.is_nan());
@@ -851,14 +852,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             }
             None => {
                 self.stats.judged += 1;
-                let budgets = match reuse {
-                    Some(r) if h.node != RUN_TIME => r.budgets(),
-                    _ => &[],
-                };
-                let j = judge(self, view, &h, !halvable, budgets);
-                if let (Some(r), Some((over, level))) = (&mut self.reuse, j.lasting) {
-                    r.keep(h.node, over, level);
-                }
+                let j = self.judge_and_keep(view, &h, !halvable);
                 if j.hidden {
                     if h.node != RUN_TIME {
                         set(&mut self.bits[layout.hidden..], h.node);
@@ -895,7 +889,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             // (Its bound in full, where the judgement stopped once it was over or was kept.)
             let bound = match over_by {
                 Some(b) => b,
-                None => judge(self, view, &h, true, &[]).bound,
+                None => judge(self, view, &h, true, Asked::NONE).bound,
             };
             self.stats.left_over += 1;
             self.stats.worst_bound = max(self.stats.worst_bound, bound);

@@ -47,6 +47,7 @@ use super::hierarchy::{Pending, RUN_TIME};
 use super::judge::{judge, Judged};
 use super::reuse::NO_NODE;
 use super::select::Tessellator;
+use crate::deviation::certificate::Asked;
 use crate::math::max;
 use crate::view::View;
 use crate::Arithmetic;
@@ -134,12 +135,30 @@ impl Tessellator<'_, '_> {
         if let Some(over) = r.kept(h.node) {
             return over;
         }
-        let j = judge(self, &view, h, false, r.budgets());
+        let j = self.judge_and_keep(&view, h, false);
         self.stats.judged += 1;
-        if let (Some(r), Some((over, level))) = (self.reuse.as_mut(), j.lasting) {
-            r.keep(h.node, over, level);
-        }
         is_over(&j, view.tolerance())
+    }
+
+    /// Judges `h` in `view` (see `judge`), with a certificate where reuse keeps judgements
+    /// (and one is worth asking for: see [`Judgement`](super::Judgement)), and keeps what
+    /// it certifies.
+    pub(super) fn judge_and_keep(&mut self, view: &View, h: &Pending, exact: bool) -> Judged {
+        let reuse = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse"));
+        let plain = h.node == RUN_TIME || reuse.is_none_or(|r| r.plain(h.node));
+        let asked = match (&self.reuse, plain) {
+            (Some(r), false) => r.asked(h.node),
+            _ => Asked::NONE,
+        };
+        let was_asked = !asked.is_empty();
+        let j = judge(self, view, h, exact, asked);
+        if let Some(r) = self.reuse.as_mut().filter(|_| was_asked) {
+            match j.lasting {
+                Some((over, level)) => r.keep(h.node, over, level),
+                None => r.missed(h.node),
+            }
+        }
+        j
     }
 
     /// At the end of a search from the roots: whether the next frame may step from this one.
@@ -274,12 +293,8 @@ impl Tessellator<'_, '_> {
             };
             let halvable = self.tree.baked_first_half(&h).is_some()
                 || (cfg!(feature = "refine") && !self.pool.is_full());
-            let budgets = r.budgets();
-            let j = judge(self, view, &h, !halvable, budgets);
+            let j = self.judge_and_keep(view, &h, !halvable);
             self.stats.judged += 1;
-            if let (Some(r), Some((over, level))) = (self.reuse.as_mut(), j.lasting) {
-                r.keep(node, over, level);
-            }
             let over = is_over(&j, tolerance);
             if halved {
                 if !over && !notes.flips.push(node) {
