@@ -3,7 +3,8 @@
 //! diagonal, read with its links (`Hierarchy::with_links`, as `host::Baked` reads it). `FRAMES` frames (default 200), each an update and an indexed write, each a cold
 //! one (a new tessellator on the same storage: a view equal to the last would keep its mesh).
 //! With `MODEL` (a path under `examples/models`, `nurbs/rational_torus.json` say) another
-//! model, seen as the error table's 1.3-diagonal views see it. With `ORBIT=1` the eye goes around the model a degree a frame, and with `REUSE=1` too the
+//! model, seen as the error table's 1.3-diagonal views see it. With `ORBIT=1` the eye goes
+//! around the model a degree a frame (`DEGREES` for another step), and with `REUSE=1` too the
 //! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). With
 //! `PARALLEL=1` each update searches on all cores (`Tessellator::update_parallel`). Prints the last frame's
 //! triangles, the best, mean and median frame times and the median update's, the mean
@@ -88,9 +89,10 @@ fn main() {
         .map(|v| v.parse().expect("a size"))
         .collect();
     let orbit = std::env::var("ORBIT").is_ok_and(|v| v == "1");
+    let degrees: f32 = env("DEGREES", 1.0);
     let view_at = |frame: usize| {
         let angle = if orbit {
-            (frame as f32).to_radians()
+            (frame as f32 * degrees).to_radians()
         } else {
             0.0
         };

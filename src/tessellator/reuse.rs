@@ -202,6 +202,9 @@ impl<'s> Reuse<'s> {
         match step {
             Some(s) if (self.reading + s) * (1.0 + 1.0 / 4_194_304.0) <= RESET => {
                 self.reading = (self.reading + s) * (1.0 + 1.0 / 4_194_304.0);
+                // A jump past the longest certificate: no judgement holds, and a step would
+                // judge every node again before a search from the roots.
+                self.steady &= s <= LEVELS[LEVELS.len() - 1];
             }
             _ => {
                 self.slots.fill(Judgement::NONE);

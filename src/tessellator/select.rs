@@ -930,30 +930,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// finest step is reached), and then `h` stays whole. `depth` bounds the recursion (a
     /// coarser triangle across is at least one level up, so 64 is never reached by the
     /// 24 levels of a cell).
-    ///
-    /// Where reuse keeps why each node is halved for a step (see `step`: it takes the
-    /// hierarchy's links), a triangle halved for another's sake is judged too: one over the tolerance by itself is halved for its own sake, so
-    /// that the halving stands while it does, whatever becomes of the other.
     pub(super) fn split(&mut self, h: &Pending, depth: u32) -> bool {
-        if !cfg!(feature = "reuse")
-            || self.reuse.is_none()
-            || h.node == self.trigger
-            || self.tree.linked(h.node).is_none()
-            || self.is_split(h)
-        {
-            return self.halve_with_across(h, depth);
-        }
-        let before = self.trigger;
-        if self.over_by_itself(h) {
-            self.trigger = h.node;
-        }
-        let done = self.halve_with_across(h, depth);
-        self.trigger = before;
-        done
-    }
-
-    /// [`split`](Self::split), its trigger decided.
-    fn halve_with_across(&mut self, h: &Pending, depth: u32) -> bool {
         if self.is_split(h) {
             return true;
         }

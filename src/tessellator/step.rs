@@ -17,9 +17,12 @@
 //! 1. judges again the nodes of the list whose judgement no longer holds (the odometer of
 //!    `reuse` ran past its certificate), leaves and triggers, and notes those that *flip*:
 //!    a leaf now over, a trigger now within;
-//! 2. takes away, for each trigger now within, every halving it made; and with each halving
-//!    taken away, the triangles it made leave the mesh, and with them every halving that one
-//!    of them triggered;
+//! 2. takes away, for each trigger now within, the halvings it made, coarsest first: one
+//!    whose parents still stand and one of whose two triangles is over the tolerance by its
+//!    own bound stays, that triangle its trigger now (the search halves coarse triangles for
+//!    a fine one's sake before it has judged them: most are over by themselves); the others
+//!    go, and with each the triangles it made leave the mesh, and with them every halving
+//!    that one of them triggered;
 //! 3. makes again the halvings that a halving still standing needs (its parent, taken away in
 //!    2, with the same trigger);
 //! 4. judges the triangles that became leaves of the mesh, and halves those over the tolerance
@@ -28,8 +31,9 @@
 //! # Why it is the view's mesh
 //!
 //! After 2 and 3, every standing halving has a trigger that is in the mesh and over the
-//! tolerance in this view, and the halvings it needs: ordered by when they were made, each
-//! is one the search would make, so the set is within the view's least fixed point. Step 4
+//! tolerance in this view, and the halvings it needs: ordered by when they were made (a
+//! halving kept for its own triangle's sake by when its parents were), each is one the search
+//! would make, so the set is within the view's least fixed point. Step 4
 //! is the search itself from there, and every leaf it ends with is judged in this view (a
 //! judgement that holds is this view's, by its certificate): the search's end, the least
 //! fixed point, the view's unique mesh. A tessellator without reuse finds the same mesh, which
@@ -63,21 +67,25 @@ const DEEPEST: u32 = 64;
 /// What a step has noted: flipped nodes, halvings to make again, and whether it ran out of
 /// room.
 struct Notes {
-    flips: Nodes,
-    repairs: Nodes,
+    flips: Nodes<ROOM>,
+    repairs: Nodes<ROOM>,
     failed: bool,
 }
 
+/// Most halvings one trigger made that a step looks at (its own and the coarser ones it
+/// needed: a few as a rule).
+const CHAIN: usize = 64;
+
 /// A short list of nodes.
-struct Nodes {
-    nodes: [u32; ROOM],
+struct Nodes<const N: usize> {
+    nodes: [u32; N],
     len: usize,
 }
 
-impl Nodes {
-    const fn new() -> Nodes {
+impl<const N: usize> Nodes<N> {
+    const fn new() -> Self {
         Nodes {
-            nodes: [0; ROOM],
+            nodes: [0; N],
             len: 0,
         }
     }
@@ -98,6 +106,10 @@ impl Nodes {
 
     fn get(&self, k: usize) -> u32 {
         self.nodes[k]
+    }
+
+    fn contains(&self, node: u32) -> bool {
+        self.nodes[..self.len].contains(&node)
     }
 }
 
@@ -213,7 +225,7 @@ impl Tessellator<'_, '_> {
             let node = notes.flips.get(k);
             if bit(self.halved(), node) {
                 if self.trigger_of(node) == node {
-                    self.take_away(node, node, 0, &mut notes);
+                    self.take_away(node, 0, &mut notes);
                 }
             } else if self.in_mesh(node) {
                 // A leaf now over: halved as the search halves it.
@@ -299,6 +311,7 @@ impl Tessellator<'_, '_> {
             if halved {
                 if !over && !notes.flips.push(node) {
                     notes.failed = true;
+                    return; // (a step this large is left to a search)
                 }
                 continue;
             }
@@ -318,6 +331,7 @@ impl Tessellator<'_, '_> {
             if over {
                 if !notes.flips.push(node) {
                     notes.failed = true;
+                    return;
                 }
             } else if !j.hidden {
                 self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
@@ -325,14 +339,79 @@ impl Tessellator<'_, '_> {
         }
     }
 
-    /// Takes away halved node `x` with its mate where trigger `t` halved them, and every
-    /// coarser halving `t` made for them (their parents', and so on up).
-    fn take_away(&mut self, x: u32, t: u32, depth: u32, notes: &mut Notes) {
+    /// Takes away what trigger `t` halved (its own diamond, and every coarser one it
+    /// needed), now that it is within the tolerance or no longer in the mesh: parents first,
+    /// each halving stands where its parents do and one of its two triangles is over the
+    /// tolerance by itself (it is kept, for that triangle's sake), and is taken away
+    /// otherwise.
+    fn take_away(&mut self, t: u32, depth: u32, notes: &mut Notes) {
         if depth > DEEPEST {
             notes.failed = true;
             return;
         }
-        if !bit(self.halved(), x) || self.trigger_of(x) != t {
+        let mut chain = Nodes::<CHAIN>::new();
+        self.halved_by(t, t, 0, &mut chain, notes);
+        for k in 0..chain.len() {
+            let x = chain.get(k);
+            if notes.failed || !bit(self.halved(), x) || self.trigger_of(x) != t {
+                continue; // (taken away with its mate already)
+            }
+            let Some(mate) = self.tree.linked(x).map(|l| l.mate) else {
+                notes.failed = true;
+                return;
+            };
+            let pair = [x, mate];
+            let mate_too = mate != NO_NODE && bit(self.halved(), mate);
+            if mate_too && self.trigger_of(mate) != t {
+                // (A diamond's triangles are halved together, by one trigger.)
+                notes.failed = true;
+                return;
+            }
+            let standing = pair.iter().all(|&z| self.parent_halved(z));
+            let mut own = None;
+            if standing {
+                for z in pair {
+                    if z != t && z != NO_NODE && own.is_none() {
+                        let Some(h) = self.place(z) else {
+                            notes.failed = true;
+                            return;
+                        };
+                        if self.over_by_itself(&h) {
+                            own = Some(z);
+                        }
+                    }
+                }
+            }
+            match own {
+                Some(z) => {
+                    if let Some(r) = self.reuse.as_mut() {
+                        r.set_trigger(x, z);
+                        if mate_too {
+                            r.set_trigger(mate, z);
+                        }
+                    }
+                }
+                None => {
+                    self.unhalve(x, t, depth, notes);
+                    if mate_too {
+                        self.unhalve(mate, t, depth, notes);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Adds to `chain` halved node `x` and the coarser nodes above it that trigger `t`
+    /// halved (one node of each diamond), parents before their halves.
+    fn halved_by(
+        &mut self,
+        x: u32,
+        t: u32,
+        depth: u32,
+        chain: &mut Nodes<CHAIN>,
+        notes: &mut Notes,
+    ) {
+        if x == NO_NODE || !bit(self.halved(), x) || self.trigger_of(x) != t {
             return;
         }
         let Some(link) = self.tree.linked(x) else {
@@ -340,23 +419,27 @@ impl Tessellator<'_, '_> {
             return;
         };
         let mate = link.mate;
-        let mate_too = mate != NO_NODE && bit(self.halved(), mate);
-        if mate_too && self.trigger_of(mate) != t {
-            // (A diamond's triangles are halved together, by one trigger.)
+        if chain.contains(x) || (mate != NO_NODE && chain.contains(mate)) {
+            return;
+        }
+        if depth > DEEPEST {
             notes.failed = true;
             return;
         }
-        self.unhalve(x, t, depth, notes);
-        if mate_too {
-            self.unhalve(mate, t, depth, notes);
-        }
         for z in [x, mate] {
             if let Some(parent) = self.tree.linked(z).map(|l| l.parent) {
-                if parent != NO_NODE {
-                    self.take_away(parent, t, depth + 1, notes);
-                }
+                self.halved_by(parent, t, depth + 1, chain, notes);
             }
         }
+        if !chain.contains(x) && !chain.push(x) {
+            notes.failed = true;
+        }
+    }
+
+    /// Whether node `z` (or no node) is in the mesh by its parent: a root, or its parent
+    /// halved.
+    fn parent_halved(&self, z: u32) -> bool {
+        z == NO_NODE || self.in_mesh(z)
     }
 
     /// Takes away the halving of node `z` (halved by `t`): its halves leave the mesh, with
@@ -384,9 +467,10 @@ impl Tessellator<'_, '_> {
             if bit(self.halved(), c) {
                 let u = self.trigger_of(c);
                 if u == c {
-                    self.take_away(c, c, depth + 1, notes);
+                    // A trigger no longer in the mesh.
+                    self.take_away(c, depth + 1, notes);
                 } else if u == t {
-                    self.take_away(c, t, depth + 1, notes);
+                    // (In `t`'s chain, after its parents: taken away there.)
                 } else if !notes.repairs.push(c) {
                     notes.failed = true;
                 }
