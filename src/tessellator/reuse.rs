@@ -216,13 +216,6 @@ impl<'s> Reuse<'s> {
         }
     }
 
-    /// Whether node `node`'s judgement holds at this reading.
-    pub fn holds(&self, node: u32) -> bool {
-        self.slots
-            .get(node as usize)
-            .is_some_and(|j| self.reading <= j.expires)
-    }
-
     /// The node that halved node `node` (see `step`), or [`NO_NODE`].
     pub fn trigger(&self, node: u32) -> u32 {
         self.slots.get(node as usize).map_or(NO_NODE, |j| j.trigger)

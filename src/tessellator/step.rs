@@ -233,10 +233,7 @@ impl Tessellator<'_, '_> {
                     notes.failed = true;
                     break;
                 };
-                self.uncount_leaf(&h);
-                self.unjudge(node);
-                let hidden = self.layout().hidden;
-                clear(&mut self.bits[hidden..], node);
+                self.forget_leaf(&h);
                 self.push(h);
             }
         }
@@ -292,7 +289,7 @@ impl Tessellator<'_, '_> {
             if halved && r.trigger(node) != node {
                 continue; // halved for another's sake: its own judgement is not asked
             }
-            if r.holds(node) {
+            if r.kept(node).is_some() {
                 self.stats.kept += 1;
                 if !halved {
                     self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
@@ -475,11 +472,10 @@ impl Tessellator<'_, '_> {
                     notes.failed = true;
                 }
             } else if bit(&self.bits[judged..], c) {
-                if let Some(leaf) = self.place(c) {
-                    self.uncount_leaf(&leaf);
+                match self.place(c) {
+                    Some(leaf) => self.forget_leaf(&leaf),
+                    None => notes.failed = true,
                 }
-                clear(&mut self.bits[judged..], c);
-                clear(&mut self.bits[hidden..], c);
             }
         }
         self.push(h);
@@ -517,10 +513,13 @@ impl Tessellator<'_, '_> {
         self.reuse.as_ref().map_or(NO_NODE, |r| r.trigger(node))
     }
 
-    /// Clears node `node`'s judged bit, so that the search judges it (again) as a leaf.
-    fn unjudge(&mut self, node: u32) {
-        let judged = self.layout().judged;
-        clear(&mut self.bits[judged..], node);
+    /// Takes leaf `h` off the frame's figures and clears its judged and hidden bits: it leaves
+    /// the mesh, or is to be judged (again) as the search judges a leaf.
+    fn forget_leaf(&mut self, h: &Pending) {
+        self.uncount_leaf(h);
+        let layout = self.layout();
+        clear(&mut self.bits[layout.judged..], h.node);
+        clear(&mut self.bits[layout.hidden..], h.node);
     }
 }
 
