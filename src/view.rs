@@ -162,7 +162,25 @@ impl Camera {
     /// normalised ones: within a few `ε` of unit length and of right angles, so
     /// `‖E‖_F <= 2^-18` with room to spare), so `‖M' - M‖ <= ‖Q' - Q‖ + 2^-17 <=
     /// (‖M' - M‖_F + 2^-17) / √2 + 2^-17`.
+    ///
+    /// (The run time reads the two terms apart, [`shift_and_turn_from`](Self::shift_and_turn_from),
+    /// to bound the moves of points nearer the centre; the tests read this whole.)
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn moved_from(
+        &self,
+        before: &Camera,
+        sphere: &crate::bound::BoundingSphere,
+    ) -> [f32; 2] {
+        let [shift, rho] = self.shift_and_turn_from(before, sphere);
+        let delta = rho * sphere.radius * (1.0 + 1.0 / 65536.0) + shift;
+        [delta, rho]
+    }
+
+    /// [`moved_from`](Self::moved_from) in two parts, `[shift, ρ]`: a point within `d <= r`
+    /// of the sphere's centre moves by at most `ρ d (1 + 2^-16) + shift` (`shift`, the
+    /// centre's move, with the roundings of both: the derivation is `moved_from`'s, with `d`
+    /// for `r`).
+    pub(crate) fn shift_and_turn_from(
         &self,
         before: &Camera,
         sphere: &crate::bound::BoundingSphere,
@@ -181,8 +199,8 @@ impl Camera {
         let c = sphere.center;
         let shift = (self.to_view(c) - before.to_view(c)).length();
         let reach = (c - self.eye()).length() + (c - before.eye()).length() + sphere.radius;
-        let delta = (rho * sphere.radius + shift) * (1.0 + 1.0 / 65536.0) + reach / 524_288.0;
-        [delta, rho]
+        let shift = shift * (1.0 + 1.0 / 65536.0) + reach / 524_288.0;
+        [shift, rho]
     }
 
     /// A camera at `eye` looking at `target`, with `up` giving the screen's vertical.

@@ -20,7 +20,7 @@ use glam::Vec3;
 use super::address::ONE;
 use super::hierarchy::Pending;
 use super::select::Tessellator;
-use crate::deviation::certificate::Asked;
+use crate::deviation::certificate::{Asked, Lasting};
 use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
@@ -35,8 +35,8 @@ pub(super) struct Judged {
     pub bound: f32,
     pub hidden: bool,
     /// Where certificates were asked for (see `reuse`): the largest of the steps asked for
-    /// over which this judgement (over the tolerance or not) is certain, by its index.
-    pub lasting: Option<(bool, usize)>,
+    /// over which this judgement (over the tolerance or not) is certain.
+    pub lasting: Option<Lasting>,
 }
 
 impl Judged {
@@ -158,8 +158,11 @@ pub(super) fn judge(
             // Within while either bound is; over while both are (the baked one is over
             // here: it was asked for the lattice's only then).
             lasting: match (own.lasting, b.lasting) {
-                (Some((false, k)), _) => Some((false, k)),
-                (Some((true, k)), Some((true, l))) => Some((true, k.min(l))),
+                (Some(l @ Lasting { over: false, .. }), _) => Some(l),
+                (Some(l), Some(m)) if l.over && m.over && l.class == m.class => Some(Lasting {
+                    level: l.level.min(m.level),
+                    ..l
+                }),
                 _ => None,
             },
         },
@@ -207,7 +210,7 @@ fn judge_vectors<D: Deviations>(
             } else {
                 Asked::NONE
             };
-            let certify = |e: &D| {
+            let certify = |e: &D, over: bool, bound: f32| {
                 crate::deviation::certificate::lasting(
                     camera,
                     viewed,
@@ -216,13 +219,15 @@ fn judge_vectors<D: Deviations>(
                     remainder,
                     remainder,
                     tolerance,
+                    over,
+                    bound,
                     asked,
                 )
             };
             if isotropic <= tolerance {
                 let mut j = Judged::bare(isotropic, false);
                 if !asked.is_empty() {
-                    j.lasting = certify(&vectors(camera));
+                    j.lasting = certify(&vectors(camera), false, isotropic);
                 }
                 return j;
             }
@@ -233,7 +238,7 @@ fn judge_vectors<D: Deviations>(
                 hidden: false,
                 lasting: match asked.is_empty() {
                     true => None,
-                    false => certify(&e),
+                    false => certify(&e, bound > tolerance || bound.is_nan(), bound),
                 },
             }
         }

@@ -166,7 +166,7 @@ impl Tessellator<'_, '_> {
         let j = judge(self, view, h, exact, asked);
         if let Some(r) = self.reuse.as_mut().filter(|_| was_asked) {
             match j.lasting {
-                Some((over, level)) => r.keep(h.node, over, level),
+                Some(lasting) => r.keep(h.node, lasting),
                 None => r.missed(h.node),
             }
         }
