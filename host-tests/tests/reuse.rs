@@ -16,7 +16,7 @@ use spline_tess::{Arithmetic, Hierarchy, Vec3, View};
 /// The path: from `(1, -1.3, 0.7)` diagonals off the centre, orbits around the vertical of
 /// 24 steps of 0.25°, 24 of 1° and 6 of 4°, a dolly in by 2% a frame, a turn of the head
 /// (the target moving sideways), half the tolerance (all kept judgements dropped), more
-/// quarter-degree steps, and a jump to the other side.
+/// quarter-degree steps, a jump to the other side and three one-degree steps from there.
 fn path(tree: &Hierarchy<'_>) -> Vec<(String, View)> {
     let b = tree.model().aabb().unwrap();
     let (c, d) = (b.center(), b.diagonal());
@@ -56,6 +56,13 @@ fn path(tree: &Hierarchy<'_>) -> Vec<(String, View)> {
         views.push((format!("at 0.5 px {k}"), view(eye, target, 0.5)));
     }
     views.push(("jump".into(), view(around(angle + 180.0, 1.5), c, 1.0)));
+    for k in 1..=3 {
+        let after = angle + 180.0 + k as f32;
+        views.push((
+            format!("{k}° after the jump"),
+            view(around(after, 1.5), c, 1.0),
+        ));
+    }
     views
 }
 
@@ -202,6 +209,62 @@ fn too_few_judgement_slots_are_refused() {
 /// a tessellator that steps from frame to frame gives the fresh frames, and most frames are
 /// steps. Where a judgement flips at a coarse triangle, a step takes away whole subtrees and
 /// makes halvings again: the walks reach those.
+/// A camera jump asks for no certificates: the frame judges what a fresh tessellator judges
+/// and keeps nothing, and the frame after it is searched from the roots (it writes the
+/// certificates); the one after that steps (the teapot with links, one-degree orbit steps
+/// around a 60° jump).
+#[test]
+fn a_jump_costs_a_cold_frame_and_the_steps_start_again_after_it() {
+    let baked = bake(&models_dir().join("teapot.bpt"), 2e-3);
+    let mut links = Vec::new();
+    let tree = baked.linked_tree(&mut links);
+    let b = tree.model().aabb().unwrap();
+    let (c, d) = (b.center(), b.diagonal());
+    let view = |degrees: f32| {
+        let (s, k) = degrees.to_radians().sin_cos();
+        let r = Vec3::new(1.0, -1.3, 0.0) * d;
+        let eye = c + Vec3::new(k * r.x - s * r.y, s * r.x + k * r.y, 0.7 * d);
+        View::Screen {
+            camera: camera_40(eye, c, 0.01 * d, [320, 240]),
+            tolerance_px: 1.0,
+        }
+    };
+    let mut storage = VecStorage::new(&tree, 256, 1 << 14);
+    let mut fresh_storage = VecStorage::new(&tree, 256, 1 << 14);
+    let mut judgements = vec![Judgement::NONE; tree.judgement_slots()];
+    let mut kept = storage
+        .tessellator(tree)
+        .with_reuse(&mut judgements)
+        .unwrap();
+    // Each frame's angle, and whether it steps: not the first (nothing before it), nor the
+    // second (the first wrote no certificates), nor the jump, nor the frame after it.
+    let expect = [
+        (0.0, false),
+        (1.0, false),
+        (2.0, true),
+        (3.0, true),
+        (63.0, false),
+        (64.0, false),
+        (65.0, true),
+        (66.0, true),
+    ];
+    for (degrees, steps) in expect {
+        let view = view(degrees);
+        let stats = kept.update(&view).unwrap();
+        let mut fresh = fresh_storage.tessellator(tree);
+        let expected = fresh.update(&view).unwrap();
+        let label = format!("at {degrees}°");
+        assert_eq!(stats.stepped, steps, "{label}");
+        assert_eq!(stats.triangles, expected.triangles, "{label}");
+        assert_eq!(indexed(&mut kept), indexed(&mut fresh), "{label}: the mesh");
+        if !steps {
+            // Nothing held: everything a search looks at is judged.
+            assert_eq!(stats.kept, 0, "{label}");
+            assert_eq!(stats.judged, expected.judged, "{label}");
+        }
+    }
+}
+
 #[test]
 fn random_walks_step_to_the_fresh_frames() {
     for (model, relative, seed) in [
@@ -225,9 +288,13 @@ fn random_walks_step_to_the_fresh_frames() {
         let (mut angle, mut distance, mut steps) = (0.0f32, 1.0f32, 0);
         let frames = 60;
         for k in 0..frames {
-            // Mostly small steps, now and then a large one.
+            // Mostly small steps, now and then a large one, and a jump.
             let u = rng.unit() as f32;
-            angle += if u < 0.8 { 2.0 * u } else { 30.0 * (u - 0.8) };
+            angle += match u {
+                ..0.8 => 2.0 * u,
+                ..0.96 => 30.0 * (u - 0.8),
+                _ => 60.0,
+            };
             distance = (distance * (0.97 + 0.06 * rng.unit() as f32)).clamp(0.5, 1.5);
             let (s, q) = angle.to_radians().sin_cos();
             let r = Vec3::new(1.0, -1.3, 0.0) * distance * d;

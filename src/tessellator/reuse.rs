@@ -22,8 +22,11 @@
 //! centre less than one at the sphere's edge: a near triangle's certificate lasts longer.)
 //!
 //! A view with another projection, viewport, near plane or tolerance (or none before, or an
-//! odometer past [`RESET`]) empties every slot and starts the odometer again: such a frame
-//! costs a cold one, and a little more for the certificates it writes.
+//! odometer past [`RESET`]) empties every slot and starts the odometer again. Such a frame,
+//! and one whose camera jumped past the longest certificate, asks for no certificates (a
+//! certificate costs about what its judgement does): it costs a cold frame. The frame after
+//! it, where the camera moved less, is searched from the roots and writes them; the frames
+//! after that step.
 //!
 //! # Storage
 //!
@@ -150,6 +153,11 @@ pub(super) struct Reuse<'s> {
     reaches: [f32; REACHES.len()],
     /// The sphere's centre in the view's coordinates.
     centre: Vec3,
+    /// This frame asks for certificates: the camera came a step within the longest
+    /// certificate from the last frame's (after a jump, the next frame is most likely
+    /// another jump or a step's start, and the certificates a jump would write cost as much
+    /// as its judgements: a jump costs a cold frame, and the frame after it writes them).
+    pub certify: bool,
 }
 
 impl<'s> Reuse<'s> {
@@ -172,12 +180,13 @@ impl<'s> Reuse<'s> {
             sphere,
             reaches: REACHES.map(|f| f * sphere.radius),
             centre: Vec3::ZERO,
+            certify: false,
         }
     }
 
     /// The steps a certificate for node `node` is asked for (none for a node with no slot).
     pub fn asked(&self, node: u32) -> Asked<'_> {
-        match self.slots.get(node as usize) {
+        match self.slots.get(node as usize).filter(|_| self.certify) {
             Some(j) => Asked {
                 levels: &LEVELS,
                 reaches: &self.reaches,
@@ -191,6 +200,9 @@ impl<'s> Reuse<'s> {
     /// Whether node `node`'s next judgement goes without a certificate (see
     /// [`Judgement::plain`]), counting it.
     pub fn plain(&mut self, node: u32) -> bool {
+        if !self.certify {
+            return true;
+        }
         match self.slots.get_mut(node as usize) {
             Some(j) if j.plain > 0 => {
                 j.plain -= 1;
@@ -211,6 +223,23 @@ impl<'s> Reuse<'s> {
     /// Moves the odometer from `last` (the frame before, if any) to `view`, or empties the
     /// slots where the judgements cannot carry over.
     pub fn advance(&mut self, last: Option<&View>, view: &View) {
+        if let (
+            Some(View::Screen {
+                camera: before,
+                tolerance_px: t0,
+            }),
+            View::Screen {
+                camera,
+                tolerance_px: t1,
+            },
+        ) = (last, view)
+        {
+            if t0.to_bits() == t1.to_bits() && before.bits() == camera.bits() {
+                // The same view (a search after a step that gave up, or a frame drawn
+                // again): nothing moved, and the frame asks for certificates as it did.
+                return;
+            }
+        }
         let step = match (last, view) {
             (
                 Some(View::Screen {
@@ -234,7 +263,8 @@ impl<'s> Reuse<'s> {
             (Some(step), Some(readings)) => {
                 // A jump past the longest certificate: no judgement holds, and a step would
                 // judge every node again before a search from the roots.
-                self.steady &= readings[0] - self.readings[0] <= LEVELS[LEVELS.len() - 1];
+                self.certify = readings[0] - self.readings[0] <= LEVELS[LEVELS.len() - 1];
+                self.steady &= self.certify;
                 (self.readings, self.last_step) = (readings, step);
             }
             _ => {
@@ -242,7 +272,7 @@ impl<'s> Reuse<'s> {
                 (self.readings, self.last_step) = ([0.0; REACHES.len()], [0.0; 2]);
                 self.len = 0;
                 // (The list is empty now: a search lists its mesh again.)
-                self.steady = false;
+                (self.steady, self.certify) = (false, false);
             }
         }
     }
@@ -325,7 +355,8 @@ impl<'s> Reuse<'s> {
 
     /// Node `node`'s kept judgement (over the tolerance or not), if it holds at this reading.
     pub fn kept(&self, node: u32) -> Option<bool> {
-        let j = self.slots.get(node as usize)?;
+        // (A frame that asks for no certificates came by a jump or a reset: none holds.)
+        let j = self.slots.get(node as usize).filter(|_| self.certify)?;
         let reading = self.readings.get(j.class as usize)?;
         (*reading <= j.expires).then_some(j.over)
     }

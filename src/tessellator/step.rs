@@ -40,7 +40,8 @@
 //! the tests check frame by frame along camera paths.
 //!
 //! A step needs the last frame whole (searched or stepped on one thread, within the bake:
-//! no vertex in the pool, nothing left over, no walk for a full stack), the same lens and
+//! no vertex in the pool, nothing left over, no walk for a full stack) and certified (not a
+//! jump: see `reuse`), the camera within the longest certificate of it, the same lens and
 //! tolerance and the same patches culled, float bounds (integer ones keep no certificate) and
 //! the hierarchy's links. Where any of these fails, or a step runs out of room (its stack, or
 //! its short lists of flips and repairs), the frame is searched from the roots: the same mesh,
@@ -119,7 +120,12 @@ impl Tessellator<'_, '_> {
         if node == RUN_TIME {
             return;
         }
-        if let Some(r) = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse")) {
+        // (A frame without certificates is not stepped from: it keeps no list.)
+        if let Some(r) = self
+            .reuse
+            .as_mut()
+            .filter(|r| cfg!(feature = "reuse") && r.certify)
+        {
             r.list(node);
         }
     }
@@ -127,7 +133,11 @@ impl Tessellator<'_, '_> {
     /// Notes that the current trigger halved baked node `node`, where reuse keeps triggers.
     pub(super) fn note_trigger(&mut self, node: u32) {
         let trigger = self.trigger;
-        if let Some(r) = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse")) {
+        if let Some(r) = self
+            .reuse
+            .as_mut()
+            .filter(|r| cfg!(feature = "reuse") && r.certify)
+        {
             r.set_trigger(node, trigger);
         }
     }
@@ -182,7 +192,9 @@ impl Tessellator<'_, '_> {
             && self.tree.linked(0).is_some()
             && matches!(self.view, Some(View::Screen { .. }));
         if let Some(r) = self.reuse.as_mut() {
-            r.steady = steady;
+            // (A frame that wrote no certificates leaves every judgement to be made again:
+            // the next is searched, and writes them.)
+            r.steady = steady && r.certify;
         }
     }
 
