@@ -239,24 +239,24 @@ impl<'a> Moved<'a> {
     /// margin, over when the lower bounds are over it by the margin. (Only the judgement's
     /// own side is bounded; NaN where no bound is.)
     fn certain(&mut self, step: [f32; 2], tolerance: f32, over: bool) -> (bool, f32) {
-        let Some([i_low, i_up]) = self.isotropic(step) else {
+        let Some(i) = self.isotropic_side(step, !over) else {
             return (false, f32::NAN);
         };
         if over {
             let least = tolerance * (1.0 + MARGIN);
-            if i_low <= least || i_low.is_nan() {
-                return (false, i_low);
+            if i <= least || i.is_nan() {
+                return (false, i);
             }
             let d_low = self.directional_side(step, false);
-            (d_low > least, min(i_low, d_low))
+            (d_low > least, min(i, d_low))
         } else {
             // Within by the isotropic bound alone: the vectors' terms are not needed.
             let most = tolerance * (1.0 - MARGIN);
-            if i_up <= most {
-                return (true, i_up);
+            if i <= most {
+                return (true, i);
             }
             let d_up = self.directional_side(step, true);
-            (d_up <= most, min(i_up, d_up))
+            (d_up <= most, min(i, d_up))
         }
     }
 
@@ -316,7 +316,19 @@ impl<'a> Moved<'a> {
     /// Lower and upper bounds of the isotropic bound over every camera within `[δ, ρ]`:
     /// `None` where a camera within it may leave the triangle out or clip it, or where the
     /// rounding of the least depth is not kept (see the module docs).
-    pub fn isotropic(&self, [delta, _]: [f32; 2]) -> Option<[f32; 2]> {
+    #[cfg(test)]
+    pub fn isotropic(&self, step: [f32; 2]) -> Option<[f32; 2]> {
+        Some([
+            self.isotropic_side(step, false)?,
+            self.isotropic_side(step, true)?,
+        ])
+    }
+
+    /// The upper (`up`) or lower bound of the isotropic bound over every camera within
+    /// `[δ, ρ]`: `None` where a camera within it may leave the triangle out or clip it, or
+    /// where the rounding of the least depth is not kept (see the module docs).
+    #[inline(always)]
+    fn isotropic_side(&self, [delta, _]: [f32; 2], up: bool) -> Option<f32> {
         let (delta, eta_up) = self.widened(delta);
         let ([sx, sy], _) = self.camera.side_planes();
         let near = self.camera.near();
@@ -333,21 +345,22 @@ impl<'a> Moved<'a> {
             return None;
         }
         let (camera, m, slack) = (self.camera, self.m, self.slack);
-        let up = isotropic_from(
-            camera,
-            self.z_low - delta,
-            self.size + 3.0 * delta,
-            m,
-            slack,
-        );
-        let low = isotropic_from(
-            camera,
-            self.z_low + delta,
-            max(0.0, self.size - 3.0 * delta),
-            m,
-            slack,
-        );
-        Some([low, up])
+        Some(match up {
+            true => isotropic_from(
+                camera,
+                self.z_low - delta,
+                self.size + 3.0 * delta,
+                m,
+                slack,
+            ),
+            false => isotropic_from(
+                camera,
+                self.z_low + delta,
+                max(0.0, self.size - 3.0 * delta),
+                m,
+                slack,
+            ),
+        })
     }
 
     /// Each corner's largest `φ`, and where the vectors are few enough, their turns.
