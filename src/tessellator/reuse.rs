@@ -37,6 +37,7 @@
 
 use glam::Vec3;
 
+use super::bits::bit;
 use super::hierarchy::Hierarchy;
 use crate::bound::BoundingSphere;
 use crate::deviation::certificate::{Asked, Lasting};
@@ -343,14 +344,34 @@ impl<'s> Reuse<'s> {
         self.len = last;
     }
 
-    /// Entries of the list of the mesh's nodes.
-    pub fn listed(&self) -> usize {
-        self.len
-    }
-
-    /// The node at entry `k` of the list.
-    pub fn listed_at(&self, k: usize) -> u32 {
-        self.slots.get(k).map_or(NO_NODE, |j| j.listed)
+    /// From entry `k` of the list of the mesh's nodes on, the first whose judgement is asked
+    /// for (a leaf, or a node halved for its own sake: `halved` holds the mesh's halved
+    /// nodes) and no longer holds: its entry and node. Counts in `kept` the judgements that
+    /// hold on the way, and in `leaf_kept` whether one of them is a leaf's.
+    pub fn next_lapsed(
+        &self,
+        from: usize,
+        halved: &[u32],
+        kept: &mut usize,
+        leaf_kept: &mut bool,
+    ) -> Option<(usize, u32)> {
+        let slots = &*self.slots;
+        for (k, entry) in slots.iter().enumerate().take(self.len).skip(from) {
+            let node = entry.listed;
+            let j = slots.get(node as usize)?;
+            let is_halved = bit(halved, node);
+            if is_halved && j.trigger != node {
+                continue; // halved for another's sake: its own judgement is not asked
+            }
+            match self.readings.get(j.class as usize) {
+                Some(reading) if self.certify && *reading <= j.expires => {
+                    *kept += 1;
+                    *leaf_kept |= !is_halved;
+                }
+                _ => return Some((k, node)),
+            }
+        }
+        None
     }
 
     /// Node `node`'s kept judgement (over the tolerance or not), if it holds at this reading.

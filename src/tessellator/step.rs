@@ -291,23 +291,22 @@ impl Tessellator<'_, '_> {
     fn judge_the_lapsed(&mut self, view: &View, notes: &mut Notes) {
         let tolerance = view.tolerance();
         let hidden = self.layout().hidden;
-        let listed = self.reuse.as_ref().map_or(0, |r| r.listed());
-        for k in 0..listed {
+        let mut from = 0;
+        loop {
             let Some(r) = self.reuse.as_ref() else {
                 return;
             };
-            let node = r.listed_at(k);
+            let (mut kept, mut leaf_kept) = (0, false);
+            let next = r.next_lapsed(from, self.halved(), &mut kept, &mut leaf_kept);
+            self.stats.kept += kept;
+            if leaf_kept {
+                self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
+            }
+            let Some((k, node)) = next else {
+                return;
+            };
+            from = k + 1;
             let halved = bit(self.halved(), node);
-            if halved && r.trigger(node) != node {
-                continue; // halved for another's sake: its own judgement is not asked
-            }
-            if r.kept(node).is_some() {
-                self.stats.kept += 1;
-                if !halved {
-                    self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
-                }
-                continue;
-            }
             let Some(h) = self.place(node) else {
                 notes.failed = true;
                 return;
