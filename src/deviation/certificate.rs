@@ -81,33 +81,47 @@ use crate::view::{Camera, Projection};
 /// The relative margin by which a certificate's bounds must clear the tolerance.
 const MARGIN: f32 = 1.0 / 256.0;
 
-/// The camera steps a certificate is asked for, and the one to try first: a triangle's last
-/// certificate is most often its next one's too, and the search goes up or down from there.
+/// The camera steps certificates are asked for in a frame.
 ///
 /// A step is a turn `s` of [`levels`](Self::levels) (increasing) and a move `s d` of every
-/// point within `d` of [`centre`](Self::centre): `d` the least of [`reaches`](Self::reaches)
-/// (decreasing) that holds the triangle's corners, its *reach class* (see `reuse`).
+/// point within `d` of [`centre`](Self::centre): `d` the least of the reaches (the fractions
+/// [`reaches`](Self::reaches), decreasing, of [`radius`](Self::radius)) that holds the
+/// triangle's corners, its *reach class* (see `reuse`).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Asked<'a> {
-    pub levels: &'a [f32],
-    pub reaches: &'a [f32],
+pub(crate) struct Steps {
+    pub levels: &'static [f32],
+    pub reaches: &'static [f32],
+    pub radius: f32,
     /// The centre the reaches are measured from, in the view's coordinates.
     pub centre: Vec3,
-    pub start: usize,
+}
+
+impl Steps {
+    /// Reach class `class`'s reach (in model units).
+    pub fn reach(&self, class: usize) -> f32 {
+        self.reaches.get(class).map_or(0.0, |f| f * self.radius)
+    }
+}
+
+/// The camera steps a certificate is asked for, if any, and the level to try first: a
+/// triangle's last certificate is most often its next one's too, and the search goes up or
+/// down from there.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Asked<'a> {
+    pub steps: Option<&'a Steps>,
+    pub start: u8,
 }
 
 impl Asked<'_> {
     /// No certificate asked for.
     pub const NONE: Asked<'static> = Asked {
-        levels: &[],
-        reaches: &[],
-        centre: Vec3::ZERO,
+        steps: None,
         start: 0,
     };
 
     /// Whether no certificate is asked for.
     pub fn is_empty(&self) -> bool {
-        self.levels.is_empty() || self.reaches.is_empty()
+        self.steps.is_none()
     }
 }
 
@@ -116,8 +130,8 @@ impl Asked<'_> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Lasting {
     pub over: bool,
-    pub level: usize,
-    pub class: usize,
+    pub level: u8,
+    pub class: u8,
 }
 
 /// The largest of the steps `asked` over which the judgement `over` of the flat triangle
@@ -144,10 +158,11 @@ pub(crate) fn lasting(
     bound: f32,
     asked: Asked<'_>,
 ) -> Option<Lasting> {
-    let levels = asked.levels;
-    let first = asked.start.min(levels.len().checked_sub(1)?);
-    let class = reach_class(&corners, asked.centre, asked.reaches)?;
-    let reach = asked.reaches[class];
+    let steps = asked.steps?;
+    let levels = steps.levels;
+    let first = usize::from(asked.start).min(levels.len().checked_sub(1)?);
+    let class = reach_class(&corners, steps)?;
+    let reach = steps.reach(class);
     let mut triangle = Moved::new(camera, corners, e, big, r, slack)?;
     // Whether the judgement is certain over step `k`, and the bound that says so; and the
     // guess of whether it is over step `to` from the bound `at` over step `from`.
@@ -159,7 +174,11 @@ pub(crate) fn lasting(
             false => guess <= tolerance * (1.0 - MARGIN),
         }
     };
-    let lasting = |level| Lasting { over, level, class };
+    let lasting = |level: usize| Lasting {
+        over,
+        level: level as u8,
+        class: class as u8,
+    };
     let (holds, mut at) = certain(first);
     if holds {
         let mut k = first;
@@ -179,20 +198,20 @@ pub(crate) fn lasting(
 }
 
 /// The reach class of a triangle with corners `corners` (view coordinates): the last of
-/// `reaches` (decreasing) at least as far from `centre` as every corner, their roundings
-/// (each within `16 ε` of its coordinates' sum, as is the centre) counted in; `None` where
-/// not even the first is.
-fn reach_class(corners: &[Vec3; 3], centre: Vec3, reaches: &[f32]) -> Option<usize> {
+/// `steps`' reaches at least as far from its centre as every corner, their roundings (each
+/// within `16 ε` of its coordinates' sum, as is the centre) counted in; `None` where not
+/// even the first is.
+fn reach_class(corners: &[Vec3; 3], steps: &Steps) -> Option<usize> {
     let spread = |v: Vec3| v.x.abs() + v.y.abs() + v.z.abs();
+    let centre = steps.centre;
     let far = corners
         .iter()
         .map(|&v| (v - centre).length() + 20.0 * EPS * (spread(v) + spread(centre)))
         .fold(0.0f32, max)
         * (1.0 + 4.0 * EPS);
-    if far > *reaches.first()? || far.is_nan() {
-        return None;
-    }
-    Some(reaches.iter().rposition(|&d| far <= d).unwrap_or(0))
+    (0..steps.reaches.len())
+        .rev()
+        .find(|&k| far <= steps.reach(k))
 }
 
 /// A triangle judged in a view, ready to be bounded over camera steps (see the module docs).
@@ -598,13 +617,16 @@ mod tests {
                 center: centre,
                 radius: far * (1.01 + 2.5 * unit(1.0).abs()),
             };
-            let reaches = REACHES_FOR_TESTS.map(|f| f * model.radius);
+            let steps = Steps {
+                levels: &LEVELS_FOR_TESTS,
+                reaches: &REACHES_FOR_TESTS,
+                radius: model.radius,
+                centre: c0.to_view(centre),
+            };
             // (The search starts at every level in turn.)
             let asked = Asked {
-                levels: &LEVELS_FOR_TESTS,
-                reaches: &reaches,
-                centre: c0.to_view(centre),
-                start: k % LEVELS_FOR_TESTS.len(),
+                steps: Some(&steps),
+                start: (k % LEVELS_FOR_TESTS.len()) as u8,
             };
             // (The certificate bounds the judgement's own side: it is given the judgement.)
             let judged = judged_over(&c0, &corners, &vectors, big, r, tolerance);
@@ -619,20 +641,18 @@ mod tests {
             assert!(
                 corners
                     .iter()
-                    .all(|p| (*p - centre).length() <= reaches[class]),
+                    .all(|p| (*p - centre).length() <= steps.reach(class.into())),
                 "case {k}: a corner beyond its reach class"
             );
             certified += 1;
-            classes[class] += 1;
+            classes[usize::from(class)] += 1;
             over += usize::from(claim);
             let sphere = BoundingSphere {
-                radius: reaches[class],
+                radius: steps.reach(class.into()),
                 ..model
             };
-            let (delta, rho) = (
-                LEVELS_FOR_TESTS[level] * sphere.radius,
-                LEVELS_FOR_TESTS[level],
-            );
+            let s = LEVELS_FOR_TESTS[usize::from(level)];
+            let (delta, rho) = (s * sphere.radius, s);
             for _ in 0..4 {
                 let (de, dt) = (
                     Vec3::new(unit(1.0), unit(1.0), unit(1.0)) * (4.0 * delta),

@@ -40,7 +40,7 @@ use glam::Vec3;
 use super::bits::bit;
 use super::hierarchy::Hierarchy;
 use crate::bound::BoundingSphere;
-use crate::deviation::certificate::{Asked, Lasting};
+use crate::deviation::certificate::{Asked, Lasting, Steps};
 use crate::view::{Camera, View};
 
 /// The steps a certificate may cover, in odometer units (of turn: the change of the camera's
@@ -150,10 +150,9 @@ pub(super) struct Reuse<'s> {
     /// The camera's last step, `[shift, ρ]` (see `Camera::shift_and_turn_from`).
     last_step: [f32; 2],
     sphere: BoundingSphere,
-    /// The reaches of [`REACHES`] for this sphere.
-    reaches: [f32; REACHES.len()],
-    /// The sphere's centre in the view's coordinates.
-    centre: Vec3,
+    /// What certificates are asked for: [`LEVELS`] and [`REACHES`] for this sphere, its
+    /// centre in the view's coordinates.
+    steps: Steps,
     /// This frame asks for certificates: the camera came a step within the longest
     /// certificate from the last frame's (after a jump, the next frame is most likely
     /// another jump or a step's start, and the certificates a jump would write cost as much
@@ -179,8 +178,12 @@ impl<'s> Reuse<'s> {
             readings: [0.0; REACHES.len()],
             last_step: [0.0; 2],
             sphere,
-            reaches: REACHES.map(|f| f * sphere.radius),
-            centre: Vec3::ZERO,
+            steps: Steps {
+                levels: &LEVELS,
+                reaches: &REACHES,
+                radius: sphere.radius,
+                centre: Vec3::ZERO,
+            },
             certify: false,
         }
     }
@@ -189,10 +192,8 @@ impl<'s> Reuse<'s> {
     pub fn asked(&self, node: u32) -> Asked<'_> {
         match self.slots.get(node as usize).filter(|_| self.certify) {
             Some(j) => Asked {
-                levels: &LEVELS,
-                reaches: &self.reaches,
-                centre: self.centre,
-                start: j.level as usize,
+                steps: Some(&self.steps),
+                start: j.level,
             },
             None => Asked::NONE,
         }
@@ -257,7 +258,7 @@ impl<'s> Reuse<'s> {
             _ => None,
         };
         if let View::Screen { camera, .. } = view {
-            self.centre = camera.to_view(self.sphere.center);
+            self.steps.centre = camera.to_view(self.sphere.center);
         }
         let moved = step.and_then(|step| self.readings_after(step));
         match (step, moved) {
@@ -283,7 +284,8 @@ impl<'s> Reuse<'s> {
     /// reach `d` goes up by `(ρ (1 + 2^-16) + shift / d)`, rounded up.
     fn readings_after(&self, [shift, rho]: [f32; 2]) -> Option<[f32; REACHES.len()]> {
         let mut readings = self.readings;
-        for (reading, d) in readings.iter_mut().zip(&self.reaches) {
+        for (k, reading) in readings.iter_mut().enumerate() {
+            let d = self.steps.reach(k);
             let s = (rho * (1.0 + 1.0 / 65536.0) + shift / d) * (1.0 + 1.0 / 65536.0);
             *reading = (*reading + s) * (1.0 + 1.0 / 4_194_304.0);
             if *reading > RESET || reading.is_nan() {
@@ -386,19 +388,19 @@ impl<'s> Reuse<'s> {
     /// class.
     pub fn keep(&mut self, node: u32, lasting: Lasting) {
         let Lasting { over, level, class } = lasting;
-        let (Some(s), Some(reading), Some(d)) = (
-            LEVELS.get(level),
-            self.readings.get(class),
-            self.reaches.get(class),
+        let (Some(s), Some(reading)) = (
+            LEVELS.get(usize::from(level)),
+            self.readings.get(usize::from(class)),
         ) else {
             return;
         };
+        let d = self.steps.reach(usize::from(class));
         let expires = (reading + s) * (1.0 - 1.0 / 4_194_304.0);
         // The class's last step (as `readings_after` took it).
         let [shift, rho] = self.last_step;
         let last = rho + shift / d;
         if let Some(j) = self.slots.get_mut(node as usize) {
-            (j.expires, j.over, j.level, j.class) = (expires, over, level as u8, class as u8);
+            (j.expires, j.over, j.level, j.class) = (expires, over, level, class);
             // Shorter than the camera's last step: most likely it will not outlast the next
             // one either, and the next judgements go without asking, as after a miss.
             if *s < last {
