@@ -361,7 +361,9 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// triangles whose certificates ran out (see `reuse` and `deviation/certificate.rs`).
     /// With the hierarchy's links ([`Hierarchy::with_links`]), a frame within the bake is
     /// then a step from the one before ([`FrameStats::stepped`]): the last mesh changed only
-    /// where a judgement made again flipped, with no search from the roots (see `step`).
+    /// where a judgement made again flipped, with no search from the roots (see `step`). A
+    /// camera jump (past the longest certificate) asks for no certificates and costs a cold
+    /// frame; the frame after it writes them, and the frames after that step.
     /// Every frame is still the view's unique mesh, the same a tessellator without them
     /// finds; only [`FrameStats::judged`], [`FrameStats::kept`],
     /// [`FrameStats::worst_bound`] and [`FrameStats::stepped`] tell them apart.
