@@ -225,24 +225,8 @@ impl<'s> Reuse<'s> {
     /// Moves the odometer from `last` (the frame before, if any) to `view`, or empties the
     /// slots where the judgements cannot carry over.
     pub fn advance(&mut self, last: Option<&View>, view: &View) {
-        if let (
-            Some(View::Screen {
-                camera: before,
-                tolerance_px: t0,
-            }),
-            View::Screen {
-                camera,
-                tolerance_px: t1,
-            },
-        ) = (last, view)
-        {
-            if t0.to_bits() == t1.to_bits() && before.bits() == camera.bits() {
-                // The same view (a search after a step that gave up, or a frame drawn
-                // again): nothing moved, and the frame asks for certificates as it did.
-                return;
-            }
-        }
-        let step = match (last, view) {
+        // The cameras before and now, where both frames are on screen at one tolerance.
+        let cameras = match (last, view) {
             (
                 Some(View::Screen {
                     camera: before,
@@ -252,11 +236,17 @@ impl<'s> Reuse<'s> {
                     camera,
                     tolerance_px: t1,
                 },
-            ) if t0.to_bits() == t1.to_bits() && same_lens(before, camera) => {
-                Some(camera.shift_and_turn_from(before, &self.sphere))
-            }
+            ) if t0.to_bits() == t1.to_bits() => Some((before, camera)),
             _ => None,
         };
+        if cameras.is_some_and(|(before, camera)| before.bits() == camera.bits()) {
+            // The same view (a search after a step that gave up, or a frame drawn again):
+            // nothing moved, and the frame asks for certificates as it did.
+            return;
+        }
+        let step = cameras
+            .filter(|(before, camera)| same_lens(before, camera))
+            .map(|(before, camera)| camera.shift_and_turn_from(before, &self.sphere));
         if let View::Screen { camera, .. } = view {
             self.steps.centre = camera.to_view(self.sphere.center);
         }
