@@ -355,23 +355,29 @@ impl<'s> Reuse<'s> {
             if is_halved && j.trigger != node {
                 continue; // halved for another's sake: its own judgement is not asked
             }
-            match self.readings.get(j.class as usize) {
-                Some(reading) if self.certify && *reading <= j.expires => {
-                    *kept += 1;
-                    *leaf_kept |= !is_halved;
-                }
-                _ => return Some((k, node)),
+            if !self.holds(j) {
+                return Some((k, node));
             }
+            *kept += 1;
+            *leaf_kept |= !is_halved;
         }
         None
     }
 
     /// Node `node`'s kept judgement (over the tolerance or not), if it holds at this reading.
     pub fn kept(&self, node: u32) -> Option<bool> {
-        // (A frame that asks for no certificates came by a jump or a reset: none holds.)
-        let j = self.slots.get(node as usize).filter(|_| self.certify)?;
-        let reading = self.readings.get(j.class as usize)?;
-        (*reading <= j.expires).then_some(j.over)
+        let j = self.slots.get(node as usize)?;
+        self.holds(j).then_some(j.over)
+    }
+
+    /// Whether judgement `j` holds at its class's reading. (A frame that asks for no
+    /// certificates came by a jump or a reset: none holds.)
+    fn holds(&self, j: &Judgement) -> bool {
+        self.certify
+            && self
+                .readings
+                .get(usize::from(j.class))
+                .is_some_and(|reading| *reading <= j.expires)
     }
 
     /// Keeps node `node`'s judgement, certified for steps of `LEVELS[level]` in its reach
