@@ -21,9 +21,10 @@
 //! each), each step's view as a cold frame (best of three, median over the steps) and as a step
 //! from the one before (the tessellator kept; median over the steps), without and with reuse;
 //! for the orbit's cold frames and its steps with reuse, the update alone too (the cold
-//! update's best of three, median over the steps), and how many of those frames were steps
-//! from the one before; and the same view again (median of 21). All in this one run; a frame
-//! is an update and an indexed write.
+//! update's best of three, median over the steps), and the same two on all cores
+//! (`update_parallel`: a cold frame's search on the threads, a step's judgements made again
+//! on them), and how many of those frames were steps from the one before; and the same view
+//! again (median of 21). All in this one run; a frame is an update and an indexed write.
 //!
 //! ```text
 //! cargo run --release -p host-tests --example frame_loop
@@ -189,9 +190,11 @@ fn table() {
     const REPEATS: usize = 21;
     const STEPS: usize = 48;
     println!(
-        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | cold ms, all cores | all cores / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | orbit update: cold ms | orbit update: step with reuse ms | update: step / cold | frames stepped | judgements kept | same view again ms |"
+        "| view | triangles | cold ms | GLU triangles | GLU ms | cold / GLU | cold ms, all cores | all cores / GLU | orbit: cold ms | orbit: step ms | orbit: step with reuse ms | reuse step / cold | orbit update: cold ms | orbit update: step with reuse ms | update: step / cold | orbit update, all cores: cold ms | orbit update, all cores: step with reuse ms | all cores: step / cold | frames stepped | judgements kept | same view again ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!(
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
     let mut baked: Vec<(&str, ModelFile, BakedHierarchy)> = Vec::new();
     for v in ERROR_VIEWS {
         if !baked.iter().any(|(m, ..)| *m == v.model) {
@@ -273,6 +276,17 @@ fn table() {
             orbit_cold.push(best);
             cold_updates.push(best_update);
         }
+        // The orbit's cold updates on all cores (best of three).
+        all_cores.set(true);
+        let mut cold_parallel_updates = Vec::new();
+        for k in 1..=STEPS {
+            let step_view = view_at(k as f32);
+            let best = (0..3)
+                .map(|_| timed(&mut storage.tessellator(tree), &step_view).1)
+                .fold(f64::INFINITY, f64::min);
+            cold_parallel_updates.push(best);
+        }
+        all_cores.set(false);
         let mut again = Vec::new();
         {
             let mut selection = storage.tessellator(tree);
@@ -304,6 +318,27 @@ fn table() {
                 stepped += usize::from(stats.stepped);
             }
         }
+        // And on all cores (`update_parallel`: a step's judgements made again on the threads),
+        // with the same figures.
+        let mut reused_parallel_updates = Vec::new();
+        {
+            let mut judgements =
+                vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
+            let mut selection = storage
+                .tessellator(tree)
+                .with_reuse(&mut judgements)
+                .expect("slots for every node");
+            all_cores.set(true);
+            timed(&mut selection, &view);
+            for k in 1..=STEPS {
+                reused_parallel_updates.push(timed(&mut selection, &view_at(k as f32)).1);
+            }
+            all_cores.set(false);
+        }
+        let (cold_parallel_update, reused_parallel_update) = (
+            median(&mut cold_parallel_updates),
+            median(&mut reused_parallel_updates),
+        );
         let reused = median(&mut reused);
         let (cold_update, reused_update) = (median(&mut cold_updates), median(&mut reused_updates));
         let kept_share = kept as f64 / (kept + judged).max(1) as f64;
@@ -336,10 +371,11 @@ fn table() {
             None => ("-".into(), "-".into(), "-".into(), "-".into()),
         };
         println!(
-            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {parallel:.2} | {parallel_ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {cold_update:.3} | {reused_update:.3} | {:.2} | {stepped} of {STEPS} | {:.0}% | {again:.3} |",
+            "| {} | {count} | {cold:.2} | {glu_tris} | {glu_ms} | {ratio} | {parallel:.2} | {parallel_ratio} | {orbit_cold:.2} | {orbit:.2} | {reused:.2} | {:.2} | {cold_update:.3} | {reused_update:.3} | {:.2} | {cold_parallel_update:.3} | {reused_parallel_update:.3} | {:.2} | {stepped} of {STEPS} | {:.0}% | {again:.3} |",
             v.name,
             reused / orbit_cold,
             reused_update / cold_update,
+            reused_parallel_update / cold_parallel_update,
             100.0 * kept_share
         );
     }

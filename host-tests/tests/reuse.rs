@@ -321,3 +321,45 @@ fn random_walks_step_to_the_fresh_frames() {
         );
     }
 }
+
+/// A step of `update_parallel` makes its judgements again on the threads: along the path,
+/// its frames are `update`'s, figures and all (the same judgements, kept in the same order),
+/// and the steps are large enough that the threads take them.
+#[test]
+fn steps_on_the_threads_are_the_steps_on_one() {
+    for (model, relative) in [("teapot.bpt", 1e-3), ("gumbo.bpt", 2e-3)] {
+        let baked = bake(&models_dir().join(model), relative);
+        let mut links = Vec::new();
+        let tree = baked.linked_tree(&mut links);
+        let mut one_storage = VecStorage::new(&tree, 256, 1 << 14);
+        let mut threads_storage = VecStorage::new(&tree, 256, 1 << 14);
+        let mut one_judgements = vec![Judgement::NONE; tree.judgement_slots()];
+        let mut threads_judgements = vec![Judgement::NONE; tree.judgement_slots()];
+        let mut one = one_storage
+            .tessellator(tree)
+            .with_reuse(&mut one_judgements)
+            .unwrap();
+        let mut threads = threads_storage
+            .tessellator(tree)
+            .with_reuse(&mut threads_judgements)
+            .unwrap();
+        let mut widest = 0;
+        for (label, view) in path(&tree) {
+            let expected = one.update(&view).unwrap();
+            let stats = threads.update_parallel(&view).unwrap();
+            let label = format!("{model} {label}");
+            assert_eq!(stats, expected, "{label}: the figures");
+            assert_eq!(
+                indexed(&mut threads),
+                indexed(&mut one),
+                "{label}: the mesh"
+            );
+            if stats.stepped {
+                widest = widest.max(stats.judged);
+            }
+        }
+        eprintln!("{model}: {widest} judged in a step at most");
+        // (A step judging fewer than 512 again stays on the calling thread.)
+        assert!(widest >= 1024, "{model}: {widest} judged in a step at most");
+    }
+}

@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use super::address::ONE;
-use super::hierarchy::Pending;
+use super::hierarchy::{Hierarchy, Pending};
 use super::select::Tessellator;
 use crate::deviation::certificate::{Asked, Lasting};
 use crate::deviation::kept::longest_of;
@@ -50,13 +50,53 @@ impl Judged {
     }
 }
 
+/// What a judgement reads of a frame: the hierarchy, the arithmetic of its bounds, which
+/// patches the frame culls, and its vertices' points, moved into view coordinates through
+/// whatever cache of them it keeps. A tessellator is one; the threads of a step are others
+/// (see `step`), each with a cache of its own.
+pub(super) trait Frame {
+    /// The hierarchy.
+    fn tree(&self) -> &Hierarchy<'_>;
+    /// How bounds are computed from the kept vectors.
+    fn arithmetic(&self) -> Arithmetic;
+    /// Whether the frame culls patch `patch` (see `cull`).
+    fn is_culled(&self, patch: u32) -> bool;
+    /// The point of vertex `v`.
+    fn position(&self, v: u32) -> [f32; 3];
+    /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates: the same bits as
+    /// `camera.to_view(p())`, from a cache of the frame's where it keeps one.
+    fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3;
+}
+
+impl Frame for Tessellator<'_, '_> {
+    fn tree(&self) -> &Hierarchy<'_> {
+        &self.tree
+    }
+
+    fn arithmetic(&self) -> Arithmetic {
+        self.arithmetic
+    }
+
+    fn is_culled(&self, patch: u32) -> bool {
+        Tessellator::is_culled(self, patch)
+    }
+
+    fn position(&self, v: u32) -> [f32; 3] {
+        Tessellator::position(self, v)
+    }
+
+    fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
+        Tessellator::viewed(self, v, p, camera)
+    }
+}
+
 /// Judges `h` in `view`: by its node's kept vectors, or below the bake by its own lattice
 /// (see `refine`). Not `exact`, a bound over the tolerance may be given as any value over it
 /// that the bound is at least (the directional bound stops as soon as it is over: most
 /// triangles judged over are halved, and need no more). With `asked` (camera steps, see
 /// `reuse`), the judgement comes with the largest of them it is certain over.
 pub(super) fn judge(
-    selection: &Tessellator<'_, '_>,
+    selection: &impl Frame,
     view: &View,
     h: &Pending,
     exact: bool,
@@ -76,7 +116,7 @@ pub(super) fn judge(
     let points = || h.corners.map(|v| Vec3::from_array(selection.position(v)));
     let eager = (!super::select::CACHE_VIEWED).then(points);
     let corners = || eager.unwrap_or_else(points);
-    let tree = &selection.tree;
+    let tree = selection.tree();
     let mut baked = None;
     if let Some((node, leaf)) = tree.node_bound(h) {
         // In model units, the bake's own bound (the oracles' too); on screen, one from the
@@ -91,7 +131,7 @@ pub(super) fn judge(
                 Some(corners) => corners.map(|p| camera.to_view(p)),
                 None => viewed(selection, h, camera),
             },
-            |camera| match selection.arithmetic {
+            |camera| match selection.arithmetic() {
                 Arithmetic::Integer => {
                     NodeVectors::Integer(Quantised::new(node.vectors, node.scale))
                 }
@@ -105,7 +145,7 @@ pub(super) fn judge(
             // A certificate bounds the float vectors' bound over a camera step; the integer
             // one may stand above it by its own roundings, which no certificate covers: its
             // judgements keep none, and are made again every frame.
-            match selection.arithmetic {
+            match selection.arithmetic() {
                 Arithmetic::Float => asked,
                 Arithmetic::Integer => Asked::NONE,
             },
@@ -174,7 +214,7 @@ pub(super) fn judge(
 /// last ones where it has them (see `Tessellator::viewed`), their points moved there
 /// otherwise.
 #[inline(always)]
-fn viewed(selection: &Tessellator<'_, '_>, h: &Pending, camera: &Camera) -> [Vec3; 3] {
+fn viewed(selection: &impl Frame, h: &Pending, camera: &Camera) -> [Vec3; 3] {
     let point = |v: u32| Vec3::from_array(selection.position(v));
     h.corners.map(|v| selection.viewed(v, || point(v), camera))
 }

@@ -147,15 +147,22 @@ impl Tessellator<'_, '_> {
     /// thread takes storage of its own for the frame (a hierarchy's bits and a stack).
     ///
     /// A tessellator keeping judgements from frame to frame ([`with_reuse`](Self::with_reuse))
-    /// searches on one thread. The threads pay where a frame is
+    /// searches on one thread, and a step from the frame before makes its judgements again
+    /// on the threads (the same judgements, the same figures). The threads pay where a frame is
     /// large and within the bake: a frame of a few hundred triangles costs more on threads
     /// than on one (waking them, and their storage), and the refinement below the bake stays
     /// on the calling thread. So a hierarchy of fewer than 1,024 nodes is searched on the
     /// calling thread; past that, which to call is the caller's choice (a frame's figures
     /// tell how large the last one was).
     pub fn update_parallel(&mut self, view: &View) -> Result<FrameStats, UpdateError> {
+        if self.reuses() {
+            self.step_threads = self.tree.node_count() >= SMALL_HIERARCHY;
+            let stats = self.update(view);
+            self.step_threads = false;
+            return stats;
+        }
         let parts = parts(self, rayon::current_num_threads() * PARTS_PER_THREAD);
-        if self.reuses() || parts.len() < 2 || self.tree.node_count() < SMALL_HIERARCHY {
+        if parts.len() < 2 || self.tree.node_count() < SMALL_HIERARCHY {
             return self.update(view);
         }
         if self.is_last_view(view)? {

@@ -199,6 +199,21 @@ impl<'s> Reuse<'s> {
         }
     }
 
+    /// The steps of every certificate, from level `start` on.
+    pub fn asked_from(&self, start: u8) -> Asked<'_> {
+        Asked {
+            steps: Some(&self.steps),
+            start,
+        }
+    }
+
+    /// Whether node `node`'s next judgement goes without a certificate, as
+    /// [`plain`](Self::plain) tells, without counting it (for a step's threads).
+    #[cfg(all(feature = "std", not(target_os = "none")))]
+    pub fn is_plain(&self, node: u32) -> bool {
+        !self.certify || self.slots.get(node as usize).is_some_and(|j| j.plain > 0)
+    }
+
     /// Whether node `node`'s next judgement goes without a certificate (see
     /// [`Judgement::plain`]), counting it.
     pub fn plain(&mut self, node: u32) -> bool {

@@ -183,6 +183,10 @@ pub struct Tessellator<'t, 's> {
     pub(super) sphere: Option<crate::bound::BoundingSphere>,
     /// Judgements kept from frame to frame, if the caller gave room for them.
     pub(super) reuse: Option<Reuse<'s>>,
+    /// A step judges its lapsed triangles on the threads (see `step`; set by
+    /// `update_parallel`).
+    #[cfg(all(feature = "std", not(target_os = "none")))]
+    pub(super) step_threads: bool,
     pub(super) stats: FrameStats,
     /// The model's box ([`PatchSet::aabb`](crate::PatchSet::aabb)), found once: a renderer
     /// asks for it every frame.
@@ -230,7 +234,7 @@ pub(super) struct ViewedCorners([Cell<(u32, [f32; 3])>; VIEWED]);
 impl ViewedCorners {
     const EMPTY: (u32, [f32; 3]) = (u32::MAX, [0.0; 3]);
 
-    fn new() -> Self {
+    pub(super) fn new() -> Self {
         ViewedCorners(core::array::from_fn(|_| Cell::new(Self::EMPTY)))
     }
 
@@ -238,6 +242,31 @@ impl ViewedCorners {
         for e in &self.0 {
             e.set(Self::EMPTY);
         }
+    }
+
+    /// Vertex `v` (of a hierarchy of `vertices`), whose point `p` gives, in `camera`'s view
+    /// coordinates (`camera.to_view(p())`): kept for the bake's vertices where there is a
+    /// cache ([`VIEWED`]).
+    #[inline(always)]
+    pub(super) fn get(
+        &self,
+        v: u32,
+        vertices: usize,
+        p: impl FnOnce() -> Vec3,
+        camera: &Camera,
+    ) -> Vec3 {
+        if !CACHE_VIEWED || v as usize >= vertices {
+            return camera.to_view(p());
+        }
+        // (`VIEWED` is a power of two.)
+        let entry = &self.0[v as usize & (VIEWED - 1)];
+        let (key, at) = entry.get();
+        if key == v {
+            return Vec3::from_array(at);
+        }
+        let at = camera.to_view(p());
+        entry.set((v, at.to_array()));
+        at
     }
 }
 
@@ -344,6 +373,8 @@ impl<'t, 's> Tessellator<'t, 's> {
             view: None,
             sphere: tree.culling_sphere(),
             reuse: None,
+            #[cfg(all(feature = "std", not(target_os = "none")))]
+            step_threads: false,
             stats: FrameStats::default(),
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
@@ -511,18 +542,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache where there is
     /// one ([`VIEWED`]), emptied by each frame (`camera` is the frame's).
     pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
-        if !CACHE_VIEWED || v as usize >= self.tree.vertex_count() {
-            return camera.to_view(p());
-        }
-        // (`VIEWED` is a power of two.)
-        let entry = &self.viewed.0[v as usize & (VIEWED - 1)];
-        let (key, at) = entry.get();
-        if key == v {
-            return Vec3::from_array(at);
-        }
-        let at = camera.to_view(p());
-        entry.set((v, at.to_array()));
-        at
+        self.viewed.get(v, self.tree.vertex_count(), p, camera)
     }
 
     /// The point of vertex `v`: the bake's, or one below it.
@@ -945,13 +965,12 @@ impl<'t, 's> Tessellator<'t, 's> {
             self.stats.pool_full |= cfg!(feature = "refine");
             return false;
         }
-        let tree = self.tree;
         let mut across = None;
         // With links, the triangle across is the mate the bake halved with `h`, in the mesh
         // once its parents are halved.
         let mate = halving
-            .and_then(|_| tree.linked(h.node))
-            .and_then(|l| tree.linked(l.mate));
+            .and_then(|_| self.tree.linked(h.node))
+            .and_then(|l| self.tree.linked(l.mate));
         // (Across a part of a frame's border, to another part's root: the whole frame's.)
         let mut leave = false;
         if let Some(m) = mate {
@@ -962,7 +981,10 @@ impl<'t, 's> Tessellator<'t, 's> {
             } else {
                 across = Some(m.place);
             }
-        } else if let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) {
+        } else if let Some(n) = h
+            .tri
+            .across(|p, s| self.tree.link(p, s), |p| self.tree.cells(p))
+        {
             if !self.holds(&n) {
                 leave = true;
             } else {
@@ -1000,7 +1022,10 @@ impl<'t, 's> Tessellator<'t, 's> {
             }
             // Below the bake (the code is left out of builds without refinement).
             _ if !cfg!(feature = "refine") => return false,
-            _ => match self.pool.make(&tree, &h.tri, tree.vertex_count() as u32) {
+            _ => match self
+                .pool
+                .make(&self.tree, &h.tri, self.tree.vertex_count() as u32)
+            {
                 Some(v) => {
                     self.stats.refined += 1;
                     for x in [across, Some(*h)].into_iter().flatten() {

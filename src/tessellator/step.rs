@@ -46,6 +46,17 @@
 //! the hierarchy's links. Where any of these fails, or a step runs out of room (its stack, or
 //! its short lists of flips and repairs), the frame is searched from the roots: the same mesh,
 //! at a cold frame's cost.
+//!
+//! # On a host's threads
+//!
+//! Most of a step is 1, its judgements made again, each with its certificate; each reads the
+//! frame and writes nothing but its own judgement. Called from `update_parallel` (feature
+//! `std`), a step lists the lapsed nodes and what is asked of each, judges them on rayon's
+//! threads (each with its own cache of corners in view coordinates, which gives the same bits
+//! as moving them again), then keeps and notes the judgements in the list's order on the
+//! calling thread: the same judgements, kept in the same order, so the same step and the same
+//! figures, which the tests check along camera paths. A step with fewer than
+//! `STEP_THREADS_FROM` lapsed judgements stays on the calling thread.
 
 use super::bits::{bit, clear, set};
 use super::hierarchy::{Pending, RUN_TIME};
@@ -76,6 +87,50 @@ struct Notes {
 /// Most halvings one trigger made that a step looks at (its own and the coarser ones it
 /// needed: a few as a rule).
 const CHAIN: usize = 64;
+
+/// Fewest lapsed judgements a step makes on the threads (fewer stay on the calling thread).
+#[cfg(all(feature = "std", not(target_os = "none")))]
+const STEP_THREADS_FROM: usize = 512;
+
+/// What a thread of a step judges with (see `judge_the_lapsed_on_threads`): the
+/// tessellator's hierarchy, arithmetic and culled patches, and a cache of its own.
+#[cfg(all(feature = "std", not(target_os = "none")))]
+struct Lapsed<'a> {
+    tree: super::hierarchy::Hierarchy<'a>,
+    arithmetic: Arithmetic,
+    /// The culled bits, where the model culls.
+    culled: Option<&'a [u32]>,
+    viewed: super::select::ViewedCorners,
+}
+
+#[cfg(all(feature = "std", not(target_os = "none")))]
+impl super::judge::Frame for Lapsed<'_> {
+    fn tree(&self) -> &super::hierarchy::Hierarchy<'_> {
+        &self.tree
+    }
+
+    fn arithmetic(&self) -> Arithmetic {
+        self.arithmetic
+    }
+
+    fn is_culled(&self, patch: u32) -> bool {
+        self.culled.is_some_and(|bits| bit(bits, patch))
+    }
+
+    fn position(&self, v: u32) -> [f32; 3] {
+        // (A step's vertices are all the bake's: the pool is empty.)
+        self.tree.position(v as usize).unwrap_or_default()
+    }
+
+    fn viewed(
+        &self,
+        v: u32,
+        p: impl FnOnce() -> glam::Vec3,
+        camera: &crate::view::Camera,
+    ) -> glam::Vec3 {
+        self.viewed.get(v, self.tree.vertex_count(), p, camera)
+    }
+}
 
 /// A short list of nodes.
 struct Nodes<const N: usize> {
@@ -166,21 +221,36 @@ impl Tessellator<'_, '_> {
     /// (and one is worth asking for: see [`Judgement`](super::Judgement)), and keeps what
     /// it certifies.
     pub(super) fn judge_and_keep(&mut self, view: &View, h: &Pending, exact: bool) -> Judged {
-        let reuse = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse"));
-        let plain = h.node == RUN_TIME || reuse.is_none_or(|r| r.plain(h.node));
-        let asked = match (&self.reuse, plain) {
-            (Some(r), false) => r.asked(h.node),
+        let asked = match (self.ask(h), &self.reuse) {
+            (Some(start), Some(r)) => r.asked_from(start),
             _ => Asked::NONE,
         };
         let was_asked = !asked.is_empty();
         let j = judge(self, view, h, exact, asked);
-        if let Some(r) = self.reuse.as_mut().filter(|_| was_asked) {
+        self.keep_judgement(h.node, was_asked, &j);
+        j
+    }
+
+    /// The level from which a certificate is asked for `h`'s judgement, where one is (not a
+    /// plain judgement: see [`Judgement`](super::Judgement)), counting a plain one.
+    fn ask(&mut self, h: &Pending) -> Option<u8> {
+        let r = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse"))?;
+        if h.node == RUN_TIME || r.plain(h.node) {
+            return None;
+        }
+        let asked = r.asked(h.node);
+        (!asked.is_empty()).then_some(asked.start)
+    }
+
+    /// Keeps node `node`'s judgement `j`, or notes that it has no certificate, where one was
+    /// `asked` for.
+    fn keep_judgement(&mut self, node: u32, asked: bool, j: &Judged) {
+        if let Some(r) = self.reuse.as_mut().filter(|_| asked) {
             match j.lasting {
-                Some(lasting) => r.keep(h.node, lasting),
-                None => r.missed(h.node),
+                Some(lasting) => r.keep(node, lasting),
+                None => r.missed(node),
             }
         }
-        j
     }
 
     /// At the end of a search from the roots: whether the next frame may step from this one.
@@ -289,62 +359,155 @@ impl Tessellator<'_, '_> {
     /// Judges again every node of the mesh whose judgement lapsed (leaves, and halved nodes
     /// that are triggers), and notes those that flip.
     fn judge_the_lapsed(&mut self, view: &View, notes: &mut Notes) {
+        #[cfg(all(feature = "std", not(target_os = "none")))]
+        if self.step_threads && self.pool.used == 0 {
+            return self.judge_the_lapsed_on_threads(view, notes);
+        }
         let tolerance = view.tolerance();
-        let hidden = self.layout().hidden;
         let mut from = 0;
-        loop {
-            let Some(r) = self.reuse.as_ref() else {
-                return;
-            };
-            let (mut kept, mut leaf_kept) = (0, false);
-            let next = r.next_lapsed(from, self.halved(), &mut kept, &mut leaf_kept);
-            self.stats.kept += kept;
-            if leaf_kept {
-                self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
-            }
-            let Some((k, node)) = next else {
-                return;
-            };
+        while let Some((k, node)) = self.next_lapsed(from, tolerance) {
             from = k + 1;
-            let halved = bit(self.halved(), node);
             let Some(h) = self.place(node) else {
                 notes.failed = true;
                 return;
             };
-            let halvable = self.tree.baked_first_half(&h).is_some()
-                || (cfg!(feature = "refine") && !self.pool.is_full());
-            let j = self.judge_and_keep(view, &h, !halvable);
-            self.stats.judged += 1;
-            let over = is_over(&j, tolerance);
-            if halved {
-                if !over && !notes.flips.push(node) {
-                    notes.failed = true;
-                    return; // (a step this large is left to a search)
-                }
-                continue;
-            }
-            if j.hidden != bit(&self.bits[hidden..], node) {
-                // Shown now and hidden before, or the other way round.
-                let written = usize::from(self.is_written(&h));
-                if j.hidden {
-                    set(&mut self.bits[hidden..], node);
-                    self.stats.hidden += 1;
-                    self.stats.triangles -= written;
-                } else {
-                    clear(&mut self.bits[hidden..], node);
-                    self.stats.hidden -= 1;
-                    self.stats.triangles += written;
-                }
-            }
-            if over {
-                if !notes.flips.push(node) {
-                    notes.failed = true;
-                    return;
-                }
-            } else if !j.hidden {
-                self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            let j = self.judge_and_keep(view, &h, !self.halvable(&h));
+            if !self.note_judged(node, &h, &j, tolerance, notes) {
+                return;
             }
         }
+    }
+
+    /// [`judge_the_lapsed`](Self::judge_the_lapsed) with the judgements made on the threads
+    /// (`rayon`'s), each with a cache of its own of the corners in view coordinates: the same
+    /// judgements, kept and noted in the same order, so the same step. (Few are left to this
+    /// thread: a thread's work costs more than it saves.)
+    #[cfg(all(feature = "std", not(target_os = "none")))]
+    fn judge_the_lapsed_on_threads(&mut self, view: &View, notes: &mut Notes) {
+        use rayon::prelude::*;
+        use std::vec::Vec;
+        let tolerance = view.tolerance();
+        // The lapsed nodes, their places, whether they are judged in full and the level a
+        // certificate is asked from (none for a plain judgement), in order.
+        let mut lapsed = Vec::new();
+        let mut from = 0;
+        while let Some((k, node)) = self.next_lapsed(from, tolerance) {
+            from = k + 1;
+            let Some(h) = self.place(node) else {
+                notes.failed = true;
+                return;
+            };
+            let asked = self.reuse.as_ref().and_then(|r| {
+                let asked = r.asked(node);
+                (!r.is_plain(node) && !asked.is_empty()).then_some(asked.start)
+            });
+            lapsed.push((node, h, !self.halvable(&h), asked));
+        }
+        let judged: Vec<Judged> = match self.reuse.as_ref() {
+            Some(r) if lapsed.len() >= STEP_THREADS_FROM => {
+                let (tree, arithmetic) = (self.tree, self.arithmetic);
+                let culled = self
+                    .sphere
+                    .is_some()
+                    .then(|| &self.bits[self.layout().culled..]);
+                lapsed
+                    .par_iter()
+                    .map_init(
+                        || Lapsed {
+                            tree,
+                            arithmetic,
+                            culled,
+                            viewed: super::select::ViewedCorners::new(),
+                        },
+                        |frame, &(_, h, exact, asked)| {
+                            let asked = asked.map_or(Asked::NONE, |start| r.asked_from(start));
+                            judge(frame, view, &h, exact, asked)
+                        },
+                    )
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
+        for (k, &(node, h, exact, _)) in lapsed.iter().enumerate() {
+            // (Where the threads did not judge, this one does, and keeps it.)
+            let j = match judged.get(k) {
+                Some(j) => {
+                    let asked = self.ask(&h).is_some();
+                    self.keep_judgement(node, asked, j);
+                    *j
+                }
+                None => self.judge_and_keep(view, &h, exact),
+            };
+            if !self.note_judged(node, &h, &j, tolerance, notes) {
+                return;
+            }
+        }
+    }
+
+    /// The next node from slot `from` on whose judgement lapsed (with its slot), counting
+    /// the judgements that hold on the way.
+    #[inline(always)]
+    fn next_lapsed(&mut self, from: usize, tolerance: f32) -> Option<(usize, u32)> {
+        let r = self.reuse.as_ref()?;
+        let (mut kept, mut leaf_kept) = (0, false);
+        let next = r.next_lapsed(from, self.halved(), &mut kept, &mut leaf_kept);
+        self.stats.kept += kept;
+        if leaf_kept {
+            self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
+        }
+        next
+    }
+
+    /// Whether `h` can be halved (else it is judged in full).
+    fn halvable(&self, h: &Pending) -> bool {
+        self.tree.baked_first_half(h).is_some()
+            || (cfg!(feature = "refine") && !self.pool.is_full())
+    }
+
+    /// Notes node `node`'s judgement `j` made again (in the mesh at `h`): a flip, whether it
+    /// is hidden, the frame's bound; false where the step ran out of room (and then it
+    /// failed).
+    #[inline(always)]
+    fn note_judged(
+        &mut self,
+        node: u32,
+        h: &Pending,
+        j: &Judged,
+        tolerance: f32,
+        notes: &mut Notes,
+    ) -> bool {
+        let hidden = self.layout().hidden;
+        self.stats.judged += 1;
+        let over = is_over(j, tolerance);
+        if bit(self.halved(), node) {
+            if !over && !notes.flips.push(node) {
+                notes.failed = true;
+                return false; // (a step this large is left to a search)
+            }
+            return true;
+        }
+        if j.hidden != bit(&self.bits[hidden..], node) {
+            // Shown now and hidden before, or the other way round.
+            let written = usize::from(self.is_written(h));
+            if j.hidden {
+                set(&mut self.bits[hidden..], node);
+                self.stats.hidden += 1;
+                self.stats.triangles -= written;
+            } else {
+                clear(&mut self.bits[hidden..], node);
+                self.stats.hidden -= 1;
+                self.stats.triangles += written;
+            }
+        }
+        if over {
+            if !notes.flips.push(node) {
+                notes.failed = true;
+                return false;
+            }
+        } else if !j.hidden {
+            self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+        }
+        true
     }
 
     /// Takes away what trigger `t` halved (its own diamond, and every coarser one it
