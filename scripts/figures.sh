@@ -294,7 +294,10 @@ flipped. A frame below the bake (the 0.5 px views and the close-up at 1e-3, wher
 vertices are made) is searched from the roots with the kept judgements. *Orbit update* times
 the update alone, without the indexed write, for the orbit's cold frames and for its steps
 with reuse: a step's update is then mostly its judgements made again, each with a certificate
-(see the example's docs, and CHANGELOG for its instruction counts). On the firmware,
+(see the example's docs, and CHANGELOG for its instruction counts). *Orbit update, all
+cores* times the same updates with `update_parallel`: the cold ones search on the threads,
+and a step makes its lapsed judgements again on them (the same judgements and figures; a
+search with reuse, as below the bake, stays on one thread). On the firmware,
 `fw_teapot`'s frame 1 is an orbit step from frame 0 (its figures are in the display demo's
 section below; it has no RAM for the reuse's slots).
 
