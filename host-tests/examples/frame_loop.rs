@@ -298,19 +298,27 @@ fn table() {
                 orbit.push(timed(&mut selection, &view_at(k as f32)).0);
             }
         }
-        // The same orbit with the judgements kept from step to step.
+        // The same orbit with the judgements kept from step to step, on one thread and on all
+        // cores (`update_parallel`: a step's judgements made again on the threads, with the
+        // same figures).
         let (mut reused, mut kept, mut judged) = (Vec::new(), 0, 0);
         let (mut reused_updates, mut stepped) = (Vec::new(), 0);
-        {
+        let mut reused_parallel_updates = Vec::new();
+        for parallel in [false, true] {
             let mut judgements =
                 vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
             let mut selection = storage
                 .tessellator(tree)
                 .with_reuse(&mut judgements)
                 .expect("slots for every node");
+            all_cores.set(parallel);
             timed(&mut selection, &view);
             for k in 1..=STEPS {
                 let (ms, update, stats) = timed(&mut selection, &view_at(k as f32));
+                if parallel {
+                    reused_parallel_updates.push(update);
+                    continue;
+                }
                 reused.push(ms);
                 reused_updates.push(update);
                 kept += stats.kept;
@@ -318,23 +326,7 @@ fn table() {
                 stepped += usize::from(stats.stepped);
             }
         }
-        // And on all cores (`update_parallel`: a step's judgements made again on the threads),
-        // with the same figures.
-        let mut reused_parallel_updates = Vec::new();
-        {
-            let mut judgements =
-                vec![spline_tess::tessellator::Judgement::NONE; tree.judgement_slots()];
-            let mut selection = storage
-                .tessellator(tree)
-                .with_reuse(&mut judgements)
-                .expect("slots for every node");
-            all_cores.set(true);
-            timed(&mut selection, &view);
-            for k in 1..=STEPS {
-                reused_parallel_updates.push(timed(&mut selection, &view_at(k as f32)).1);
-            }
-            all_cores.set(false);
-        }
+        all_cores.set(false);
         let (cold_parallel_update, reused_parallel_update) = (
             median(&mut cold_parallel_updates),
             median(&mut reused_parallel_updates),
