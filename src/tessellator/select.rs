@@ -394,7 +394,8 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// then a step from the one before ([`FrameStats::stepped`]): the last mesh changed only
     /// where a judgement made again flipped, with no search from the roots (see `step`). A
     /// camera jump (past the longest certificate) asks for no certificates and costs a cold
-    /// frame; the frame after it writes them, and the frames after that step.
+    /// frame; the frame after it writes them, and the frames after that step. With `std`,
+    /// `update_parallel` makes a step's judgements again on a host's threads.
     /// Every frame is still the view's unique mesh, the same a tessellator without them
     /// finds; only [`FrameStats::judged`], [`FrameStats::kept`],
     /// [`FrameStats::worst_bound`] and [`FrameStats::stepped`] tell them apart.

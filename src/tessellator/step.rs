@@ -49,14 +49,14 @@
 //!
 //! # On a host's threads
 //!
-//! Most of a step is 1, its judgements made again, each with its certificate; each reads the
-//! frame and writes nothing but its own judgement. Called from `update_parallel` (feature
-//! `std`), a step lists the lapsed nodes and what is asked of each, judges them on rayon's
-//! threads (each with its own cache of corners in view coordinates, which gives the same bits
-//! as moving them again), then keeps and notes the judgements in the list's order on the
-//! calling thread: the same judgements, kept in the same order, so the same step and the same
-//! figures, which the tests check along camera paths. A step with fewer than
-//! `STEP_THREADS_FROM` lapsed judgements stays on the calling thread.
+//! Most of a step is its first part, the judgements made again, each with its certificate;
+//! each reads the frame and writes nothing but its own judgement. Called from
+//! `update_parallel` (feature `std`), a step lists the lapsed nodes and what is asked of each,
+//! judges them on rayon's threads (each with its own cache of corners in view coordinates,
+//! which gives the same bits as moving them again), then keeps and notes the judgements in
+//! the list's order on the calling thread: the same judgements, kept in the same order, so the
+//! same step and the same figures, which the tests check along camera paths. A step with
+//! fewer than `STEP_THREADS_FROM` lapsed judgements stays on the calling thread.
 
 use super::bits::{bit, clear, set};
 use super::hierarchy::{Pending, RUN_TIME};
@@ -95,7 +95,7 @@ const STEP_THREADS_FROM: usize = 512;
 /// What a thread of a step judges with (see `judge_the_lapsed_on_threads`): the
 /// tessellator's hierarchy, arithmetic and culled patches, and a cache of its own.
 #[cfg(all(feature = "std", not(target_os = "none")))]
-struct Lapsed<'a> {
+struct StepThread<'a> {
     tree: super::hierarchy::Hierarchy<'a>,
     arithmetic: Arithmetic,
     /// The culled bits, where the model culls.
@@ -104,7 +104,7 @@ struct Lapsed<'a> {
 }
 
 #[cfg(all(feature = "std", not(target_os = "none")))]
-impl super::judge::Frame for Lapsed<'_> {
+impl super::judge::Frame for StepThread<'_> {
     fn tree(&self) -> &super::hierarchy::Hierarchy<'_> {
         &self.tree
     }
@@ -413,7 +413,7 @@ impl Tessellator<'_, '_> {
                 lapsed
                     .par_iter()
                     .map_init(
-                        || Lapsed {
+                        || StepThread {
                             tree,
                             arithmetic,
                             culled,
