@@ -207,25 +207,16 @@ impl<'s> Reuse<'s> {
         }
     }
 
-    /// Whether node `node`'s next judgement goes without a certificate, as
-    /// [`plain`](Self::plain) tells, without counting it (for a step's threads).
-    #[cfg(all(feature = "std", not(target_os = "none")))]
+    /// Whether node `node`'s next judgement goes without a certificate (see
+    /// [`Judgement::plain`]), without counting it ([`count_plain`](Self::count_plain) does).
     pub fn is_plain(&self, node: u32) -> bool {
         !self.certify || self.slots.get(node as usize).is_some_and(|j| j.plain > 0)
     }
 
-    /// Whether node `node`'s next judgement goes without a certificate (see
-    /// [`Judgement::plain`]), counting it.
-    pub fn plain(&mut self, node: u32) -> bool {
-        if !self.certify {
-            return true;
-        }
-        match self.slots.get_mut(node as usize) {
-            Some(j) if j.plain > 0 => {
-                j.plain -= 1;
-                true
-            }
-            _ => false,
+    /// Counts a judgement of node `node` made without a certificate after a miss.
+    pub fn count_plain(&mut self, node: u32) {
+        if let Some(j) = self.slots.get_mut(node as usize).filter(|_| self.certify) {
+            j.plain = j.plain.saturating_sub(1);
         }
     }
 

@@ -232,14 +232,25 @@ impl Tessellator<'_, '_> {
     }
 
     /// The level from which a certificate is asked for `h`'s judgement, where one is (not a
-    /// plain judgement: see [`Judgement`](super::Judgement)), counting a plain one.
-    fn ask(&mut self, h: &Pending) -> Option<u8> {
-        let r = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse"))?;
-        if h.node == RUN_TIME || r.plain(h.node) {
+    /// plain judgement: see [`Judgement`](super::Judgement)).
+    fn asked_level(&self, h: &Pending) -> Option<u8> {
+        let r = self.reuse.as_ref().filter(|_| cfg!(feature = "reuse"))?;
+        if h.node == RUN_TIME || r.is_plain(h.node) {
             return None;
         }
         let asked = r.asked(h.node);
         (!asked.is_empty()).then_some(asked.start)
+    }
+
+    /// [`asked_level`](Self::asked_level), counting a plain judgement (one that asks for
+    /// nothing: where a certificate is asked for, there is nothing to count).
+    fn ask(&mut self, h: &Pending) -> Option<u8> {
+        let level = self.asked_level(h);
+        let reuse = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse"));
+        if let Some(r) = reuse.filter(|_| level.is_none() && h.node != RUN_TIME) {
+            r.count_plain(h.node);
+        }
+        level
     }
 
     /// Keeps node `node`'s judgement `j`, or notes that it has no certificate, where one was
@@ -397,11 +408,7 @@ impl Tessellator<'_, '_> {
                 notes.failed = true;
                 return;
             };
-            let asked = self.reuse.as_ref().and_then(|r| {
-                let asked = r.asked(node);
-                (!r.is_plain(node) && !asked.is_empty()).then_some(asked.start)
-            });
-            lapsed.push((node, h, !self.halvable(&h), asked));
+            lapsed.push((node, h, !self.halvable(&h), self.asked_level(&h)));
         }
         let judged: Vec<Judged> = match self.reuse.as_ref() {
             Some(r) if lapsed.len() >= STEP_THREADS_FROM => {
