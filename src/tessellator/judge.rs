@@ -201,6 +201,7 @@ pub(super) fn judge(
                 (Some(l @ Lasting { over: false, .. }), _) => Some(l),
                 (Some(l), Some(m)) if l.over && m.over && l.class == m.class => Some(Lasting {
                     level: l.level.min(m.level),
+                    step: crate::math::min(l.step, m.step),
                     ..l
                 }),
                 _ => None,

@@ -45,7 +45,8 @@ use crate::view::{Camera, View};
 
 /// The steps a certificate may cover, in odometer units (of turn: the change of the camera's
 /// rotation, about its angle in radians; or of move: the triangle's reach class), smallest
-/// first: a judgement is certified for the largest it holds over. A one-degree orbit step
+/// first: a judgement is certified for the largest it holds over, or a step between it and
+/// the next where it holds over that too (`certificate::lasting`). A one-degree orbit step
 /// around the model is about 0.018-0.03. (Six levels a factor of two apart, against three a
 /// factor of four apart, cost each certificate more bounds and save more judgements: 737M
 /// against 759M instructions for the updates of `frame_loop`'s 100 one-degree orbit steps,
@@ -354,18 +355,23 @@ impl<'s> Reuse<'s> {
         leaf_kept: &mut bool,
     ) -> Option<(usize, u32)> {
         let slots = &*self.slots;
-        for (k, entry) in slots.iter().enumerate().take(self.len).skip(from) {
-            let node = entry.listed;
+        let len = self.len.min(slots.len());
+        for k in from..len {
+            let node = slots[k].listed;
             let j = slots.get(node as usize)?;
-            let is_halved = bit(halved, node);
-            if is_halved && j.trigger != node {
+            // A halved node is asked for its judgement only where it halved itself; a leaf
+            // always. (Whether it is halved is read only where that decides something.)
+            let own = j.trigger == node;
+            if !own && bit(halved, node) {
                 continue; // halved for another's sake: its own judgement is not asked
             }
             if !self.holds(j) {
                 return Some((k, node));
             }
             *kept += 1;
-            *leaf_kept |= !is_halved;
+            if !*leaf_kept {
+                *leaf_kept = !own || !bit(halved, node);
+            }
         }
         None
     }
@@ -378,6 +384,7 @@ impl<'s> Reuse<'s> {
 
     /// Whether judgement `j` holds at its class's reading. (A frame that asks for no
     /// certificates came by a jump or a reset: none holds.)
+    #[inline(always)]
     fn holds(&self, j: &Judgement) -> bool {
         self.certify
             && self
@@ -386,18 +393,23 @@ impl<'s> Reuse<'s> {
                 .is_some_and(|reading| *reading <= j.expires)
     }
 
-    /// Keeps node `node`'s judgement, certified for steps of `LEVELS[level]` in its reach
-    /// class.
+    /// Keeps node `node`'s judgement, certified for steps of `step` in its reach class (of
+    /// level `level`: at least `LEVELS[level]`, where the next search for one starts).
     pub fn keep(&mut self, node: u32, lasting: Lasting) {
-        let Lasting { over, level, class } = lasting;
-        let (Some(s), Some(reading)) = (
-            LEVELS.get(usize::from(level)),
-            self.readings.get(usize::from(class)),
-        ) else {
+        let Lasting {
+            over,
+            level,
+            class,
+            step,
+        } = lasting;
+        let Some(reading) = self.readings.get(usize::from(class)) else {
             return;
         };
+        if usize::from(level) >= LEVELS.len() {
+            return;
+        }
         let d = self.steps.reach(usize::from(class));
-        let expires = (reading + s) * (1.0 - 1.0 / 4_194_304.0);
+        let expires = (reading + step) * (1.0 - 1.0 / 4_194_304.0);
         // The class's last step (as `readings_after` took it).
         let [shift, rho] = self.last_step;
         let last = rho + shift / d;
@@ -405,7 +417,7 @@ impl<'s> Reuse<'s> {
             (j.expires, j.over, j.level, j.class) = (expires, over, level, class);
             // Shorter than the camera's last step: most likely it will not outlast the next
             // one either, and the next judgements go without asking, as after a miss.
-            if *s < last {
+            if step < last {
                 j.plain = PLAIN;
             }
         }
