@@ -125,14 +125,14 @@ impl Asked<'_> {
     }
 }
 
-/// A certified judgement: over the tolerance or not, for camera steps up to `level` of the
-/// levels asked for, in reach class `class`.
+/// A certified judgement: over the tolerance or not, for camera steps up to `step`, in reach
+/// class `class`; `step` is of level `level` of the levels asked for (at least that level,
+/// less than the next), where the next search for a certificate starts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Lasting {
     pub over: bool,
     pub level: u8,
     pub class: u8,
-    /// The step certified: at least `levels[level]`, less than the next level.
     pub step: f32,
 }
 
@@ -147,12 +147,12 @@ pub(crate) struct Lasting {
 /// `bound` is the judgement's bound: the search skips the steps over which the bounds, as
 /// they move about in proportion to the step from it, would not clear the tolerance (a guess
 /// that saves bounding steps most likely not certain; each step it does bound is bounded in
-/// full). The step between two levels is such a guess too, from the bounds over the two
-/// levels where both were found (where they reach the tolerance, taken as a straight line
-/// between them), else from the judgement's bound and the level's, taken
-/// [`GUESS_SHORT`] short, and bounded in full: it is given only where it is certain. (A
-/// certificate is then about as long as the bounds allow, where levels a factor of two
-/// apart gave on average about 0.72 of it.)
+/// full). The step between two levels is such a guess too: where the bounds reach the
+/// tolerance, on a straight line between the bounds over the two levels where both were
+/// found, else on the one through the judgement's bound and the level's; [`GUESS_SHORT`] of
+/// that step is bounded in full and given only where it is certain. (A certificate is then
+/// about as long as the bounds allow, where levels a factor of two apart gave on average
+/// about 0.72 of it.)
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn lasting(
     camera: &Camera,
