@@ -31,13 +31,23 @@
 //! # Storage
 //!
 //! One [`Judgement`] per node of the hierarchy, the caller's
-//! ([`Tessellator::with_reuse`](super::Tessellator::with_reuse)): 20 bytes a node (the
+//! ([`Tessellator::with_reuse`](super::Tessellator::with_reuse)): 28 bytes a node (the
 //! judgement, and for a step the node's trigger and its place in the list of the mesh's
 //! nodes: see `step`). A tessellator without them judges every triangle of every frame.
+//!
+//! Slot `k` also holds entry `k` of the list, and that entry keeps a copy of what a step's
+//! scan for lapsed judgements reads of its node: the expiry, the class, and whether the node
+//! is a leaf, halved for its own sake or halved for another's. The scan then reads the list
+//! in order, not the slots of the nodes it names, scattered over the hierarchy: 100
+//! one-degree orbit updates of `frame_loop` at 2.5e-4 took 413.2M instructions against 428.1M
+//! on the teapot and 492.7M against 515.6M on Gumbo, and their mean update about 10% less
+//! time on either (for 8 bytes more a slot). The copy is made where the node is listed,
+//! and kept in step where its judgement is kept ([`Reuse::keep`]), where it is halved
+//! ([`Reuse::set_trigger`], with every halving a step keeps) and where a step takes the
+//! halving away ([`Reuse::unhalved`]); an entry moved in the list takes it along.
 
 use glam::Vec3;
 
-use super::bits::bit;
 use super::hierarchy::Hierarchy;
 use crate::bound::BoundingSphere;
 use crate::deviation::certificate::{Asked, Lasting, Steps};
@@ -98,6 +108,34 @@ pub struct Judgement {
     at: u32,
     /// The list's entry of this slot's number: the node it holds.
     listed: u32,
+    /// The entry's copy of its node's `expires` (see the module docs).
+    entry_expires: f32,
+    /// The entry's copy of its node's `class`.
+    entry_class: u8,
+    /// The entry's node: a leaf, or halved for its own sake or another's ([`Held`]).
+    entry_held: Held,
+}
+
+/// How the mesh holds a listed node, for the scan for lapsed judgements: as a leaf (its
+/// judgement asked for), halved for its own sake (asked for too: it may no longer be over),
+/// or halved for another's (not asked for).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum Held {
+    Leaf,
+    Own,
+    ForAnother,
+}
+
+impl Held {
+    /// How node `node`, halved or not, with trigger `trigger`, is held.
+    fn of(node: u32, halved: bool, trigger: u32) -> Held {
+        match (halved, trigger == node) {
+            (false, _) => Held::Leaf,
+            (true, true) => Held::Own,
+            (true, false) => Held::ForAnother,
+        }
+    }
 }
 
 impl Judgement {
@@ -111,6 +149,9 @@ impl Judgement {
         trigger: NO_NODE,
         at: NO_NODE,
         listed: NO_NODE,
+        entry_expires: f32::NEG_INFINITY,
+        entry_class: 0,
+        entry_held: Held::Leaf,
     };
 }
 
@@ -293,10 +334,23 @@ impl<'s> Reuse<'s> {
         self.slots.get(node as usize).map_or(NO_NODE, |j| j.trigger)
     }
 
-    /// Notes that `trigger`'s judgement halved node `node`.
+    /// Notes that `trigger`'s judgement halved node `node` (it is halved).
     pub fn set_trigger(&mut self, node: u32, trigger: u32) {
-        if let Some(j) = self.slots.get_mut(node as usize) {
-            j.trigger = trigger;
+        let Some(j) = self.slots.get_mut(node as usize) else {
+            return;
+        };
+        j.trigger = trigger;
+        let at = j.at as usize;
+        if let Some(e) = self.slots.get_mut(at) {
+            e.entry_held = Held::of(node, true, trigger);
+        }
+    }
+
+    /// Notes that node `node` is no longer halved (a step took its halving away).
+    pub fn unhalved(&mut self, node: u32) {
+        let at = self.slots.get(node as usize).map_or(NO_NODE, |j| j.at);
+        if let Some(e) = self.slots.get_mut(at as usize) {
+            e.entry_held = Held::Leaf;
         }
     }
 
@@ -311,15 +365,19 @@ impl<'s> Reuse<'s> {
         self.len = 0;
     }
 
-    /// Adds node `node` to the list of the mesh's nodes (if it is not on it).
-    pub fn list(&mut self, node: u32) {
+    /// Adds node `node` to the list of the mesh's nodes (if it is not on it), halved or
+    /// not.
+    pub fn list(&mut self, node: u32, halved: bool) {
         let len = self.len;
-        match self.slots.get(node as usize) {
-            Some(j) if j.at == NO_NODE && len < self.slots.len() => {}
+        let room = len < self.slots.len();
+        let j = match self.slots.get_mut(node as usize) {
+            Some(j) if j.at == NO_NODE && room => j,
             _ => return,
-        }
-        self.slots[node as usize].at = len as u32;
-        self.slots[len].listed = node;
+        };
+        j.at = len as u32;
+        let (expires, class, held) = (j.expires, j.class, Held::of(node, halved, j.trigger));
+        let e = &mut self.slots[len];
+        (e.listed, e.entry_expires, e.entry_class, e.entry_held) = (node, expires, class, held);
         self.len += 1;
     }
 
@@ -332,42 +390,36 @@ impl<'s> Reuse<'s> {
             return;
         }
         let last = self.len - 1;
-        let moved = self.slots[last].listed;
-        self.slots[at as usize].listed = moved;
+        let e = self.slots[last];
+        let moved = e.listed;
+        let to = &mut self.slots[at as usize];
+        (to.listed, to.entry_expires, to.entry_class, to.entry_held) =
+            (moved, e.entry_expires, e.entry_class, e.entry_held);
         self.slots[moved as usize].at = at;
         self.slots[node as usize].at = NO_NODE;
         self.len = last;
     }
 
     /// From entry `k` of the list of the mesh's nodes on, the first whose judgement is asked
-    /// for (a leaf, or a node halved for its own sake: `halved` holds the mesh's halved
-    /// nodes) and no longer holds: its entry and node. Counts in `kept` the judgements that
-    /// hold on the way, and in `leaf_kept` whether one of them is a leaf's.
+    /// for (a leaf, or a node halved for its own sake) and no longer holds: its entry and
+    /// node. Counts in `kept` the judgements that hold on the way, and in `leaf_kept` whether
+    /// one of them is a leaf's. (It reads the entries' copies only: see the module docs.)
     pub fn next_lapsed(
         &self,
         from: usize,
-        halved: &[u32],
         kept: &mut usize,
         leaf_kept: &mut bool,
     ) -> Option<(usize, u32)> {
-        let slots = &*self.slots;
-        let len = self.len.min(slots.len());
-        for k in from..len {
-            let node = slots[k].listed;
-            let j = slots.get(node as usize)?;
-            // A halved node is asked for its judgement only where it halved itself; a leaf
-            // always. (Whether it is halved is read only where that decides something.)
-            let own = j.trigger == node;
-            if !own && bit(halved, node) {
+        let entries = self.slots.get(from..self.len)?;
+        for (k, e) in entries.iter().enumerate() {
+            if e.entry_held == Held::ForAnother {
                 continue; // halved for another's sake: its own judgement is not asked
             }
-            if !self.holds(j) {
-                return Some((k, node));
+            if !self.holds_until(e.entry_class, e.entry_expires) {
+                return Some((from + k, e.listed));
             }
             *kept += 1;
-            if !*leaf_kept {
-                *leaf_kept = !own || !bit(halved, node);
-            }
+            *leaf_kept |= e.entry_held == Held::Leaf;
         }
         None
     }
@@ -382,11 +434,18 @@ impl<'s> Reuse<'s> {
     /// certificates came by a jump or a reset: none holds.)
     #[inline(always)]
     fn holds(&self, j: &Judgement) -> bool {
+        self.holds_until(j.class, j.expires)
+    }
+
+    /// Whether a judgement of class `class` expiring at `expires` holds (see
+    /// [`holds`](Self::holds)).
+    #[inline(always)]
+    fn holds_until(&self, class: u8, expires: f32) -> bool {
         self.certify
             && self
                 .readings
-                .get(usize::from(j.class))
-                .is_some_and(|reading| *reading <= j.expires)
+                .get(usize::from(class))
+                .is_some_and(|reading| *reading <= expires)
     }
 
     /// Keeps node `node`'s judgement, certified for steps of `step` in its reach class (of
@@ -409,13 +468,18 @@ impl<'s> Reuse<'s> {
         // The class's last step (as `readings_after` took it).
         let [shift, rho] = self.last_step;
         let last = rho + shift / d;
-        if let Some(j) = self.slots.get_mut(node as usize) {
-            (j.expires, j.over, j.level, j.class) = (expires, over, level, class);
-            // Shorter than the camera's last step: most likely it will not outlast the next
-            // one either, and the next judgements go without asking, as after a miss.
-            if step < last {
-                j.plain = PLAIN;
-            }
+        let Some(j) = self.slots.get_mut(node as usize) else {
+            return;
+        };
+        (j.expires, j.over, j.level, j.class) = (expires, over, level, class);
+        // Shorter than the camera's last step: most likely it will not outlast the next
+        // one either, and the next judgements go without asking, as after a miss.
+        if step < last {
+            j.plain = PLAIN;
+        }
+        let at = j.at as usize;
+        if let Some(e) = self.slots.get_mut(at) {
+            (e.entry_expires, e.entry_class) = (expires, class);
         }
     }
 }
@@ -425,4 +489,63 @@ fn same_lens(a: &Camera, b: &Camera) -> bool {
     let (x, y) = (a.bits(), b.bits());
     // Projection, near plane, viewport, focal length, slopes: every field after the frame.
     x[12..] == y[12..]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slot is the 28 bytes the docs give.
+    #[test]
+    fn a_slot_is_28_bytes() {
+        assert_eq!(core::mem::size_of::<Judgement>(), 28);
+    }
+
+    /// The list's entries carry their nodes' expiry, class and how they are held, through
+    /// listing, keeping, halving and moving in the list.
+    #[test]
+    fn entries_mirror_their_nodes() {
+        let mut slots = [Judgement::NONE; 8];
+        let sphere = BoundingSphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        let mut r = Reuse::new(&mut slots, sphere);
+        r.certify = true;
+        r.list(5, false);
+        r.list(2, false);
+        r.list(7, false);
+        r.keep(
+            7,
+            Lasting {
+                over: true,
+                level: 1,
+                class: 3,
+                step: 0.5,
+            },
+        );
+        r.set_trigger(2, 6);
+        r.set_trigger(5, 5);
+        // Entry 0 is node 5 (own), 1 node 2 (another's), 2 node 7 (a leaf, class 3).
+        let entry = |r: &Reuse<'_>, k: usize| {
+            let e = r.slots[k];
+            (e.listed, e.entry_expires, e.entry_class, e.entry_held)
+        };
+        let expires7 = r.slots[7].expires;
+        assert!(expires7 > 0.0);
+        assert_eq!(entry(&r, 2), (7, expires7, 3, Held::Leaf));
+        assert_eq!(entry(&r, 1).3, Held::ForAnother);
+        assert_eq!(entry(&r, 0).3, Held::Own);
+        // Node 5 leaves the list: node 7 moves to its entry, with its copy.
+        r.unlist(5);
+        assert_eq!(entry(&r, 0), (7, expires7, 3, Held::Leaf));
+        assert_eq!(r.slots[7].at, 0);
+        r.unhalved(2);
+        assert_eq!(entry(&r, 1).3, Held::Leaf);
+        // The scan finds node 2 (never kept: lapsed), then nothing past node 7 (it holds).
+        let (mut kept, mut leaf_kept) = (0, false);
+        assert_eq!(r.next_lapsed(0, &mut kept, &mut leaf_kept), Some((1, 2)));
+        assert_eq!((kept, leaf_kept), (1, true));
+        assert_eq!(r.next_lapsed(2, &mut kept, &mut leaf_kept), None);
+    }
 }

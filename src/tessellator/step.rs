@@ -176,12 +176,13 @@ impl Tessellator<'_, '_> {
             return;
         }
         // (A frame without certificates is not stepped from: it keeps no list.)
+        let (bits, layout) = (&*self.bits, self.layout);
         if let Some(r) = self
             .reuse
             .as_mut()
             .filter(|r| cfg!(feature = "reuse") && r.certify)
         {
-            r.list(node);
+            r.list(node, bit(&bits[layout.halved..layout.judged], node));
         }
     }
 
@@ -457,7 +458,7 @@ impl Tessellator<'_, '_> {
     fn next_lapsed(&mut self, from: usize, tolerance: f32) -> Option<(usize, u32)> {
         let r = self.reuse.as_ref()?;
         let (mut kept, mut leaf_kept) = (0, false);
-        let next = r.next_lapsed(from, self.halved(), &mut kept, &mut leaf_kept);
+        let next = r.next_lapsed(from, &mut kept, &mut leaf_kept);
         self.stats.kept += kept;
         if leaf_kept {
             self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
@@ -628,6 +629,9 @@ impl Tessellator<'_, '_> {
         let judged = self.layout().judged;
         let hidden = self.layout().hidden;
         clear(self.bits, z);
+        if let Some(r) = self.reuse.as_mut() {
+            r.unhalved(z);
+        }
         clear(&mut self.bits[judged..], z);
         clear(&mut self.bits[hidden..], z);
         let Some(h) = self.place(z) else {
