@@ -106,14 +106,32 @@ pub struct Judgement {
     trigger: u32,
     /// Where this node is in the mesh: its entry in the list of the mesh's nodes, or `NONE`.
     at: u32,
-    /// The list's entry of this slot's number: the node it holds.
-    listed: u32,
-    /// The entry's copy of its node's `expires` (see the module docs).
-    entry_expires: f32,
-    /// The entry's copy of its node's `class`.
-    entry_class: u8,
-    /// The entry's node: a leaf, or halved for its own sake or another's ([`Held`]).
-    entry_held: Held,
+    /// The list's entry of this slot's number.
+    entry: Entry,
+}
+
+/// An entry of the list of the mesh's nodes: the node it holds, with a copy of what the scan
+/// for lapsed judgements reads of it (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct Entry {
+    node: u32,
+    /// Its node's `expires`.
+    expires: f32,
+    /// Its node's `class`.
+    class: u8,
+    /// How the mesh holds its node.
+    held: Held,
+}
+
+impl Entry {
+    /// No entry.
+    const NONE: Entry = Entry {
+        node: NO_NODE,
+        expires: f32::NEG_INFINITY,
+        class: 0,
+        held: Held::Leaf,
+    };
 }
 
 /// How the mesh holds a listed node, for the scan for lapsed judgements: as a leaf (its
@@ -148,10 +166,7 @@ impl Judgement {
         class: 0,
         trigger: NO_NODE,
         at: NO_NODE,
-        listed: NO_NODE,
-        entry_expires: f32::NEG_INFINITY,
-        entry_class: 0,
-        entry_held: Held::Leaf,
+        entry: Entry::NONE,
     };
 }
 
@@ -340,24 +355,28 @@ impl<'s> Reuse<'s> {
             return;
         };
         j.trigger = trigger;
-        let at = j.at as usize;
-        if let Some(e) = self.slots.get_mut(at) {
-            e.entry_held = Held::of(node, true, trigger);
+        if let Some(e) = self.entry_of(node) {
+            e.held = Held::of(node, true, trigger);
         }
     }
 
     /// Notes that node `node` is no longer halved (a step took its halving away).
     pub fn unhalved(&mut self, node: u32) {
-        let at = self.slots.get(node as usize).map_or(NO_NODE, |j| j.at);
-        if let Some(e) = self.slots.get_mut(at as usize) {
-            e.entry_held = Held::Leaf;
+        if let Some(e) = self.entry_of(node) {
+            e.held = Held::Leaf;
         }
+    }
+
+    /// The list's entry of node `node`, if it is on the list.
+    fn entry_of(&mut self, node: u32) -> Option<&mut Entry> {
+        let at = self.slots.get(node as usize)?.at;
+        self.slots.get_mut(at as usize).map(|e| &mut e.entry)
     }
 
     /// Empties the list of the mesh's nodes.
     pub fn unlist_all(&mut self) {
         for k in 0..self.len {
-            let node = self.slots[k].listed;
+            let node = self.slots[k].entry.node;
             if let Some(j) = self.slots.get_mut(node as usize) {
                 j.at = NO_NODE;
             }
@@ -375,9 +394,13 @@ impl<'s> Reuse<'s> {
             _ => return,
         };
         j.at = len as u32;
-        let (expires, class, held) = (j.expires, j.class, Held::of(node, halved, j.trigger));
-        let e = &mut self.slots[len];
-        (e.listed, e.entry_expires, e.entry_class, e.entry_held) = (node, expires, class, held);
+        let entry = Entry {
+            node,
+            expires: j.expires,
+            class: j.class,
+            held: Held::of(node, halved, j.trigger),
+        };
+        self.slots[len].entry = entry;
         self.len += 1;
     }
 
@@ -390,12 +413,9 @@ impl<'s> Reuse<'s> {
             return;
         }
         let last = self.len - 1;
-        let e = self.slots[last];
-        let moved = e.listed;
-        let to = &mut self.slots[at as usize];
-        (to.listed, to.entry_expires, to.entry_class, to.entry_held) =
-            (moved, e.entry_expires, e.entry_class, e.entry_held);
-        self.slots[moved as usize].at = at;
+        let moved = self.slots[last].entry;
+        self.slots[at as usize].entry = moved;
+        self.slots[moved.node as usize].at = at;
         self.slots[node as usize].at = NO_NODE;
         self.len = last;
     }
@@ -411,15 +431,15 @@ impl<'s> Reuse<'s> {
         leaf_kept: &mut bool,
     ) -> Option<(usize, u32)> {
         let entries = self.slots.get(from..self.len)?;
-        for (k, e) in entries.iter().enumerate() {
-            if e.entry_held == Held::ForAnother {
+        for (k, Judgement { entry: e, .. }) in entries.iter().enumerate() {
+            if e.held == Held::ForAnother {
                 continue; // halved for another's sake: its own judgement is not asked
             }
-            if !self.holds_until(e.entry_class, e.entry_expires) {
-                return Some((from + k, e.listed));
+            if !self.holds_until(e.class, e.expires) {
+                return Some((from + k, e.node));
             }
             *kept += 1;
-            *leaf_kept |= e.entry_held == Held::Leaf;
+            *leaf_kept |= e.held == Held::Leaf;
         }
         None
     }
@@ -477,9 +497,8 @@ impl<'s> Reuse<'s> {
         if step < last {
             j.plain = PLAIN;
         }
-        let at = j.at as usize;
-        if let Some(e) = self.slots.get_mut(at) {
-            (e.entry_expires, e.entry_class) = (expires, class);
+        if let Some(e) = self.entry_of(node) {
+            (e.expires, e.class) = (expires, class);
         }
     }
 }
@@ -528,8 +547,8 @@ mod tests {
         r.set_trigger(5, 5);
         // Entry 0 is node 5 (own), 1 node 2 (another's), 2 node 7 (a leaf, class 3).
         let entry = |r: &Reuse<'_>, k: usize| {
-            let e = r.slots[k];
-            (e.listed, e.entry_expires, e.entry_class, e.entry_held)
+            let e = r.slots[k].entry;
+            (e.node, e.expires, e.class, e.held)
         };
         let expires7 = r.slots[7].expires;
         assert!(expires7 > 0.0);
