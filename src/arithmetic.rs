@@ -3,7 +3,7 @@
 /// How the kernel does its per-triangle arithmetic: in `f32`, or in integers, for parts
 /// without an FPU.
 ///
-/// Two parts of a frame take it:
+/// Three parts of a frame take it:
 ///
 /// - **The tessellator's bounds** ([`Tessellator::with_arithmetic`]): a triangle's directional
 ///   bound on screen from its node's six-bit kept vectors, rotated into the view in `f32`, or
@@ -20,6 +20,15 @@
 ///   differ at most where two surfaces meet within that (a few pixels of a frame, where at
 ///   all). Triangles with a corner beyond 512 pixels (feature `large-viewports`) take `f32`
 ///   spans either way.
+/// - **The renderer's corners** (the same choice): each vertex's view position, shade, clip
+///   test and pixel, in `f32`, or in integer products and two divisions from the bits of its
+///   position and normal, with the view's rotation in 16 bits around the source's bounding
+///   sphere. An integer corner lies within `2^-12` of the sphere's radius of the float one
+///   in view space, and its pixel within a sixteenth or two of the float one's, so a frame's
+///   picture moves by that along its edges (0.15% of `fw_teapot` frame 0's pixels changed
+///   hands); a vertex keeps one position for every triangle that has it, so the mesh stays
+///   closed. An orthographic view, or a viewport side over 1,024 pixels, takes `f32` corners
+///   either way. On ARMv6-M it takes a fifth off `fw_teapot`'s render.
 ///
 /// Judgements kept from frame to frame (`Tessellator::with_reuse`, feature `reuse`) keep no
 /// certificate for a triangle of the bake whose bound was computed in integers: a certificate

@@ -9,6 +9,11 @@ impl TestRng {
         TestRng(seed)
     }
 
+    /// The next 32 bits.
+    pub(crate) fn next_u32(&mut self) -> u32 {
+        (self.signed(i64::MAX / 2 - 1) as u64 >> 7) as u32
+    }
+
     /// The next value in `-range..=range`.
     pub(crate) fn signed(&mut self, range: i64) -> i64 {
         let s = &mut self.0;

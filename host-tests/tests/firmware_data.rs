@@ -429,15 +429,17 @@ fn fw_teapot_lists_of_any_length_draw_the_same() {
 #[test]
 fn fw_teapot_frames_are_real() {
     let frames = fw_teapot_frames(Arithmetic::default());
-    // Drawn as the other class of part draws it (bounds and planes in the other arithmetic):
-    // the same triangles, and the same pixels to a few.
+    // Drawn as the other class of part draws it (bounds, corners and planes in the other
+    // arithmetic): the same triangles, and the same pixels to a few. (The integer corners
+    // lie within about a sixteenth of a pixel of the float ones, `render`'s `fixed`, so the
+    // pixels along edges may change hands: 0.15% of frame 0's.)
     let other = match Arithmetic::default() {
         Arithmetic::Float => Arithmetic::Integer,
         Arithmetic::Integer => Arithmetic::Float,
     };
     for (a, b) in frames.iter().zip(fw_teapot_frames(other)) {
         assert_eq!(a[0], b[0]);
-        assert!(a[1].abs_diff(b[1]) <= a[1] / 1000, "{a:?} {b:?}");
+        assert!(a[1].abs_diff(b[1]) <= a[1] / 250, "{a:?} {b:?}");
     }
     assert!(frames.iter().all(|f| f[0] > 100 && f[1] > 1000));
     assert!(frames[2][1] > frames[0][1], "dollying in draws more pixels");

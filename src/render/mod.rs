@@ -91,6 +91,7 @@
 
 mod band;
 mod clip;
+mod fixed;
 mod list;
 mod project;
 mod raster;
@@ -513,7 +514,7 @@ impl<'d> Renderer<'d> {
         O: BandOutput,
     {
         let mut stats = RenderStats::default();
-        let setup = Setup::new(camera, source.bound(), style);
+        let setup = Setup::new(camera, source.bound(), style, self.arithmetic);
         // One cache of corners in view space, for the list's pass and then each band's.
         let mut corners = CornerCache::new();
         let one_sided = |patch| source.one_sided(camera, patch);

@@ -9,12 +9,14 @@
 use glam::Vec3;
 
 use super::clip::{self, ClipVertex, Frustum};
+use super::fixed::{exact_fixed, f32_of, fixed_of, level_of_shade, shade_of_level, FixedView};
 use super::raster::ScreenVertex;
 use super::{Shading, Style};
 use crate::bound::BoundingSphere;
-use crate::math::{max, normalize};
+use crate::math::{max, normalize, HARD_FLOAT};
 use crate::sink::{Vertex, NO_KEY};
 use crate::view::{Camera, Projection};
+use crate::Arithmetic;
 
 /// Per-frame constants.
 pub(super) struct Setup<'a> {
@@ -31,10 +33,18 @@ pub(super) struct Setup<'a> {
     model_light: Vec3,
     towards_eye: Vec3,
     perspective: bool,
+    /// The view in integers, where the arithmetic is [`Arithmetic::Integer`] and the frame
+    /// allows it (see `fixed`).
+    fixed: Option<FixedView>,
 }
 
 impl<'a> Setup<'a> {
-    pub fn new(camera: &'a Camera, bound: Option<BoundingSphere>, style: &'a Style) -> Self {
+    pub fn new(
+        camera: &'a Camera,
+        bound: Option<BoundingSphere>,
+        style: &'a Style,
+        arithmetic: Arithmetic,
+    ) -> Self {
         let perspective = matches!(camera.projection(), Projection::Perspective { .. });
         let near = camera.near();
         let depth = bound.and_then(|s| {
@@ -52,6 +62,12 @@ impl<'a> Setup<'a> {
             ok.then_some((1.0 - qf * scale, scale))
         });
         let light = normalize(Vec3::from_array(style.light.direction)).unwrap_or(-Vec3::Z);
+        let fixed = match (arithmetic, &bound) {
+            (Arithmetic::Integer, Some(sphere)) if depth.is_some() => {
+                FixedView::new(camera, sphere, light, style.light.ambient)
+            }
+            _ => None,
+        };
         Setup {
             camera,
             style,
@@ -65,6 +81,7 @@ impl<'a> Setup<'a> {
                 -camera.forward()
             },
             perspective,
+            fixed,
         }
     }
 
@@ -115,6 +132,9 @@ impl<'a> Setup<'a> {
     /// triangle that depends on one corner alone, which a renderer may keep
     /// for the triangles that share the vertex.
     pub fn corner(&self, v: &Vertex) -> ClipVertex {
+        if let Some(c) = self.fixed.as_ref().and_then(|f| self.fixed_corner(f, v)) {
+            return c;
+        }
         let p = Vec3::from_array(v.position);
         let view = self.camera.to_view(p);
         let shade = match self.style.shading {
@@ -124,9 +144,42 @@ impl<'a> Setup<'a> {
         ClipVertex { view, shade }
     }
 
-    /// Whether `v` lies inside every clip plane ([`Frustum::contains`](clip::Frustum)).
+    /// [`corner`](Self::corner) in integers (see `fixed`): the view position as the exact
+    /// `f32` of its integers, the shade as that of its level. `None` where the view in
+    /// integers does not take the vertex.
+    fn fixed_corner(&self, f: &FixedView, v: &Vertex) -> Option<ClipVertex> {
+        let c = f.corner(v.position, v.normal)?;
+        let m = f.units();
+        let shade = match (self.style.shading, c.level) {
+            (Shading::Flat, _) => 0.0,
+            (Shading::Gouraud, Some(level)) => shade_of_level(level),
+            (Shading::Gouraud, None) => {
+                self.vertex_shade(Vec3::from_array(v.normal), Vec3::from_array(v.position))
+            }
+        };
+        Some(ClipVertex {
+            view: Vec3::new(
+                f32_of(c.view[0], m),
+                f32_of(c.view[1], m),
+                f32_of(c.view[2], m),
+            ),
+            shade,
+        })
+    }
+
+    /// `v` in the view units of `f`, where they hold it.
+    fn fixed_view(f: &FixedView, v: Vec3) -> Option<[i32; 3]> {
+        let m = f.units();
+        Some([fixed_of(v.x, m)?, fixed_of(v.y, m)?, fixed_of(v.z, m)?])
+    }
+
+    /// Whether `v` lies inside every clip plane ([`Frustum::contains`](clip::Frustum); in
+    /// integers, within their roundings, where the view is).
     pub fn inside(&self, v: &ClipVertex) -> bool {
-        self.frustum.contains(v.view)
+        match &self.fixed {
+            Some(f) => Self::fixed_view(f, v.view).is_some_and(|x| f.inside(x)),
+            None => self.frustum.contains(v.view),
+        }
     }
 
     /// A triangle's [`corner`](Self::corner)s, and whether all three are
@@ -189,6 +242,19 @@ impl<'a> Setup<'a> {
     /// last two quantized (see the module docs).
     #[inline]
     pub fn screen(&self, c: &ClipVertex) -> ScreenVertex {
+        if let Some(f) = &self.fixed {
+            let xy = Self::fixed_view(f, c.view)
+                .and_then(|v| f.pixel(v))
+                .map_or_else(
+                    || self.camera.view_to_pixel(c.view),
+                    |p| p.map(|x| f32_of(x, 4)),
+                );
+            return ScreenVertex {
+                xy,
+                depth: self.depth_key(c.view.z),
+                shade: shade_of_level(level_of_shade(c.shade)),
+            };
+        }
         ScreenVertex {
             xy: self.camera.view_to_pixel(c.view),
             depth: self.depth_key(c.view.z),
@@ -315,6 +381,13 @@ pub(super) fn quantize_depth(key: f32) -> f32 {
 
 /// The integer key of [`quantize_depth`].
 pub(super) fn depth_to_u16(key: f32) -> u16 {
+    // Where `f32` is software, a key that is an integer already (as every quantised one is)
+    // is read from its bits: the same value.
+    if !HARD_FLOAT {
+        if let Some(k) = exact_fixed(key, 0) {
+            return k.clamp(0, 65535) as u16;
+        }
+    }
     // `as` saturates and maps NaN to 0.
     (key + 0.5) as u16
 }
@@ -333,6 +406,16 @@ pub(super) fn quantize_shade(shade: f32) -> f32 {
 pub(super) fn shade_to_u8(shade: f32) -> u8 {
     // At most 255: the narrowing is exact.
     shade_level(shade) as u8
+}
+
+/// The level of a quantised shade (one [`quantize_shade`] gives, or the integer path's, see
+/// `fixed`): [`shade_to_u8`], read from its bits where `f32` is software (the same level for
+/// every such shade).
+pub(super) fn quantized_level(shade: f32) -> u8 {
+    match HARD_FLOAT {
+        true => shade_to_u8(shade),
+        false => level_of_shade(shade),
+    }
 }
 
 /// [`shade_to_u8`] as a `u32` (a palette index, with no narrowing to pay per pixel).
@@ -366,7 +449,7 @@ pub(super) mod tests {
     #[test]
     fn the_corner_cache_keeps_two_corners_per_pair_and_replaces_the_older() {
         let (camera, style) = view();
-        let setup = Setup::new(&camera, None, &style);
+        let setup = Setup::new(&camera, None, &style, Arithmetic::Float);
         // Three keys of one pair, and one of another.
         let pair = pair_of(1);
         let mut same = (2..).filter(|&k| pair_of(k) == pair);

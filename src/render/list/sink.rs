@@ -4,7 +4,8 @@
 use super::{triangle_half, ListSlot, GROUP, MAX_SLOTS, REACH_BACK, WINDOW};
 use crate::render::clip::ClipVertex;
 use crate::render::project::{
-    depth_to_u16, quantize_shade, shade_to_u8, CachedCorners, CornerCache, Setup, CORNER_CACHE,
+    depth_to_u16, quantize_shade, quantized_level, shade_to_u8, CachedCorners, CornerCache, Setup,
+    CORNER_CACHE,
 };
 use crate::render::raster::{faces_away, snap_checked, ScreenVertex};
 use crate::render::{Shading, TriangleSource};
@@ -183,7 +184,7 @@ impl ListSink<'_, '_, '_> {
         let fit = |c: f32| i16::try_from(snap_checked(c)?).ok();
         // With flat shading the triangle holds the shade (its corners share a slot).
         let flat = self.setup.style.shading == Shading::Flat;
-        let shade = if flat { 0 } else { shade_to_u8(v.shade) };
+        let shade = if flat { 0 } else { quantized_level(v.shade) };
         Some(ListSlot::corner(
             fit(v.xy[0])?,
             fit(v.xy[1])?,
@@ -202,7 +203,7 @@ impl ListSink<'_, '_, '_> {
             };
             *value = c;
         }
-        let level = flat.then(|| shade_to_u8(v[0].shade));
+        let level = flat.then(|| quantized_level(v[0].shade));
         self.push_values(values, wire, level, None)
     }
 
@@ -566,7 +567,7 @@ mod tests {
     #[test]
     fn a_full_list_refuses_a_triangle_of_shared_corners() {
         let (camera, style) = view();
-        let setup = Setup::new(&camera, None, &style);
+        let setup = Setup::new(&camera, None, &style, crate::Arithmetic::Float);
         let mut corners = CornerCache::new();
         let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
         // A group header, one slot of two triangles and their three shared corners.
@@ -595,7 +596,7 @@ mod tests {
     #[test]
     fn a_corner_out_of_the_window_starts_a_group() {
         let (camera, style) = view();
-        let setup = Setup::new(&camera, None, &style);
+        let setup = Setup::new(&camera, None, &style, crate::Arithmetic::Float);
         let mut corners = CornerCache::new();
         // A fan around one centre: 200 triangles of new corners, the centre shared by all
         // of them until it falls out of the window.

@@ -19,7 +19,7 @@ mod scan;
 pub(super) use edge::faces_away;
 pub(super) use scan::{BandScan, Scan};
 
-use super::project::{depth_from_u16, depth_to_u16, shade_from_u8, shade_to_u8};
+use super::project::{depth_from_u16, depth_to_u16, quantized_level, shade_from_u8};
 use super::walk::FixedRamp;
 use edge::{
     ceil_div, counter_clockwise, edge_set_up, inside_columns, wide_columns, wire_limit, wire_ramp,
@@ -133,6 +133,13 @@ fn snap(v: f32) -> i32 {
 /// `v` snapped to 1/16 pixel, when it is a finite pixel position within [`COORDINATE_LIMIT`]
 /// (the comparison is false for NaN).
 pub(crate) fn snap_checked(v: f32) -> Option<i32> {
+    // Where `f32` is software, a position on the subpixel grid already (as the integer
+    // path's are) is read from its bits: the same value.
+    if !crate::math::HARD_FLOAT {
+        if let Some(s) = super::fixed::exact_fixed(v, 4) {
+            return Some(s);
+        }
+    }
     (v.abs() <= COORDINATE_LIMIT).then(|| snap(v))
 }
 
@@ -161,7 +168,7 @@ impl Snapped {
             x: [x0?, x1?, x2?],
             y: [y0?, y1?, y2?],
             depth: v.map(|p| depth_to_u16(p.depth)),
-            shade: v.map(|p| shade_to_u8(p.shade)),
+            shade: v.map(|p| quantized_level(p.shade)),
             wire,
         })
     }

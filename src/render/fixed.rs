@@ -1,0 +1,627 @@
+//! A frame's corners taken to the screen in integers, for parts without an FPU
+//! ([`Arithmetic::Integer`](crate::Arithmetic)).
+//!
+//! Where `f32` is software, taking a vertex to the screen in `f32` costs about 60 library
+//! calls: its move into view coordinates, its shade, the clip test and the projection. Here
+//! the same steps take integer products and two divisions, from the vertex's `f32` position
+//! and normal read as integers by their bits (no `f32` arithmetic). The corners keep the
+//! types the rest of the renderer takes (a view position and a shade in `f32`, exact copies
+//! of the integers), so that clipping, flat shading and the depth key are the float path's
+//! own, run on the same bits on every target: a host that draws with
+//! [`Arithmetic::Integer`](crate::Arithmetic) draws what such a firmware draws, bit for bit.
+//!
+//! # The frame in integers
+//!
+//! With `o` and `r` the centre and radius of the source's bounding sphere, a point `p` is read
+//! as `d = ⌊p 2^k⌋ - ⌊o 2^k⌋` (each coordinate), `k` such that `2^13 <= r 2^k < 2^14`: every
+//! point within `2 r` of the centre has `|d| < 2^15`. The rotation's rows are taken to
+//! `2^-15` (`R` in `i16` range), so that `R d` is exact in `i32` (each row's entries sum to at
+//! most `√3` in magnitude). The view coordinates are `(R d) 2^-(15+k) + T`, `T` the sphere's
+//! centre in view coordinates, kept as integers in units of `2^-m`, `m` the largest for which
+//! every point within `2 r` of the centre stays below `2^23` units: so each is an exact `f32`.
+//!
+//! Each coordinate is within `e = r 2^-12` of its exact value: `⌊·⌋` takes at most `2^-k <=
+//! r 2^-13` off each coordinate of `p` and of `o`, which the rotation keeps within
+//! `√3 · 2 · r 2^-13`, and the rows' rounding (`2^-16` an entry) adds at most `√3 |p - o|
+//! 2^-16`; the shift to `2^-m` units and `T`'s rounding add one unit each, far less. On
+//! screen that is `e f / z` pixels, `f` the focal length in pixels: a hundredth of a pixel
+//! where the sphere spans 100 pixels, a few tenths where it spans several screens (a
+//! close-up). A vertex has one position however many triangles share it, so the mesh stays
+//! closed on screen; only its place moves, by that much.
+//!
+//! # On screen
+//!
+//! A corner with view coordinates `(x, y, z)` (units `2^-m`) is inside the clip planes when
+//! `z` is at least the near plane (rounded up) and its pixel is within the guard band: `|x| f
+//! 16 <= w 16 z`, likewise `y`, `w` the viewport's width (the guard band is twice the
+//! viewport), compared on `x, y, z` shifted so that `z < 2^16`. Its pixel position, in
+//! sixteenths of a pixel, is `c + round(16 f x / z)` on those shifted values: within `16 f
+//! 2^-15 + 1/2` sixteenths of the exact one for these coordinates (the shift takes less than
+//! one unit off `x`, where `z >= 2^15`; the rounding half a sixteenth), two thirds of a
+//! sixteenth on a 240-pixel display, two and a half at 1024 pixels. (`16 f` must be below
+//! `2^16`: a 1024-pixel-high view narrower than about 7 degrees takes the float path.) The
+//! depth key is the float path's, from the exact `f32` of `z`.
+//!
+//! The shade of a unit normal `n` (in `2^-14`) is `a + (1 - a) max(0, ±R n · l)`, `l` the
+//! light in view coordinates in `2^-14` and the sign the one that turns `n` towards the eye
+//! (the sign of `R n · -v`, on `v` shifted to 15 bits): within `2^-10` of the float path's
+//! before both are rounded to a level of 255. A normal not of unit length (beyond `2^-10`)
+//! takes the float path's shade.
+
+use glam::Vec3;
+
+use crate::bound::BoundingSphere;
+use crate::view::{Camera, Projection};
+
+/// Largest viewport side (in pixels) the integer projection takes: its products stay in
+/// `u32` up to here.
+const MAX_SIDE: u32 = 1024;
+
+/// A frame's view in integers (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FixedView {
+    /// The rotation's rows in `2^-15` (the few bytes matter: a firmware's renderer keeps this
+    /// on a stack of a few KiB).
+    rows: [[i16; 3]; 3],
+    /// `⌊o 2^k⌋`.
+    origin: [i32; 3],
+    /// `k`: a position is read in units of `2^-k`.
+    k: i16,
+    /// `m`: view coordinates are in units of `2^-m`.
+    m: i16,
+    /// `15 + k - m`: the shift from `R d` to view units.
+    shift: u8,
+    /// The sphere's centre in view units.
+    centre: [i32; 3],
+    /// The near plane in view units, rounded up (at least 1).
+    near: i32,
+    /// `16 f`: the focal length in sixteenths of a pixel.
+    focal: u16,
+    /// The viewport's width and height in pixels.
+    viewport: [u16; 2],
+    /// The light's direction in view coordinates, in `2^-14`.
+    light: [i16; 3],
+    /// `255 a` and `255 (1 - a)` in `2^-8`, `a` the ambient light.
+    ambient: i32,
+    diffuse: i32,
+}
+
+/// A corner in view units with its shade level: what [`FixedView::corner`] finds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct FixedCorner {
+    /// `(x, y, z)` in units of `2^-m`, each below `2^23` in magnitude.
+    pub view: [i32; 3],
+    /// The shade level (0 to 255), where the normal is of unit length.
+    pub level: Option<u8>,
+}
+
+impl FixedView {
+    /// The view of `camera` in integers around `sphere`, with the view-space light `light`
+    /// and ambient `ambient`; `None` where it cannot take it (an orthographic camera, a
+    /// viewport side over [`MAX_SIDE`], a sphere or camera whose numbers leave the ranges of
+    /// the module docs): the float path draws such frames.
+    pub fn new(
+        camera: &Camera,
+        sphere: &BoundingSphere,
+        light: Vec3,
+        ambient: f32,
+    ) -> Option<FixedView> {
+        if !matches!(camera.projection(), Projection::Perspective { .. }) {
+            return None;
+        }
+        let viewport = camera.viewport();
+        let r = sphere.radius;
+        if viewport.iter().any(|&s| s == 0 || s > MAX_SIDE) || !(r > 0.0 && r.is_finite()) {
+            return None;
+        }
+        // `2^13 <= r 2^k < 2^14`, from the exponent's bits (`r` normal: at least 2^-126).
+        let exponent = (r.to_bits() >> 23) as i32 - 127;
+        if exponent < -120 {
+            return None;
+        }
+        let k = 13 - exponent;
+        let o = sphere.center.to_array();
+        let origin = [fixed_of(o[0], k)?, fixed_of(o[1], k)?, fixed_of(o[2], k)?];
+        let rows = camera
+            .view_rows()
+            .map(|row| row.map(|x| round_to_i32(x * 32768.0).clamp(-32767, 32767) as i16));
+        if rows
+            .iter()
+            .any(|row| row.iter().map(|&x| x.unsigned_abs() as u32).sum::<u32>() > 57_000)
+        {
+            return None;
+        }
+        let t = camera.to_view(sphere.center);
+        // Every point within `2 r` of the centre below `2^22` units (half the range each
+        // coordinate may take, for the rounding).
+        let reach = t.abs().max_element() + 3.5 * r;
+        if !(reach.is_finite() && reach > 0.0) {
+            return None;
+        }
+        let m = 22 - ((reach.to_bits() >> 23) as i32 - 127) - 1;
+        let shift = u8::try_from(15 + k - m).ok().filter(|&s| s < 31)?;
+        let scale = pow2(m)?;
+        let centre = t.to_array().map(|x| round_to_i32(x * scale));
+        let near = round_to_i32(ceil(camera.near() * scale)).max(1);
+        let focal = camera.focal() * 16.0;
+        if !(1.0..65535.0).contains(&focal) {
+            return None;
+        }
+        let light = light
+            .to_array()
+            .map(|x| round_to_i32(x * 16384.0).clamp(-16384, 16384) as i16);
+        let a = ambient.clamp(0.0, 1.0);
+        Some(FixedView {
+            rows,
+            origin,
+            k: k as i16,
+            m: m as i16,
+            shift,
+            centre,
+            near,
+            focal: round_to_i32(focal) as u16,
+            viewport: viewport.map(|s| s as u16),
+            light,
+            ambient: round_to_i32(a * 255.0 * 256.0),
+            diffuse: round_to_i32((1.0 - a) * 255.0 * 256.0),
+        })
+    }
+
+    /// The exponent of the view units: a corner's coordinates are in `2^-m`.
+    pub fn units(&self) -> i32 {
+        self.m.into()
+    }
+
+    /// Vertex `position` (model coordinates) with unit normal `normal`, in view units with
+    /// its shade level; `None` where the position lies beyond `2 r` of the sphere's centre
+    /// (the float path takes such a vertex).
+    pub fn corner(&self, position: [f32; 3], normal: [f32; 3]) -> Option<FixedCorner> {
+        let mut d = [0i32; 3];
+        for i in 0..3 {
+            let p = fixed_of(position[i], self.k.into())?;
+            d[i] = p.checked_sub(self.origin[i])?;
+            if d[i].unsigned_abs() >= 30_720 {
+                return None;
+            }
+        }
+        let rotated = self.rotate(d);
+        let view: [i32; 3] =
+            core::array::from_fn(|i| (rotated[i] >> self.shift).wrapping_add(self.centre[i]));
+        Some(FixedCorner {
+            view,
+            level: self.level(normal, view),
+        })
+    }
+
+    /// `R d`, `d` below `30,720` in magnitude (so within `i32`: see the module docs).
+    fn rotate(&self, d: [i32; 3]) -> [i32; 3] {
+        self.rows.map(|row| {
+            let [a, b, c] = row.map(i32::from);
+            a.wrapping_mul(d[0])
+                .wrapping_add(b.wrapping_mul(d[1]))
+                .wrapping_add(c.wrapping_mul(d[2]))
+        })
+    }
+
+    /// The shade level of model normal `normal` at view position `view`; `None` for a normal
+    /// not of unit length within `2^-10`.
+    fn level(&self, normal: [f32; 3], view: [i32; 3]) -> Option<u8> {
+        let mut n = [0i32; 3];
+        for i in 0..3 {
+            n[i] = fixed_of(normal[i], 14)?;
+            if n[i].unsigned_abs() > 1 << 14 {
+                return None;
+            }
+        }
+        let length2: i32 = n.iter().map(|x| x * x).sum();
+        if (length2 - (1 << 28)).unsigned_abs() > 1 << 18 {
+            return None;
+        }
+        // The normal in view coordinates, in `2^-14`.
+        let n = self.rotate(n).map(|x| x >> 15);
+        let dot = |a: [i32; 3], b: [i32; 3]| {
+            a[0].wrapping_mul(b[0])
+                .wrapping_add(a[1].wrapping_mul(b[1]))
+                .wrapping_add(a[2].wrapping_mul(b[2]))
+        };
+        // Towards the eye: `-view`, shifted to 15 bits.
+        let big = view.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let s = (32 - big.leading_zeros()).saturating_sub(15);
+        let towards = view.map(|x| -(x >> s));
+        let lit = dot(n, self.light.map(i32::from)) >> 14;
+        let lit = if dot(n, towards) < 0 { -lit } else { lit };
+        let level = self.ambient + ((self.diffuse * lit.max(0)) >> 14);
+        Some(((level + 128) >> 8).clamp(0, 255) as u8)
+    }
+
+    /// Whether view position `view` (units `2^-m`) is inside the clip planes: in front of the
+    /// near plane and within the guard band.
+    pub fn inside(&self, view: [i32; 3]) -> bool {
+        let Some([x, y, z]) = shifted(view) else {
+            return false;
+        };
+        // `|x| 16 f <= 16 w z`: the pixel within the guard band (twice the viewport). In
+        // `u32` (`|x| < 2^16`, `16 f < 2^16`; `16 w <= 2^14`, `z < 2^16`); `|x| >= 2^16 > z`
+        // is taken as outside (a ray more than 45 degrees off the axis: the clipper decides).
+        let within = |c: i32, side: u16| {
+            let c = c.unsigned_abs();
+            c < 1 << 16 && c * u32::from(self.focal) <= u32::from(side) * 16 * z as u32
+        };
+        view[2] >= self.near && within(x, self.viewport[0]) && within(y, self.viewport[1])
+    }
+
+    /// The pixel position of view position `view` (units `2^-m`, in front of the eye), in
+    /// sixteenths of a pixel: `None` where it lies beyond the guard band's reach or on a ray
+    /// more than 45 degrees off the view's axis (the float path projects those).
+    pub fn pixel(&self, view: [i32; 3]) -> Option<[i32; 2]> {
+        let [x, y, z] = shifted(view)?;
+        let z = z as u32;
+        if z == 0 {
+            return None;
+        }
+        let focal = u32::from(self.focal);
+        let offset = |c: i32| -> Option<i32> {
+            // `round(16 f |c| / z)` (halves up), in `u32` where `|c| < 2^16` (then `16 f |c|
+            // + z / 2 < 2^32`, as `16 f < 2^16` and `z < 2^16`).
+            let c_abs = c.unsigned_abs();
+            if c_abs >= 1 << 16 {
+                return None; // a ray more than 45 degrees off the axis: the float path's
+            }
+            let q = (c_abs * focal + z / 2) / z;
+            // At most 16 times the viewport's side (a corner the clipper moved a little past
+            // the guard band, at most): far inside `i32`.
+            let q = (q <= 1 << 20).then_some(q as i32)?;
+            Some(if c < 0 { -q } else { q })
+        };
+        let [w, h] = self.viewport.map(|s| i32::from(s) * 8);
+        Some([w + offset(x)?, h - offset(y)?])
+    }
+}
+
+/// `view` shifted right so that its depth is below `2^16`, where the depth is positive.
+fn shifted(view: [i32; 3]) -> Option<[i32; 3]> {
+    let z = view[2];
+    if z <= 0 {
+        return None;
+    }
+    let s = (32 - (z as u32).leading_zeros()).saturating_sub(16);
+    Some(view.map(|c| c >> s))
+}
+
+/// `⌊x 2^e⌋`, from the bits of `x`: `None` where `x` is not finite or the value is not below
+/// `2^30` in magnitude.
+pub(super) fn fixed_of(x: f32, e: i32) -> Option<i32> {
+    let bits = x.to_bits();
+    let negative = bits >> 31 != 0;
+    let exponent = ((bits >> 23) & 0xff) as i32;
+    if exponent == 255 {
+        return None;
+    }
+    // `x = ±mantissa 2^(exponent - 150)` (a subnormal's exponent is that of the least normal).
+    let (mantissa, exponent) = match exponent {
+        0 => (bits & 0x7f_ffff, 1),
+        e => ((bits & 0x7f_ffff) | 0x80_0000, e),
+    };
+    if mantissa == 0 {
+        return Some(0);
+    }
+    let up = exponent - 150 + e;
+    let magnitude = if up >= 0 {
+        if up > 6 {
+            return None;
+        }
+        mantissa << up
+    } else {
+        let down = (-up).min(31) as u32;
+        let whole = mantissa >> down;
+        // `⌊-a⌋ = -⌈a⌉`: one more where bits were shifted out.
+        if negative && whole << down != mantissa {
+            whole + 1
+        } else {
+            whole
+        }
+    };
+    Some(if negative {
+        -(magnitude as i32)
+    } else {
+        magnitude as i32
+    })
+}
+
+/// `x 2^e` where it is an integer below `2^22` in magnitude (so that `f32` arithmetic on it
+/// and on its halves is exact), from bits; `None` otherwise.
+pub(super) fn exact_fixed(x: f32, e: i32) -> Option<i32> {
+    let v = fixed_of(x, e)?;
+    let zero = x.to_bits() << 1 == 0;
+    (zero || v.unsigned_abs() < 1 << 22 && f32_of(v, e).to_bits() == x.to_bits()).then_some(v)
+}
+
+/// `v 2^-e` as `f32`, exact where `|v| < 2^24`, from bits (no `f32` arithmetic); beyond that
+/// the bits that do not fit are cut off. Zero where the value is below `f32`'s normal range,
+/// infinite above it.
+pub(super) fn f32_of(v: i32, e: i32) -> f32 {
+    if v == 0 {
+        return 0.0;
+    }
+    let sign = (v as u32) & 0x8000_0000;
+    let magnitude = v.unsigned_abs();
+    let top = 31 - magnitude.leading_zeros() as i32;
+    let mantissa = if top > 23 {
+        magnitude >> (top - 23)
+    } else {
+        magnitude << (23 - top)
+    };
+    let exponent = top - e + 127;
+    if exponent <= 0 {
+        return f32::from_bits(sign);
+    }
+    if exponent >= 255 {
+        return f32::from_bits(sign | 0x7f80_0000);
+    }
+    f32::from_bits(sign | (exponent as u32) << 23 | (mantissa & 0x7f_ffff))
+}
+
+/// A shade in `[0, 1]` whose level ([`shade_to_u8`](super::project::shade_to_u8)) is `level`,
+/// from bits: `level / 255` within a relative `2^-23` of it, below it.
+pub(super) fn shade_of_level(level: u8) -> f32 {
+    match level {
+        0 => 0.0,
+        255 => 1.0,
+        // `⌊level 2^32 / 255⌋`, then its top 24 bits.
+        l => {
+            let n = (l as u32) * 16_843_009;
+            let top = 31 - n.leading_zeros() as i32;
+            let mantissa = n >> (top - 23);
+            f32::from_bits(((top - 32 + 127) as u32) << 23 | (mantissa & 0x7f_ffff))
+        }
+    }
+}
+
+/// The level of shade `s` (`⌊255 s + 1/2⌋`, clamped to 0 to 255; 0 for NaN), from bits.
+pub(super) fn level_of_shade(s: f32) -> u8 {
+    let bits = s.to_bits();
+    let exponent = ((bits >> 23) & 0xff) as i32;
+    if bits >> 31 != 0 || exponent == 0 {
+        return 0; // negative, zero or subnormal (NaN with its sign bit set too)
+    }
+    if exponent == 255 {
+        return if bits & 0x7f_ffff == 0 { 255 } else { 0 };
+    }
+    if exponent >= 127 {
+        return 255; // at least 1
+    }
+    // `255 s = 255 mantissa 2^(exponent - 150)`, the product within `u32`.
+    let product = 255 * ((bits & 0x7f_ffff) | 0x80_0000);
+    let down = (150 - exponent) as u32;
+    if down >= 33 {
+        return 0; // below 1/2 (the product is below `2^32`)
+    }
+    (((product >> (down - 1)) + 1) >> 1).min(255) as u8
+}
+
+/// `x` rounded to the nearest integer (`f32` arithmetic: for a frame's constants only).
+fn round_to_i32(x: f32) -> i32 {
+    let t = x as i32;
+    let r = x - t as f32;
+    if r >= 0.5 {
+        t + 1
+    } else if r <= -0.5 {
+        t - 1
+    } else {
+        t
+    }
+}
+
+/// `⌈x⌉` for `|x| < 2^31` (a frame's constants only).
+fn ceil(x: f32) -> f32 {
+    let t = x as i32 as f32;
+    if t < x {
+        t + 1.0
+    } else {
+        t
+    }
+}
+
+/// `2^e` as `f32`, where it is a normal number.
+fn pow2(e: i32) -> Option<f32> {
+    (-126..=127)
+        .contains(&e)
+        .then(|| f32::from_bits(((e + 127) as u32) << 23))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::TestRng;
+    extern crate std;
+
+    /// A random point within `r` of `c`, from `rng`.
+    fn near(rng: &mut TestRng, c: Vec3, r: f32) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                rng.signed(1000) as f32,
+                rng.signed(1000) as f32,
+                rng.signed(1000) as f32,
+            ) / 1000.0;
+            if v.length() <= 1.0 {
+                return c + v * r;
+            }
+        }
+    }
+
+    /// Over random cameras and spheres, the integer corners are within the module docs'
+    /// `e = r 2^-12` of the float path's view coordinates, their pixels within a sixteenth
+    /// of a pixel more than `e` makes on screen, their shades within a level, and the clip
+    /// test the float one's wherever a corner is not within that of a plane.
+    #[test]
+    fn integer_corners_follow_the_float_ones() {
+        let mut rng = TestRng::new(0xf1_3ed);
+        let (mut worst_view, mut worst_pixel, mut corners) = (0.0f64, 0.0f64, 0);
+        for case in 0..400 {
+            let r = 2f32.powi(rng.signed(12) as i32) * (1.0 + rng.signed(500) as f32 / 1000.0);
+            let centre = near(&mut rng, Vec3::ZERO, 4.0 * r);
+            let distance = r * (1.2 + (rng.signed(1000) as f32 / 1000.0 + 1.0) * 20.0);
+            let eye = centre + near(&mut rng, Vec3::ZERO, 1.0).normalize_or(Vec3::X) * distance;
+            let side = [240, 320, 1024][case % 3];
+            let camera = Camera::new(
+                eye,
+                near(&mut rng, centre, r),
+                Vec3::Z,
+                Projection::Perspective {
+                    fov_y_degrees: 40.0 + rng.signed(10) as f32,
+                },
+                0.01 * r,
+                [side, side * 3 / 4],
+            )
+            .unwrap();
+            let sphere = BoundingSphere {
+                center: centre,
+                radius: r,
+            };
+            let light = Vec3::new(0.3, -0.5, -0.8).normalize();
+            let Some(f) = FixedView::new(&camera, &sphere, light, 0.2) else {
+                panic!("case {case}: no view in integers");
+            };
+            let m = f.units();
+            for _ in 0..50 {
+                let p = near(&mut rng, centre, r);
+                let n = near(&mut rng, Vec3::ZERO, 1.0).normalize_or(Vec3::Z);
+                let c = f
+                    .corner(p.to_array(), n.to_array())
+                    .expect("a point in the sphere");
+                let view = c.view.map(|x| f32_of(x, m) as f64);
+                let exact = camera.to_view(p);
+                let e = r as f64 / 4096.0;
+                for (a, b) in view.iter().zip(exact.to_array()) {
+                    worst_view = worst_view.max((a - b as f64).abs() / e);
+                    assert!((a - b as f64).abs() <= e, "case {case}: {view:?} {exact}");
+                }
+                let z = exact.z as f64;
+                if !(f.inside(c.view) && exact.z > 0.0) {
+                    continue;
+                }
+                corners += 1;
+                let pixel = f.pixel(c.view).expect("a pixel");
+                let float = camera.view_to_pixel(exact);
+                let slack = 1.0 + 16.0 * camera.focal() as f64 * 2.0 * e / z;
+                for (a, b) in pixel.iter().zip(float) {
+                    let off = (*a as f64 - 16.0 * b as f64).abs();
+                    worst_pixel = worst_pixel.max(off);
+                    assert!(
+                        off <= slack,
+                        "case {case}: {pixel:?} {float:?} slack {slack}"
+                    );
+                }
+                // The float path's shade, from the same normal at the same point.
+                let towards = eye - p;
+                let model_light = camera.rotate_from_view(light);
+                let d = n.dot(model_light) as f64;
+                let d = if n.dot(towards) < 0.0 { -d } else { d };
+                let shade = 0.2 + 0.8 * d.max(0.0);
+                let level = c.level.expect("a unit normal") as f64;
+                assert!((level - 255.0 * shade).abs() <= 1.0, "{level} {shade}");
+            }
+        }
+        assert!(corners > 5_000, "{corners} corners on screen");
+        // (Measured: views within 0.63 e, pixels within 2.3 sixteenths, the largest at 1024
+        // pixels, where `16 f` is near `2^14`.)
+        assert!(worst_view > 0.0 && worst_pixel > 0.0);
+    }
+
+    /// The readings from bits that parts without an FPU take for a projected corner give what
+    /// the float functions give (a host runs the float ones), for every input they accept:
+    /// positions on the subpixel grid, integer depth keys, quantised shades of both paths.
+    #[test]
+    fn readings_from_bits_are_the_float_ones() {
+        use super::super::project::{depth_to_u16, shade_from_u8, shade_to_u8};
+        use super::super::raster::snap_checked;
+        let mut rng = TestRng::new(0x5a_a9);
+        let (mut positions, mut keys) = (0, 0);
+        for k in 0..400_000 {
+            // Random bits, and values on the subpixel grid and integers.
+            let x = match k % 3 {
+                0 => f32::from_bits(rng.next_u32()),
+                1 => rng.signed(1 << 24) as f32 / 16.0,
+                _ => rng.signed(70_000) as f32,
+            };
+            if let Some(s) = exact_fixed(x, 4) {
+                positions += 1;
+                assert_eq!(snap_checked(x), Some(s), "{x}");
+            }
+            if let Some(d) = exact_fixed(x, 0) {
+                keys += 1;
+                assert_eq!(depth_to_u16(x), d.clamp(0, 65535) as u16, "{x}");
+            }
+        }
+        assert!(positions > 150_000 && keys > 100_000, "{positions} {keys}");
+        for level in 0..=255u8 {
+            for s in [shade_from_u8(level), shade_of_level(level)] {
+                assert_eq!(level_of_shade(s), shade_to_u8(s), "{level}");
+            }
+        }
+    }
+
+    #[test]
+    fn fixed_of_is_the_floor() {
+        let mut rng = TestRng::new(7);
+        for _ in 0..200_000 {
+            let x = f32::from_bits(rng.next_u32());
+            let e = (rng.next_u32() % 60) as i32 - 30;
+            let exact = (x as f64) * 2f64.powi(e);
+            match fixed_of(x, e) {
+                Some(v) => {
+                    assert!(exact.abs() < (1u64 << 30) as f64, "{x} {e}");
+                    assert_eq!(v as f64, exact.floor(), "{x} 2^{e}");
+                }
+                None => assert!(
+                    !x.is_finite() || exact.abs() >= (1u64 << 29) as f64,
+                    "{x} {e}"
+                ),
+            }
+        }
+        assert_eq!(fixed_of(-0.0, 3), Some(0));
+        assert_eq!(fixed_of(-1.5, 0), Some(-2));
+        assert_eq!(fixed_of(f32::MIN_POSITIVE / 4.0, 0), Some(0));
+        assert_eq!(fixed_of(-f32::MIN_POSITIVE / 4.0, 0), Some(-1));
+    }
+
+    #[test]
+    fn f32_of_is_exact_below_2_pow_24() {
+        let mut rng = TestRng::new(11);
+        for _ in 0..200_000 {
+            let v = (rng.next_u32() as i32) >> (rng.next_u32() % 32);
+            let e = (rng.next_u32() % 80) as i32 - 40;
+            let got = f32_of(v, e) as f64;
+            let exact = v as f64 * 2f64.powi(-e);
+            if v.unsigned_abs() < 1 << 24 {
+                assert_eq!(got, exact, "{v} 2^-{e}");
+            } else {
+                assert!(
+                    got.abs() <= exact.abs() && got.abs() > exact.abs() * (1.0 - 2f64.powi(-23))
+                );
+            }
+            if v.unsigned_abs() < 1 << 24 {
+                assert_eq!(fixed_of(f32_of(v, e), e), Some(v), "round trip {v} 2^-{e}");
+            }
+        }
+    }
+
+    #[test]
+    fn shade_levels_round_trip_as_the_float_path_rounds() {
+        for level in 0..=255u8 {
+            let s = shade_of_level(level);
+            assert!((s as f64 - level as f64 / 255.0).abs() <= 1e-7, "{level}");
+            assert_eq!(super::super::project::shade_to_u8(s), level);
+            assert_eq!(level_of_shade(s), level);
+        }
+        let mut rng = TestRng::new(3);
+        for _ in 0..200_000 {
+            let s = f32::from_bits(rng.next_u32() % 0x3f90_0000);
+            let exact = ((s as f64).clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u8;
+            assert_eq!(level_of_shade(s), exact, "{s}");
+        }
+        assert_eq!(level_of_shade(f32::NAN), 0);
+        assert_eq!(level_of_shade(-0.3), 0);
+        assert_eq!(level_of_shade(7.0), 255);
+    }
+}
