@@ -65,7 +65,10 @@
 
 use core::ops::Range;
 
-use super::edge::{ceil_div, counter_clockwise, edge_set_up, wire_limit, EdgeSetUp, NARROW_LIMIT};
+use super::edge::{
+    ceil_div, counter_clockwise, edge_set_up, wire_limit, wire_limit_from_integers, EdgeSetUp,
+    NARROW_LIMIT,
+};
 #[cfg(doc)]
 use super::Triangle;
 use super::{inv_sqrt, Plane, Snapped, HALF, SUBPIXELS};
@@ -309,8 +312,12 @@ impl Snapped {
             scan.right[i] = k;
             scan.down[i] = dx * sub;
             if let (Some(w), true) = (half_width, wire[i]) {
-                let inv_length = inv_sqrt((dx * dx + dy * dy) as f32) * (1.0 / SUBPIXELS as f32);
-                scan.wire[i] = wire_limit(w, inv_length, bias);
+                scan.wire[i] = if arithmetic == Arithmetic::Integer {
+                    wire_limit_from_integers(w, dx, dy, bias)
+                } else {
+                    let length2 = (dx * dx + dy * dy) as f32;
+                    wire_limit(w, inv_sqrt(length2) * (1.0 / SUBPIXELS as f32), bias)
+                };
             }
         }
         let (corner, first) = ([x[0], y[0]], [x0, top]);
