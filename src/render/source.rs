@@ -85,7 +85,7 @@ fn projected_rows(patch: Option<BezierPatch<'_>>, camera: &Camera) -> Option<[f3
         .points()
         .iter()
         .try_fold([f32::MAX, f32::MIN], |[lo, hi], q| {
-            let [_, y] = camera.project(Vec3::from_array(*q))?;
+            let y = camera.project_row(Vec3::from_array(*q))?;
             Some([min(lo, y), max(hi, y)])
         })
 }
