@@ -110,6 +110,8 @@ impl Steps {
 pub(crate) struct Asked<'a> {
     pub steps: Option<&'a Steps>,
     pub start: u8,
+    /// The judgement most likely made (the triangle's last): over the tolerance, or within.
+    pub guess: bool,
 }
 
 impl Asked<'_> {
@@ -117,6 +119,7 @@ impl Asked<'_> {
     pub const NONE: Asked<'static> = Asked {
         steps: None,
         start: 0,
+        guess: false,
     };
 
     /// Whether no certificate is asked for.
@@ -167,80 +170,216 @@ pub(crate) fn lasting(
     asked: Asked<'_>,
 ) -> Option<Lasting> {
     let steps = asked.steps?;
-    let levels = steps.levels;
-    let first = usize::from(asked.start).min(levels.len().checked_sub(1)?);
-    let class = reach_class(&corners, steps)?;
-    let reach = steps.reach(class);
-    let mut triangle = Moved::new(camera, corners, e, big, r, slack)?;
-    // Whether the judgement is certain over step `s`, and the bound that says so; and the
-    // guess of whether it is over step `to` from the bound `at` over step `from`.
-    let mut certain_at = |s: f32| triangle.certain([s * reach, s], tolerance, over);
-    let threshold = match over {
-        true => tolerance * (1.0 + MARGIN),
-        false => tolerance * (1.0 - MARGIN),
+    Moved::new(camera, corners, e, big, r, slack)?.lasting(
+        steps,
+        asked.start,
+        tolerance,
+        over,
+        bound,
+    )
+}
+
+/// The bound on screen of the flat triangle `corners` (as [`lasting`] takes it, with the
+/// same `e`, `big`, `r` and `slack`), and with `asked` steps its certificate: `bound` gives
+/// the bound on screen, and is called only where the certificate's own bounds do not
+/// already decide the judgement.
+///
+/// Asked for a certificate, a triangle is first bounded over the step of the level the
+/// search starts from, for the judgement its last one made (`asked.guess`). Where those
+/// bounds decide it, it is the judgement `bound` would give: the bounds of the module docs
+/// hold for every camera within the step, `camera` among them, and clear the tolerance by a
+/// margin that covers the roundings of the bound on screen (see *Rounding*). The bound
+/// returned then stands for the bound on screen: above it where within the tolerance (and
+/// still within it), below it and over the tolerance where over. (The search's guesses,
+/// which only choose the steps it bounds in full, then take the bound on screen from the
+/// largest `φ` of the corners instead.) An exact judgement (`exact`: a leaf left over
+/// reports its bound in full) is guessed within, so that one over takes `bound`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn judged_with_lasting(
+    camera: &Camera,
+    corners: [Vec3; 3],
+    e: &[Vec3],
+    big: f32,
+    r: f32,
+    slack: f32,
+    tolerance: f32,
+    asked: Asked<'_>,
+    exact: bool,
+    bound: impl FnOnce() -> f32,
+) -> (f32, Option<Lasting>) {
+    let Some(steps) = asked.steps else {
+        return (bound(), None);
     };
-    let likely = |at: f32, from: f32, to: f32| {
-        let guess = bound + (at - bound) * (to / from);
-        match over {
-            true => guess > threshold,
-            false => guess <= threshold,
+    let Some(mut triangle) = Moved::new(camera, corners, e, big, r, slack) else {
+        return (bound(), None);
+    };
+    let guess = asked.guess && !exact;
+    let Some(tried) = triangle.first_level(steps, asked.start, tolerance, guess) else {
+        return (bound(), None);
+    };
+    if tried.holds {
+        let estimate = triangle.estimate();
+        let lasting = triangle.lasting_from(steps, tolerance, guess, estimate, tried);
+        return (tried.at, lasting);
+    }
+    let bound = bound();
+    let over = bound > tolerance || bound.is_nan();
+    let lasting = match over == guess {
+        true => triangle.lasting_from(steps, tolerance, over, bound, tried),
+        false => triangle.lasting(steps, asked.start, tolerance, over, bound),
+    };
+    (bound, lasting)
+}
+
+/// The first level a certificate's search bounds a judgement over: its index, the reach
+/// class, and whether the judgement is certain over it with the bound that says so.
+#[derive(Clone, Copy)]
+struct Tried {
+    first: usize,
+    class: usize,
+    holds: bool,
+    at: f32,
+}
+
+impl Moved<'_> {
+    /// [`lasting`] of this triangle, judged `over` with bound `bound`, for `steps` from
+    /// level `start` on.
+    fn lasting(
+        &mut self,
+        steps: &Steps,
+        start: u8,
+        tolerance: f32,
+        over: bool,
+        bound: f32,
+    ) -> Option<Lasting> {
+        let tried = self.first_level(steps, start, tolerance, over)?;
+        self.lasting_from(steps, tolerance, over, bound, tried)
+    }
+
+    /// The judgement `over` bounded over level `start` of `steps` (the last where there are
+    /// fewer), in the triangle's reach class: `None` where it has none, or there are no
+    /// levels.
+    fn first_level(
+        &mut self,
+        steps: &Steps,
+        start: u8,
+        tolerance: f32,
+        over: bool,
+    ) -> Option<Tried> {
+        let levels = steps.levels;
+        let first = usize::from(start).min(levels.len().checked_sub(1)?);
+        let class = reach_class(&self.corners, steps)?;
+        let s = levels[first];
+        let (holds, at) = self.certain([s * steps.reach(class), s], tolerance, over);
+        Some(Tried {
+            first,
+            class,
+            holds,
+            at,
+        })
+    }
+
+    /// An estimate of the bound on screen of the triangle as it is (not a bound: what the
+    /// search's guesses take for it where the bound on screen was not needed), from each
+    /// corner's largest `φ`.
+    fn estimate(&mut self) -> f32 {
+        if !self.phis_found {
+            self.find_phis();
         }
-    };
-    // The step at which the bounds, moving in proportion to the step from `bound` as they
-    // do to `at` over step `from`, would reach the threshold (a guess).
-    let reaches = |at: f32, from: f32| from * (threshold - bound) / (at - bound);
-    let (holds, mut at) = certain_at(levels[first]);
-    let mut k = first;
-    // The bound over the next level, where it was found not certain.
-    let mut beyond = None;
-    if holds {
-        while k + 1 < levels.len() && likely(at, levels[k], levels[k + 1]) {
-            match certain_at(levels[k + 1]) {
-                (true, b) => (k, at) = (k + 1, b),
-                (false, b) => {
-                    beyond = Some(b);
-                    break;
+        let g = self
+            .rays
+            .iter()
+            .map(|&(_, t, phi)| phi + self.r * t)
+            .fold(0.0f32, max);
+        self.camera.focal() / max(self.camera.near(), self.z_low - self.m) * g
+    }
+
+    /// [`lasting`] of this triangle, judged `over` with bound `bound`, from `tried`.
+    fn lasting_from(
+        &mut self,
+        steps: &Steps,
+        tolerance: f32,
+        over: bool,
+        bound: f32,
+        tried: Tried,
+    ) -> Option<Lasting> {
+        let levels = steps.levels;
+        let Tried {
+            first,
+            class,
+            holds,
+            mut at,
+        } = tried;
+        let reach = steps.reach(class);
+        // Whether the judgement is certain over step `s`, and the bound that says so; and
+        // the guess of whether it is over step `to` from the bound `at` over step `from`.
+        let mut certain_at = |s: f32| self.certain([s * reach, s], tolerance, over);
+        let threshold = match over {
+            true => tolerance * (1.0 + MARGIN),
+            false => tolerance * (1.0 - MARGIN),
+        };
+        let likely = |at: f32, from: f32, to: f32| {
+            let guess = bound + (at - bound) * (to / from);
+            match over {
+                true => guess > threshold,
+                false => guess <= threshold,
+            }
+        };
+        // The step at which the bounds, moving in proportion to the step from `bound` as
+        // they do to `at` over step `from`, would reach the threshold (a guess).
+        let reaches = |at: f32, from: f32| from * (threshold - bound) / (at - bound);
+        let mut k = first;
+        // The bound over the next level, where it was found not certain.
+        let mut beyond = None;
+        if holds {
+            while k + 1 < levels.len() && likely(at, levels[k], levels[k + 1]) {
+                match certain_at(levels[k + 1]) {
+                    (true, b) => (k, at) = (k + 1, b),
+                    (false, b) => {
+                        beyond = Some(b);
+                        break;
+                    }
+                }
+            }
+        } else {
+            let found = (0..first)
+                .rev()
+                .filter(|&j| !at.is_nan() && likely(at, levels[first], levels[j]))
+                .find_map(|j| match certain_at(levels[j]) {
+                    (true, b) => Some((j, b)),
+                    _ => None,
+                })?;
+            if k == found.0 + 1 {
+                beyond = Some(at);
+            }
+            (k, at) = found;
+        }
+        // Between this level and the next: the guess, a little short of it, where it is
+        // certain too.
+        let mut step = levels[k];
+        if let Some(&next) = levels.get(k + 1) {
+            let guess = match beyond {
+                Some(b) => levels[k] + (next - levels[k]) * (threshold - at) / (b - at),
+                None => reaches(at, levels[k]),
+            } * GUESS_SHORT;
+            if guess.is_finite() && guess > levels[k] * STEP_WORTH {
+                let s = if guess < next {
+                    guess
+                } else {
+                    next * GUESS_SHORT
+                };
+                if let (true, _) = certain_at(s) {
+                    step = s;
                 }
             }
         }
-    } else {
-        let found = (0..first)
-            .rev()
-            .filter(|&j| !at.is_nan() && likely(at, levels[first], levels[j]))
-            .find_map(|j| match certain_at(levels[j]) {
-                (true, b) => Some((j, b)),
-                _ => None,
-            })?;
-        if k == found.0 + 1 {
-            beyond = Some(at);
-        }
-        (k, at) = found;
+        Some(Lasting {
+            over,
+            level: k as u8,
+            class: class as u8,
+            step,
+        })
     }
-    // Between this level and the next: the guess, a little short of it, where it is
-    // certain too.
-    let mut step = levels[k];
-    if let Some(&next) = levels.get(k + 1) {
-        let guess = match beyond {
-            Some(b) => levels[k] + (next - levels[k]) * (threshold - at) / (b - at),
-            None => reaches(at, levels[k]),
-        } * GUESS_SHORT;
-        if guess.is_finite() && guess > levels[k] * STEP_WORTH {
-            let s = if guess < next {
-                guess
-            } else {
-                next * GUESS_SHORT
-            };
-            if let (true, _) = certain_at(s) {
-                step = s;
-            }
-        }
-    }
-    Some(Lasting {
-        over,
-        level: k as u8,
-        class: class as u8,
-        step,
-    })
 }
 
 /// How far short of the guess a certificate between levels is asked for (a fraction of it).
@@ -678,6 +817,7 @@ mod tests {
             let asked = Asked {
                 steps: Some(&steps),
                 start: (k % LEVELS_FOR_TESTS.len()) as u8,
+                guess: false,
             };
             // (The certificate bounds the judgement's own side: it is given the judgement.)
             let judged = judged_over(&c0, &corners, &vectors, big, r, tolerance);
@@ -760,6 +900,93 @@ mod tests {
         );
         // Every reach class is certified somewhere.
         assert!(classes.iter().all(|&n| n > 50), "by class: {classes:?}");
+    }
+
+    /// Random triangles, vectors and cameras, the tolerance near each one's bound and the
+    /// isotropic bound over it (the judgements that take the bound on screen), either guess,
+    /// exact or not: a judgement made without the bound on screen is the one it makes, and
+    /// the bound given stands for it (at least it where within the tolerance, over the
+    /// tolerance where over); an exact judgement over the tolerance takes the bound on
+    /// screen itself; a certificate given is for the judgement made.
+    #[test]
+    fn a_judgement_the_certificate_decides_is_the_bound_on_screens() {
+        let mut rng = TestRng::new(0x6e55_f1a5_7000);
+        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
+        let (mut decided, mut computed, mut certified) = (0, 0, 0);
+        for k in 0..6000 {
+            let Some(Case {
+                camera,
+                corners,
+                vectors,
+                big,
+                r,
+                ..
+            }) = random_case(&mut unit, k, 1.5)
+            else {
+                continue;
+            };
+            let viewed = corners.map(|p| camera.to_view(p));
+            let e = vectors.map(|v| camera.rotate_to_view(v));
+            let size = view_extent(&viewed);
+            let full = bound_on_screen(&camera, viewed, size, &e, big, r, r, f32::INFINITY);
+            if !(full.is_finite() && full > 0.0) {
+                continue;
+            }
+            let tolerance = full * (1.0 + unit(0.3)) / (1.0 + unit(0.3));
+            if isotropic_bound_on_screen(&camera, viewed, size, big + r, r) <= tolerance {
+                continue;
+            }
+            let over = full > tolerance;
+            let Some(own) = BoundingSphere::of_points(&corners.map(|p| p.to_array())) else {
+                continue;
+            };
+            let steps = Steps {
+                levels: &LEVELS_FOR_TESTS,
+                reaches: &REACHES_FOR_TESTS,
+                radius: own.radius * 2.0,
+                centre: camera.to_view(own.center),
+            };
+            let asked = Asked {
+                steps: Some(&steps),
+                start: (k % LEVELS_FOR_TESTS.len()) as u8,
+                guess: k % 3 == 0,
+            };
+            let exact = k % 5 == 0;
+            let stop = if exact { f32::INFINITY } else { tolerance };
+            let mut called = false;
+            let (bound, lasting) = judged_with_lasting(
+                &camera,
+                viewed,
+                &e,
+                big,
+                r,
+                r,
+                tolerance,
+                asked,
+                exact,
+                || {
+                    called = true;
+                    bound_on_screen(&camera, viewed, size, &e, big, r, r, stop)
+                },
+            );
+            assert_eq!(bound > tolerance, over, "case {k}: {bound} against {full}");
+            if !over {
+                assert!(bound >= full, "case {k}: {bound} < {full} within");
+            }
+            if exact && over {
+                assert!(called && bound == full, "case {k}: exact, over, {bound}");
+            }
+            if let Some(l) = lasting {
+                assert_eq!(l.over, over, "case {k}: certified otherwise");
+                certified += 1;
+            }
+            decided += usize::from(!called);
+            computed += usize::from(called);
+        }
+        assert!(
+            decided > 300 && computed > 300 && certified > 600,
+            "{decided} decided by the certificate, {computed} by the bound, {certified} certified"
+        );
     }
 
     /// Random triangles, vectors and cameras, each moved as far as a step allows (turned about

@@ -273,14 +273,29 @@ fn judge_vectors<D: Deviations>(
                 return j;
             }
             let e = vectors(camera);
-            let bound = bound_on_screen(camera, viewed, size, &e, big, remainder, remainder, stop);
+            let full =
+                || bound_on_screen(camera, viewed, size, &e, big, remainder, remainder, stop);
+            if asked.is_empty() {
+                return Judged::bare(full(), false);
+            }
+            // (Where the certificate's own bounds decide the judgement, the bound on screen
+            // is not needed: see `judged_with_lasting`.)
+            let (bound, lasting) = crate::deviation::certificate::judged_with_lasting(
+                camera,
+                viewed,
+                e.in_view(camera).as_ref(),
+                big,
+                remainder,
+                remainder,
+                tolerance,
+                asked,
+                stop == f32::INFINITY,
+                full,
+            );
             Judged {
                 bound,
                 hidden: false,
-                lasting: match asked.is_empty() {
-                    true => None,
-                    false => certify(&e, bound > tolerance || bound.is_nan(), bound),
-                },
+                lasting,
             }
         }
     }

@@ -247,16 +247,19 @@ impl<'s> Reuse<'s> {
             Some(j) => Asked {
                 steps: Some(&self.steps),
                 start: j.level,
+                guess: j.over,
             },
             None => Asked::NONE,
         }
     }
 
-    /// The steps of every certificate, from level `start` on.
-    pub fn asked_from(&self, start: u8) -> Asked<'_> {
+    /// The steps of every certificate, from level `start` on, for a judgement most likely
+    /// over the tolerance where `guess` (see [`Asked::guess`]).
+    pub fn asked_from(&self, start: u8, guess: bool) -> Asked<'_> {
         Asked {
             steps: Some(&self.steps),
             start,
+            guess,
         }
     }
 
@@ -420,28 +423,59 @@ impl<'s> Reuse<'s> {
         self.len = last;
     }
 
-    /// From entry `k` of the list of the mesh's nodes on, the first whose judgement is asked
-    /// for (a leaf, or a node halved for its own sake) and no longer holds: its entry and
-    /// node. Counts in `kept` the judgements that hold on the way, and in `leaf_kept` whether
-    /// one of them is a leaf's. (It reads the entries' copies only: see the module docs.)
-    pub fn next_lapsed(
+    /// From entry `from` of the list of the mesh's nodes on, the nodes whose judgement is
+    /// asked for (a leaf, or a node halved for its own sake) and no longer holds, in order,
+    /// as many as `out` has room for: how many it wrote, and the entry after the last (where
+    /// the next call goes on; the list's end where it wrote fewer). Counts in `kept` the
+    /// judgements that hold on the way, and in `leaf_kept` whether one of them is a leaf's.
+    /// (It reads the entries' copies only: see the module docs.)
+    pub fn lapsed(
         &self,
         from: usize,
+        out: &mut [u32],
         kept: &mut usize,
         leaf_kept: &mut bool,
-    ) -> Option<(usize, u32)> {
-        let entries = self.slots.get(from..self.len)?;
+    ) -> (usize, usize) {
+        let Some(entries) = self.slots.get(from..self.len) else {
+            return (0, from);
+        };
+        let mut n = 0;
+        if out.is_empty() {
+            return (0, from);
+        }
+        if !self.certify {
+            // No judgement holds: every one asked for.
+            for (k, j) in entries.iter().enumerate() {
+                if j.entry.held != Held::ForAnother {
+                    out[n] = j.entry.node;
+                    n += 1;
+                    if n == out.len() {
+                        return (n, from + k + 1);
+                    }
+                }
+            }
+            return (n, self.len);
+        }
+        // The reading past which an entry's judgement lapses, by how it is held and its
+        // class: NaN for a node halved for another's sake (its own judgement is not asked,
+        // and NaN is past nothing). (A kept class is always one of them, and an expiry is
+        // never NaN: see `keep`.) The loop is a step's scan of its whole list, so it has one branch, where a node
+        // lapsed.
+        let mut lapse = [[f32::NAN; REACHES.len()]; 3];
+        (lapse[Held::Leaf as usize], lapse[Held::Own as usize]) = (self.readings, self.readings);
         for (k, Judgement { entry: e, .. }) in entries.iter().enumerate() {
-            if e.held == Held::ForAnother {
-                continue; // halved for another's sake: its own judgement is not asked
+            if lapse[e.held as usize][usize::from(e.class) % REACHES.len()] > e.expires {
+                out[n] = e.node;
+                n += 1;
+                if n == out.len() {
+                    return (n, from + k + 1);
+                }
+                continue;
             }
-            if !self.holds_until(e.class, e.expires) {
-                return Some((from + k, e.node));
-            }
-            *kept += 1;
+            *kept += usize::from(e.held != Held::ForAnother);
             *leaf_kept |= e.held == Held::Leaf;
         }
-        None
+        (n, self.len)
     }
 
     /// Node `node`'s kept judgement (over the tolerance or not), if it holds at this reading.
@@ -563,8 +597,15 @@ mod tests {
         assert_eq!(entry(&r, 1).3, Held::Leaf);
         // The scan finds node 2 (never kept: lapsed), then nothing past node 7 (it holds).
         let (mut kept, mut leaf_kept) = (0, false);
-        assert_eq!(r.next_lapsed(0, &mut kept, &mut leaf_kept), Some((1, 2)));
+        let mut one = [0u32];
+        assert_eq!(r.lapsed(0, &mut one, &mut kept, &mut leaf_kept), (1, 2));
+        assert_eq!(one, [2]);
         assert_eq!((kept, leaf_kept), (1, true));
-        assert_eq!(r.next_lapsed(2, &mut kept, &mut leaf_kept), None);
+        assert_eq!(r.lapsed(2, &mut one, &mut kept, &mut leaf_kept), (0, 2));
+        // Room for more: the same node, and the list's end.
+        let (mut kept, mut leaf_kept) = (0, false);
+        let mut more = [0u32; 4];
+        assert_eq!(r.lapsed(0, &mut more, &mut kept, &mut leaf_kept), (1, 2));
+        assert_eq!((more[0], kept, leaf_kept), (2, 1, true));
     }
 }

@@ -88,6 +88,13 @@ struct Notes {
 /// needed: a few as a rule).
 const CHAIN: usize = 64;
 
+/// Lapsed nodes a step finds ahead of judging them, on a host (see `judge_the_lapsed`).
+const LOOKAHEAD: usize = if cfg!(all(feature = "std", not(target_os = "none"))) {
+    64
+} else {
+    1
+};
+
 /// Fewest lapsed judgements a step makes on the threads (fewer stay on the calling thread).
 #[cfg(all(feature = "std", not(target_os = "none")))]
 const STEP_THREADS_FROM: usize = 512;
@@ -223,7 +230,7 @@ impl Tessellator<'_, '_> {
     /// it certifies.
     pub(super) fn judge_and_keep(&mut self, view: &View, h: &Pending, exact: bool) -> Judged {
         let asked = match (self.ask(h), &self.reuse) {
-            (Some(start), Some(r)) => r.asked_from(start),
+            (Some((start, guess)), Some(r)) => r.asked_from(start, guess),
             _ => Asked::NONE,
         };
         let was_asked = !asked.is_empty();
@@ -233,19 +240,20 @@ impl Tessellator<'_, '_> {
     }
 
     /// The level from which a certificate is asked for `h`'s judgement, where one is (not a
-    /// plain judgement: see [`Judgement`](super::Judgement)).
-    fn asked_level(&self, h: &Pending) -> Option<u8> {
+    /// plain judgement: see [`Judgement`](super::Judgement)), and the judgement most likely
+    /// made (see [`Asked::guess`]).
+    fn asked_level(&self, h: &Pending) -> Option<(u8, bool)> {
         let r = self.reuse.as_ref().filter(|_| cfg!(feature = "reuse"))?;
         if h.node == RUN_TIME || r.is_plain(h.node) {
             return None;
         }
         let asked = r.asked(h.node);
-        (!asked.is_empty()).then_some(asked.start)
+        (!asked.is_empty()).then_some((asked.start, asked.guess))
     }
 
     /// [`asked_level`](Self::asked_level), counting a plain judgement (one that asks for
     /// nothing: where a certificate is asked for, there is nothing to count).
-    fn ask(&mut self, h: &Pending) -> Option<u8> {
+    fn ask(&mut self, h: &Pending) -> Option<(u8, bool)> {
         let level = self.asked_level(h);
         let reuse = self.reuse.as_mut().filter(|_| cfg!(feature = "reuse"));
         if let Some(r) = reuse.filter(|_| level.is_none() && h.node != RUN_TIME) {
@@ -377,14 +385,34 @@ impl Tessellator<'_, '_> {
         }
         let tolerance = view.tolerance();
         let mut from = 0;
-        while let Some((k, node)) = self.next_lapsed(from, tolerance) {
-            from = k + 1;
-            let Some(h) = self.place(node) else {
-                notes.failed = true;
-                return;
-            };
-            let j = self.judge_and_keep(view, &h, !self.halvable(&h));
-            if !self.note_judged(node, &h, &j, tolerance, notes) {
+        loop {
+            // The next few lapsed nodes, found before any of them is judged, and their places
+            // read once in a row: they lie scattered over the links, and reads made one after
+            // another, each needing none before it, wait for memory together (on a host;
+            // a microcontroller has no cache to wait on, and no room to spare on its stack).
+            // Judging a node changes its own entry of the list alone: the same nodes, judged
+            // in the same order.
+            let mut batch = [0u32; LOOKAHEAD];
+            let n;
+            (n, from) = self.lapsed(from, &mut batch, tolerance);
+            if LOOKAHEAD > 1 {
+                let mut read = 0u32;
+                for &node in &batch[..n] {
+                    read ^= self.tree.linked(node).map_or(0, |l| l.place.node);
+                }
+                core::hint::black_box(read);
+            }
+            for &node in &batch[..n] {
+                let Some(h) = self.place(node) else {
+                    notes.failed = true;
+                    return;
+                };
+                let j = self.judge_and_keep(view, &h, !self.halvable(&h));
+                if !self.note_judged(node, &h, &j, tolerance, notes) {
+                    return;
+                }
+            }
+            if n < LOOKAHEAD {
                 return;
             }
         }
@@ -403,13 +431,20 @@ impl Tessellator<'_, '_> {
         // certificate is asked from (none for a plain judgement), in order.
         let mut lapsed = Vec::new();
         let mut from = 0;
-        while let Some((k, node)) = self.next_lapsed(from, tolerance) {
-            from = k + 1;
-            let Some(h) = self.place(node) else {
-                notes.failed = true;
-                return;
-            };
-            lapsed.push((node, h, !self.halvable(&h), self.asked_level(&h)));
+        loop {
+            let mut batch = [0u32; LOOKAHEAD];
+            let n;
+            (n, from) = self.lapsed(from, &mut batch, tolerance);
+            for &node in &batch[..n] {
+                let Some(h) = self.place(node) else {
+                    notes.failed = true;
+                    return;
+                };
+                lapsed.push((node, h, !self.halvable(&h), self.asked_level(&h)));
+            }
+            if n < LOOKAHEAD {
+                break;
+            }
         }
         let judged: Vec<Judged> = match self.reuse.as_ref() {
             Some(r) if lapsed.len() >= STEP_THREADS_FROM => {
@@ -428,7 +463,8 @@ impl Tessellator<'_, '_> {
                             viewed: super::select::ViewedCorners::new(),
                         },
                         |frame, &(_, h, exact, asked)| {
-                            let asked = asked.map_or(Asked::NONE, |start| r.asked_from(start));
+                            let asked = asked
+                                .map_or(Asked::NONE, |(start, guess)| r.asked_from(start, guess));
                             judge(frame, view, &h, exact, asked)
                         },
                     )
@@ -452,18 +488,21 @@ impl Tessellator<'_, '_> {
         }
     }
 
-    /// The next node from slot `from` on whose judgement lapsed (with its slot), counting
-    /// the judgements that hold on the way.
+    /// The nodes from entry `from` of the list on whose judgement lapsed, as many as `out`
+    /// holds, counting the judgements that hold on the way: how many, and the entry to go on
+    /// from (see [`Reuse::lapsed`](super::reuse::Reuse::lapsed)).
     #[inline(always)]
-    fn next_lapsed(&mut self, from: usize, tolerance: f32) -> Option<(usize, u32)> {
-        let r = self.reuse.as_ref()?;
+    fn lapsed(&mut self, from: usize, out: &mut [u32], tolerance: f32) -> (usize, usize) {
+        let Some(r) = self.reuse.as_ref() else {
+            return (0, from);
+        };
         let (mut kept, mut leaf_kept) = (0, false);
-        let next = r.next_lapsed(from, &mut kept, &mut leaf_kept);
+        let found = r.lapsed(from, out, &mut kept, &mut leaf_kept);
         self.stats.kept += kept;
         if leaf_kept {
             self.stats.worst_bound = max(self.stats.worst_bound, tolerance);
         }
-        next
+        found
     }
 
     /// Whether `h` can be halved (else it is judged in full).
