@@ -463,19 +463,25 @@ impl<'s> Reuse<'s> {
         // lapsed.
         let mut lapse = [[f32::NAN; REACHES.len()]; 3];
         (lapse[Held::Leaf as usize], lapse[Held::Own as usize]) = (self.readings, self.readings);
+        // (Counted here, and added once: the counts behind references stay in memory.)
+        let (mut held, mut leaf) = (0, false);
+        let mut next = self.len;
         for (k, Judgement { entry: e, .. }) in entries.iter().enumerate() {
             if lapse[e.held as usize][usize::from(e.class) % REACHES.len()] > e.expires {
                 out[n] = e.node;
                 n += 1;
                 if n == out.len() {
-                    return (n, from + k + 1);
+                    next = from + k + 1;
+                    break;
                 }
                 continue;
             }
-            *kept += usize::from(e.held != Held::ForAnother);
-            *leaf_kept |= e.held == Held::Leaf;
+            held += usize::from(e.held != Held::ForAnother);
+            leaf |= e.held == Held::Leaf;
         }
-        (n, self.len)
+        *kept += held;
+        *leaf_kept |= leaf;
+        (n, next)
     }
 
     /// Node `node`'s kept judgement (over the tolerance or not), if it holds at this reading.
