@@ -16,6 +16,31 @@ pub(crate) const HARD_FLOAT: bool = cfg!(any(
     target_feature = "f"
 ));
 
+/// `v 2^-e` as `f32`, exact where `|v| < 2^24`, from bits (no `f32` arithmetic); beyond that
+/// the bits that do not fit are cut off. Zero where the value is below `f32`'s normal range,
+/// infinite above it.
+pub(crate) fn f32_of(v: i32, e: i32) -> f32 {
+    if v == 0 {
+        return 0.0;
+    }
+    let sign = (v as u32) & 0x8000_0000;
+    let magnitude = v.unsigned_abs();
+    let top = 31 - magnitude.leading_zeros() as i32;
+    let mantissa = if top > 23 {
+        magnitude >> (top - 23)
+    } else {
+        magnitude << (23 - top)
+    };
+    let exponent = top - e + 127;
+    if exponent <= 0 {
+        return f32::from_bits(sign);
+    }
+    if exponent >= 255 {
+        return f32::from_bits(sign | 0x7f80_0000);
+    }
+    f32::from_bits(sign | (exponent as u32) << 23 | (mantissa & 0x7f_ffff))
+}
+
 /// Square root (correctly rounded on every target).
 #[inline]
 pub(crate) fn sqrt(x: f32) -> f32 {

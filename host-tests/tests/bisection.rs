@@ -85,7 +85,11 @@ fn run_model(path: &std::path::Path) {
     let mut fresh_storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
     // A stack of 8: leaves it has no room for are found by walks, to the same mesh.
     let mut short_storage = VecStorage::new(&tree, 8, 1 << 16);
-    let mut integer_storage = VecStorage::new(&tree, 1 << 16, 1 << 16);
+    // (In integers over the compact bytes, as a part without an FPU reads them: the judged
+    // corners are moved into the view from their grid points in integers too.)
+    let bytes = baked.encoded();
+    let bytes_tree = baked.tree_from(&bytes);
+    let mut integer_storage = VecStorage::new(&bytes_tree, 1 << 16, 1 << 16);
     let (mut sweeps, mut integer_apart) = (0, 0);
     let mut remap = vec![0u32; tree.vertex_count() + (1 << 16)];
     let mut selection = storage.tessellator(tree);
@@ -195,10 +199,10 @@ fn run_model(path: &std::path::Path) {
         sweeps += short.update(&step.view).unwrap().sweeps;
         let c: HashSet<_> = triangle_set(&streamed(&short)).into_iter().collect();
         assert!(a == c, "{what}: the mesh differs with a short stack");
-        // Bounds from the kept vectors in integers (what a part without an FPU computes):
-        // sound too, where they take other triangles.
+        // Bounds from the kept vectors in integers, over the bytes (what a part without an
+        // FPU computes): sound too, where they take other triangles.
         let mut integer = integer_storage
-            .tessellator(tree)
+            .tessellator(bytes_tree)
             .with_arithmetic(Arithmetic::Integer);
         let integer_stats = integer.update(&step.view).unwrap();
         let d: HashSet<_> = triangle_set(&streamed(&integer)).into_iter().collect();

@@ -51,6 +51,7 @@
 use glam::Vec3;
 
 use crate::bound::BoundingSphere;
+pub(super) use crate::math::f32_of;
 use crate::view::{Camera, Projection};
 
 /// Largest viewport side (in pixels) the integer projection takes: its products stay in
@@ -334,31 +335,6 @@ pub(super) fn exact_fixed(x: f32, e: i32) -> Option<i32> {
     let v = fixed_of(x, e)?;
     let zero = x.to_bits() << 1 == 0;
     (zero || v.unsigned_abs() < 1 << 22 && f32_of(v, e).to_bits() == x.to_bits()).then_some(v)
-}
-
-/// `v 2^-e` as `f32`, exact where `|v| < 2^24`, from bits (no `f32` arithmetic); beyond that
-/// the bits that do not fit are cut off. Zero where the value is below `f32`'s normal range,
-/// infinite above it.
-pub(super) fn f32_of(v: i32, e: i32) -> f32 {
-    if v == 0 {
-        return 0.0;
-    }
-    let sign = (v as u32) & 0x8000_0000;
-    let magnitude = v.unsigned_abs();
-    let top = 31 - magnitude.leading_zeros() as i32;
-    let mantissa = if top > 23 {
-        magnitude >> (top - 23)
-    } else {
-        magnitude << (23 - top)
-    };
-    let exponent = top - e + 127;
-    if exponent <= 0 {
-        return f32::from_bits(sign);
-    }
-    if exponent >= 255 {
-        return f32::from_bits(sign | 0x7f80_0000);
-    }
-    f32::from_bits(sign | (exponent as u32) << 23 | (mantissa & 0x7f_ffff))
 }
 
 /// A shade in `[0, 1]` whose level ([`shade_to_u8`](super::project::shade_to_u8)) is `level`,

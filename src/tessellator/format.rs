@@ -905,6 +905,17 @@ impl<'a> HierarchyBytes<'a> {
         })
     }
 
+    /// The point of vertex `v` on the grid (`None` past the last).
+    pub(crate) fn grid_point(&self, v: usize) -> Option<[u16; 3]> {
+        let at = self.layout.vertex_at + v * VERTEX_LEN;
+        (v < self.layout.vertices).then(|| [0, 1, 2].map(|k| u16_at(self.bytes, at + 2 * k)))
+    }
+
+    /// The grid of the model's box its points lie on.
+    pub(crate) fn grid(&self) -> PositionGrid {
+        self.grid
+    }
+
     pub(crate) fn normal(&self, v: usize) -> Option<[f32; 3]> {
         let at = self.layout.vertex_at + v * VERTEX_LEN + 6;
         (v < self.layout.vertices).then(|| normal_of([0, 1].map(|k| self.byte(at + k) as i8)))

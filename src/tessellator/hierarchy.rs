@@ -322,6 +322,23 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
+    /// The grid of the model's box the points lie on, where the hierarchy is bytes (the
+    /// records hold their points as `f32`).
+    pub(crate) fn grid(&self) -> Option<super::quantize::PositionGrid> {
+        match self.store {
+            Store::Records { .. } => None,
+            Store::Bytes(b) => Some(b.grid()),
+        }
+    }
+
+    /// Vertex `v`'s point on [`grid`](Self::grid) (`None` past the last, or for records).
+    pub(crate) fn grid_point(&self, v: usize) -> Option<[u16; 3]> {
+        match self.store {
+            Store::Records { .. } => None,
+            Store::Bytes(b) => b.grid_point(v),
+        }
+    }
+
     /// The unit normal of vertex `v` (`None` past the last).
     pub fn normal(&self, v: usize) -> Option<[f32; 3]> {
         match self.store {

@@ -64,8 +64,14 @@ pub(super) trait Frame {
     /// The point of vertex `v`.
     fn position(&self, v: u32) -> [f32; 3];
     /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates: the same bits as
-    /// `camera.to_view(p())`, from a cache of the frame's where it keeps one.
+    /// `camera.to_view(p())`, from a cache of the frame's where it keeps one, or within
+    /// [`corner_slack`](Self::corner_slack) of them.
     fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3;
+    /// At least the distance of a corner [`viewed`](Self::viewed) gives from
+    /// `camera.to_view(p())` (0 where it gives those bits).
+    fn corner_slack(&self) -> f32 {
+        0.0
+    }
 }
 
 impl Frame for Tessellator<'_, '_> {
@@ -87,6 +93,10 @@ impl Frame for Tessellator<'_, '_> {
 
     fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
         Tessellator::viewed(self, v, p, camera)
+    }
+
+    fn corner_slack(&self) -> f32 {
+        Tessellator::corner_slack(self)
     }
 }
 
@@ -141,6 +151,11 @@ pub(super) fn judge(
             },
             big,
             node.remainder,
+            // (The corners read from a cache may be the integer move's: see `grid_view`.)
+            match eager {
+                Some(_) => 0.0,
+                None => selection.corner_slack(),
+            },
             stop,
             // A certificate bounds the float vectors' bound over a camera step; the integer
             // one may stand above it by its own roundings, which no certificate covers: its
@@ -182,6 +197,7 @@ pub(super) fn judge(
         |camera| vectors.map(|v| camera.rotate_to_view(v)),
         big,
         remainder,
+        0.0,
         stop,
         asked,
     );
@@ -222,14 +238,18 @@ fn viewed(selection: &impl Frame, h: &Pending, camera: &Camera) -> [Vec3; 3] {
 
 /// Judges the flat triangle whose corners `viewed` gives in a camera's view coordinates and
 /// whose deviation lies in the hull of zero and the vectors `vectors` gives for a camera
-/// (none longer than `big`) widened by `remainder`; a directional bound over `stop` may stop
-/// there (see [`judge`]), and with `asked` steps the judgement comes with its certificate.
+/// (none longer than `big`) widened by `remainder`, the corners within `remainder` and
+/// `slack` more of their points' moves into view coordinates (see `deviation/screen.rs`:
+/// *Rounding*); a directional bound over `stop` may stop there (see [`judge`]), and with
+/// `asked` steps the judgement comes with its certificate.
+#[allow(clippy::too_many_arguments)]
 fn judge_vectors<D: Deviations>(
     view: &View,
     viewed: impl FnOnce(&Camera) -> [Vec3; 3],
     vectors: impl FnOnce(&Camera) -> D,
     big: f32,
     remainder: f32,
+    slack: f32,
     stop: f32,
     asked: Asked<'_>,
 ) -> Judged {
@@ -238,14 +258,19 @@ fn judge_vectors<D: Deviations>(
         View::Screen { camera, .. } => {
             let viewed = viewed(camera);
             let size = view_extent(&viewed);
-            if beyond_one_plane(camera, viewed, size, big + remainder) {
+            // The corners' own slack (none where they are the float move's: the same bits,
+            // and no addition where the build never moves them otherwise).
+            // (A test of its bits: where `f32` is software, a comparison is a library call.)
+            let widened = |x: f32| if slack.to_bits() != 0 { x + slack } else { x };
+            let corners = widened(remainder);
+            if beyond_one_plane(camera, viewed, size, widened(big + remainder)) {
                 return Judged::bare(0.0, true);
             }
             let tolerance = view.tolerance();
             // Most triangles a frame judges are within the tolerance by the isotropic bound
             // already, which needs no vectors; the others take the directional one.
             let m = big + remainder;
-            let isotropic = isotropic_bound_on_screen(camera, viewed, size, m, remainder);
+            let isotropic = isotropic_bound_on_screen(camera, viewed, size, m, corners);
             let asked = if cfg!(feature = "reuse") {
                 asked
             } else {
@@ -258,7 +283,7 @@ fn judge_vectors<D: Deviations>(
                     e.in_view(camera).as_ref(),
                     big,
                     remainder,
-                    remainder,
+                    corners,
                     tolerance,
                     over,
                     bound,
@@ -273,8 +298,7 @@ fn judge_vectors<D: Deviations>(
                 return j;
             }
             let e = vectors(camera);
-            let full =
-                || bound_on_screen(camera, viewed, size, &e, big, remainder, remainder, stop);
+            let full = || bound_on_screen(camera, viewed, size, &e, big, remainder, corners, stop);
             if asked.is_empty() {
                 return Judged::bare(full(), false);
             }
@@ -286,7 +310,7 @@ fn judge_vectors<D: Deviations>(
                 e.in_view(camera).as_ref(),
                 big,
                 remainder,
-                remainder,
+                corners,
                 tolerance,
                 asked,
                 stop == f32::INFINITY,

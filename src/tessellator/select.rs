@@ -194,6 +194,9 @@ pub struct Tessellator<'t, 's> {
     model_box: Option<crate::bound::Aabb>,
     /// The frame's last corners in view coordinates (see [`viewed`](Self::viewed)).
     pub(super) viewed: ViewedCorners,
+    /// The frame's move of the bytes' grid points into view coordinates in integers, with
+    /// `Arithmetic::Integer` (see `grid_view`).
+    grid_view: Option<super::grid_view::GridView>,
     /// How triangles' bounds are computed from their kept vectors.
     pub(super) arithmetic: Arithmetic,
     /// The node whose judgement over the tolerance is halving triangles now (kept with
@@ -244,19 +247,12 @@ impl ViewedCorners {
         }
     }
 
-    /// Vertex `v` (of a hierarchy of `vertices`), whose point `p` gives, in `camera`'s view
-    /// coordinates (`camera.to_view(p())`): kept for the bake's vertices where there is a
-    /// cache ([`VIEWED`]).
+    /// Vertex `v` (of a hierarchy of `vertices`) in the frame's view coordinates, which
+    /// `moved` gives: kept for the bake's vertices where there is a cache ([`VIEWED`]).
     #[inline(always)]
-    pub(super) fn get(
-        &self,
-        v: u32,
-        vertices: usize,
-        p: impl FnOnce() -> Vec3,
-        camera: &Camera,
-    ) -> Vec3 {
+    pub(super) fn get(&self, v: u32, vertices: usize, moved: impl FnOnce() -> Vec3) -> Vec3 {
         if !CACHE_VIEWED || v as usize >= vertices {
-            return camera.to_view(p());
+            return moved();
         }
         // (`VIEWED` is a power of two.)
         let entry = &self.0[v as usize & (VIEWED - 1)];
@@ -264,7 +260,7 @@ impl ViewedCorners {
         if key == v {
             return Vec3::from_array(at);
         }
-        let at = camera.to_view(p());
+        let at = moved();
         entry.set((v, at.to_array()));
         at
     }
@@ -379,6 +375,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             #[cfg(feature = "embedded-graphics")]
             model_box: tree.model.aabb(),
             viewed: ViewedCorners::new(),
+            grid_view: None,
             arithmetic: Arithmetic::default(),
             trigger: super::reuse::NO_NODE,
             #[cfg(all(feature = "std", not(target_os = "none")))]
@@ -540,10 +537,23 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates
-    /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache where there is
-    /// one ([`VIEWED`]), emptied by each frame (`camera` is the frame's).
+    /// (`camera.to_view(p())`, or with `Arithmetic::Integer` over bytes its grid point
+    /// moved in integers, within [`corner_slack`](Self::corner_slack) of it): kept for the
+    /// bake's vertices in a small cache where there is one ([`VIEWED`]), emptied by each
+    /// frame (`camera` is the frame's).
     pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
-        self.viewed.get(v, self.tree.vertex_count(), p, camera)
+        let moved = || match (&self.grid_view, self.tree.grid_point(v as usize)) {
+            (Some(grid), Some(q)) => grid.point(q),
+            _ => camera.to_view(p()),
+        };
+        self.viewed.get(v, self.tree.vertex_count(), moved)
+    }
+
+    /// At least the distance of a corner [`viewed`](Self::viewed) gives from the float
+    /// path's `camera.to_view(p())`: 0, or with `Arithmetic::Integer` over bytes the
+    /// integer move's (see `grid_view`).
+    pub(super) fn corner_slack(&self) -> f32 {
+        self.grid_view.map_or(0.0, |g| g.slack())
     }
 
     /// The point of vertex `v`: the bake's, or one below it.
@@ -705,6 +715,16 @@ impl<'t, 's> Tessellator<'t, 's> {
         }
         self.view = Some(*view);
         self.viewed.clear();
+        self.grid_view = match (self.arithmetic, view) {
+            (Arithmetic::Integer, View::Screen { camera, .. })
+                if super::grid_view::MOVES_IN_INTEGERS =>
+            {
+                self.tree
+                    .grid()
+                    .and_then(|grid| super::grid_view::GridView::new(camera, &grid))
+            }
+            _ => None,
+        };
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         self.dropped_patches = 0;
         // (Empty but after a step that gave up: see `step`.)

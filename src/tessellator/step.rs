@@ -135,7 +135,8 @@ impl super::judge::Frame for StepThread<'_> {
         p: impl FnOnce() -> glam::Vec3,
         camera: &crate::view::Camera,
     ) -> glam::Vec3 {
-        self.viewed.get(v, self.tree.vertex_count(), p, camera)
+        self.viewed
+            .get(v, self.tree.vertex_count(), || camera.to_view(p()))
     }
 }
 
