@@ -188,8 +188,8 @@ impl Deviations for Quantised {
         for c in &self.vectors {
             let c = c.map(i32::from);
             let dot = |p: &[i32; 3]| p[0] * c[0] + p[1] * c[1] + p[2] * c[2];
-            let (a, b) = (dot(&fixed[0]) as i64, dot(&fixed[1]) as i64);
-            square = square.max((a * a + b * b) as u64);
+            let (a, b) = (dot(&fixed[0]), dot(&fixed[1]));
+            square = square.max(square_of(a) + square_of(b));
         }
         let down = power_of_two(-s);
         // (`g 2^-s` is exact, or infinite: `g` is 0 or at least the spill, 3.54, and
@@ -229,6 +229,28 @@ fn times_power_of_two(x: f32, s: i32) -> i32 {
     } else {
         times_power_of_two_in_integers(x, s)
     }
+}
+
+/// `a²`, exact. On 32-bit ARM without an FPU (ARMv6-M has no 32 by 32 to 64-bit multiply),
+/// from three 32-bit products of `|a|`'s halves rather than the library's 64-bit one: 3.4M
+/// of `fw_teapot`'s update instructions on ARMv6-M were that library call.
+#[inline(always)]
+fn square_of(a: i32) -> u64 {
+    if crate::math::HARD_FLOAT || !cfg!(target_arch = "arm") {
+        let a = i64::from(a);
+        (a * a) as u64
+    } else {
+        square_in_halves(a)
+    }
+}
+
+/// `a²` from three 32-bit products (see [`square_of`]).
+#[inline(always)]
+fn square_in_halves(a: i32) -> u64 {
+    let m = a.unsigned_abs();
+    let (high, low) = (m >> 16, m & 0xffff);
+    // `m² = high² 2^32 + 2 high low 2^16 + low²`, each product below `2^32`.
+    (u64::from(high * high) << 32) + (u64::from(high * low) << 17) + u64::from(low * low)
 }
 
 /// `2^k`, for `k` in `-126..=127`.
@@ -277,6 +299,30 @@ fn at_least(x: u64) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn squares_in_halves_are_exact() {
+        let mut rng = crate::test_rng::TestRng::new(0x5a_a7e5);
+        let extremes = [
+            0,
+            1,
+            -1,
+            65535,
+            65536,
+            -65537,
+            i32::MAX,
+            i32::MIN,
+            i32::MIN + 1,
+        ];
+        for a in extremes
+            .into_iter()
+            .chain((0..100_000).map(|_| rng.next_u32() as i32))
+        {
+            let exact = (a as i128 * a as i128) as u64;
+            assert_eq!(super::square_in_halves(a), exact, "{a}");
+            assert_eq!(super::square_of(a), exact, "{a}");
+        }
+    }
+
     use super::*;
     use crate::test_rng::TestRng;
     use crate::view::Projection;
