@@ -72,6 +72,22 @@ pub(super) trait Frame {
     fn corner_slack(&self) -> f32 {
         0.0
     }
+    /// The frame's move of the bake's points in integers, where it makes one (see
+    /// `grid_view`): then corners come from [`viewed_on_grid`](Self::viewed_on_grid).
+    fn grid_view(&self) -> Option<&super::grid_view::GridView> {
+        None
+    }
+    /// [`viewed`](Self::viewed), the bake's points moved by `grid`.
+    fn viewed_on_grid(
+        &self,
+        v: u32,
+        grid: &super::grid_view::GridView,
+        p: impl FnOnce() -> Vec3,
+        camera: &Camera,
+    ) -> Vec3 {
+        let _ = grid;
+        self.viewed(v, p, camera)
+    }
 }
 
 impl Frame for Tessellator<'_, '_> {
@@ -97,6 +113,20 @@ impl Frame for Tessellator<'_, '_> {
 
     fn corner_slack(&self) -> f32 {
         Tessellator::corner_slack(self)
+    }
+
+    fn grid_view(&self) -> Option<&super::grid_view::GridView> {
+        Tessellator::grid_view(self)
+    }
+
+    fn viewed_on_grid(
+        &self,
+        v: u32,
+        grid: &super::grid_view::GridView,
+        p: impl FnOnce() -> Vec3,
+        camera: &Camera,
+    ) -> Vec3 {
+        Tessellator::viewed_on_grid(self, v, grid, p, camera)
     }
 }
 
@@ -233,7 +263,12 @@ pub(super) fn judge(
 #[inline(always)]
 fn viewed(selection: &impl Frame, h: &Pending, camera: &Camera) -> [Vec3; 3] {
     let point = |v: u32| Vec3::from_array(selection.position(v));
-    h.corners.map(|v| selection.viewed(v, || point(v), camera))
+    match selection.grid_view() {
+        Some(grid) => h
+            .corners
+            .map(|v| selection.viewed_on_grid(v, grid, || point(v), camera)),
+        None => h.corners.map(|v| selection.viewed(v, || point(v), camera)),
+    }
 }
 
 /// Judges the flat triangle whose corners `viewed` gives in a camera's view coordinates and

@@ -542,18 +542,36 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// bake's vertices in a small cache where there is one ([`VIEWED`]), emptied by each
     /// frame (`camera` is the frame's).
     pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
-        let moved = || match (&self.grid_view, self.tree.grid_point(v as usize)) {
-            (Some(grid), Some(q)) => grid.point(q),
-            _ => camera.to_view(p()),
+        self.viewed
+            .get(v, self.tree.vertex_count(), || camera.to_view(p()))
+    }
+
+    /// [`viewed`](Self::viewed) for a frame that moves the bake's points in integers
+    /// (`grid`): the same cache.
+    pub(super) fn viewed_on_grid(
+        &self,
+        v: u32,
+        grid: &super::grid_view::GridView,
+        p: impl FnOnce() -> Vec3,
+        camera: &Camera,
+    ) -> Vec3 {
+        let moved = || match self.tree.grid_point(v as usize) {
+            Some(q) => grid.point(q),
+            None => camera.to_view(p()),
         };
         self.viewed.get(v, self.tree.vertex_count(), moved)
+    }
+
+    /// The frame's move of the bake's points in integers, if it makes one (see `grid_view`).
+    pub(super) fn grid_view(&self) -> Option<&super::grid_view::GridView> {
+        self.grid_view.as_ref()
     }
 
     /// At least the distance of a corner [`viewed`](Self::viewed) gives from the float
     /// path's `camera.to_view(p())`: 0, or with `Arithmetic::Integer` over bytes the
     /// integer move's (see `grid_view`).
     pub(super) fn corner_slack(&self) -> f32 {
-        self.grid_view.map_or(0.0, |g| g.slack())
+        self.grid_view.as_ref().map_or(0.0, |g| g.slack())
     }
 
     /// The point of vertex `v`: the bake's, or one below it.
