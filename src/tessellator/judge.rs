@@ -64,20 +64,15 @@ pub(super) trait Frame {
     /// The point of vertex `v`.
     fn position(&self, v: u32) -> [f32; 3];
     /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates: the same bits as
-    /// `camera.to_view(p())`, from a cache of the frame's where it keeps one, or within
-    /// [`corner_slack`](Self::corner_slack) of them.
+    /// `camera.to_view(p())`, from a cache of the frame's where it keeps one.
     fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3;
-    /// At least the distance of a corner [`viewed`](Self::viewed) gives from
-    /// `camera.to_view(p())` (0 where it gives those bits).
-    fn corner_slack(&self) -> f32 {
-        0.0
-    }
     /// The frame's move of the bake's points in integers, where it makes one (see
     /// `grid_view`): then corners come from [`viewed_on_grid`](Self::viewed_on_grid).
     fn grid_view(&self) -> Option<&super::grid_view::GridView> {
         None
     }
-    /// [`viewed`](Self::viewed), the bake's points moved by `grid`.
+    /// [`viewed`](Self::viewed), the bake's points moved by `grid`: within its
+    /// [`slack`](super::grid_view::GridView::slack) of those bits.
     fn viewed_on_grid(
         &self,
         v: u32,
@@ -109,10 +104,6 @@ impl Frame for Tessellator<'_, '_> {
 
     fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
         Tessellator::viewed(self, v, p, camera)
-    }
-
-    fn corner_slack(&self) -> f32 {
-        Tessellator::corner_slack(self)
     }
 
     fn grid_view(&self) -> Option<&super::grid_view::GridView> {
@@ -184,7 +175,7 @@ pub(super) fn judge(
             // (The corners read from a cache may be the integer move's: see `grid_view`.)
             match eager {
                 Some(_) => 0.0,
-                None => selection.corner_slack(),
+                None => selection.grid_view().map_or(0.0, |g| g.slack()),
             },
             stop,
             // A certificate bounds the float vectors' bound over a camera step; the integer

@@ -537,10 +537,9 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates
-    /// (`camera.to_view(p())`, or with `Arithmetic::Integer` over bytes its grid point
-    /// moved in integers, within [`corner_slack`](Self::corner_slack) of it): kept for the
-    /// bake's vertices in a small cache where there is one ([`VIEWED`]), emptied by each
-    /// frame (`camera` is the frame's).
+    /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache where there is
+    /// one ([`VIEWED`]), emptied by each frame (`camera` is the frame's). (With
+    /// `Arithmetic::Integer` over bytes, [`viewed_on_grid`](Self::viewed_on_grid).)
     pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
         self.viewed
             .get(v, self.tree.vertex_count(), || camera.to_view(p()))
@@ -565,13 +564,6 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// The frame's move of the bake's points in integers, if it makes one (see `grid_view`).
     pub(super) fn grid_view(&self) -> Option<&super::grid_view::GridView> {
         self.grid_view.as_ref()
-    }
-
-    /// At least the distance of a corner [`viewed`](Self::viewed) gives from the float
-    /// path's `camera.to_view(p())`: 0, or with `Arithmetic::Integer` over bytes the
-    /// integer move's (see `grid_view`).
-    pub(super) fn corner_slack(&self) -> f32 {
-        self.grid_view.as_ref().map_or(0.0, |g| g.slack())
     }
 
     /// The point of vertex `v`: the bake's, or one below it.
