@@ -15,7 +15,11 @@
 ///   model box's grid (30-bit by 16-bit products, summed in 64 bits): within a
 ///   hundred-thousandth of the model's size of the float corners, which the bounds take as
 ///   more slack (on a host, and where `f32` is software; a bare-metal part with an FPU leaves
-///   that code out).
+///   that code out). From those corners each judged triangle is first looked at in integers:
+///   whether a corner is in view of every plane, and whether a linear test in 64-bit
+///   integers proves the isotropic bound within the tolerance. It decides as the `f32`
+///   judgement would (the frames are the same), and most triangles within need no `f32`
+///   operation but the quotient of their bound.
 /// - **The rasteriser's planes** (`render::Renderer::with_arithmetic`, feature
 ///   `embedded-graphics`): a triangle's depth and shade across its pixels, set up from the
 ///   corners' depth keys and shade levels in `f32` and then in fixed point, or in integers
@@ -56,8 +60,8 @@
 pub enum Arithmetic {
     /// In `f32`: the cheaper where `f32` is hardware, and the default there.
     Float,
-    /// In integers: the default where `f32` is software (ARMv6-M, RV32IMC). On `fw_teapot`'s
-    /// frame 0 (ARMv6-M) it takes 16% off the update and 28% off the render.
+    /// In integers: the default where `f32` is software (ARMv6-M, RV32IMC), where it takes
+    /// most of the soft-float calls out of a frame (README: *Firmware*).
     Integer,
 }
 

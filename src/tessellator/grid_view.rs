@@ -154,17 +154,40 @@ impl GridView {
     }
 
     /// Grid point `q` in the frame's view coordinates.
-    #[inline(always)]
+    #[cfg(test)]
     pub fn point(&self, q: [u16; 3]) -> Vec3 {
-        let coordinate = |i: usize| {
+        self.point_of(self.fixed(q))
+    }
+
+    /// Grid point `q` in the frame's view coordinates in fixed point: multiples of
+    /// `2^`[`unit_exponent`](Self::unit_exponent), each below `2^30` in magnitude.
+    #[inline(always)]
+    pub fn fixed(&self, q: [u16; 3]) -> [i32; 3] {
+        [0, 1, 2].map(|i| {
             let mut sum = self.c[i];
             for (a, q) in self.a[i].iter().zip(q) {
                 sum += product(*a, q);
             }
             // (Below `2^30` after the shift: see `new`.)
-            f32_of((sum >> self.shift) as i32, self.e - self.shift)
-        };
-        Vec3::new(coordinate(0), coordinate(1), coordinate(2))
+            (sum >> self.shift) as i32
+        })
+    }
+
+    /// The point [`point`](Self::point) reads from its [`fixed`](Self::fixed) coordinates:
+    /// each cut to the 24 bits an `f32` keeps (toward zero).
+    #[inline(always)]
+    pub fn point_of(&self, fixed: [i32; 3]) -> Vec3 {
+        let e = self.e - self.shift;
+        Vec3::new(
+            f32_of(fixed[0], e),
+            f32_of(fixed[1], e),
+            f32_of(fixed[2], e),
+        )
+    }
+
+    /// The exponent `u` of the fixed point's unit `2^u` (see [`fixed`](Self::fixed)).
+    pub fn unit_exponent(&self) -> i32 {
+        self.shift - self.e
     }
 
     /// At least the distance of a corner [`point`](Self::point) finds from the one the
@@ -187,7 +210,7 @@ fn product(a: i32, q: u16) -> i64 {
 /// `⌊x 2^e⌋` from the bits of `x`, where it is below `2^62` in magnitude; `None` for a
 /// value not finite or larger. (The renderer's `fixed_of` is this in 32 bits: it reads
 /// every corner it draws, where 64-bit shifts cost ARMv6-M 0.25M instructions a frame.)
-fn floor_fixed(x: f32, e: i32) -> Option<i64> {
+pub(crate) fn floor_fixed(x: f32, e: i32) -> Option<i64> {
     let bits = x.to_bits();
     let negative = bits >> 31 != 0;
     let exponent = ((bits >> 23) & 0xff) as i32;

@@ -18,6 +18,7 @@
 use glam::Vec3;
 
 use super::address::ONE;
+use super::grid_judge::{FirstLook, GridJudge};
 use super::hierarchy::{Hierarchy, Pending};
 use super::select::Tessellator;
 use crate::deviation::certificate::{Asked, Lasting};
@@ -83,6 +84,16 @@ pub(super) trait Frame {
         let _ = grid;
         self.viewed(v, p, camera)
     }
+    /// The frame's constants for a first look in integers, where it takes one (see
+    /// `grid_judge`): then corners come from [`fixed_on_grid`](Self::fixed_on_grid) too.
+    fn grid_judge(&self) -> Option<&GridJudge> {
+        None
+    }
+    /// Vertex `v` in `grid`'s fixed point, if it is a grid point.
+    fn fixed_on_grid(&self, v: u32, grid: &super::grid_view::GridView) -> Option<[i32; 3]> {
+        let _ = (v, grid);
+        None
+    }
 }
 
 impl Frame for Tessellator<'_, '_> {
@@ -119,6 +130,14 @@ impl Frame for Tessellator<'_, '_> {
     ) -> Vec3 {
         Tessellator::viewed_on_grid(self, v, grid, p, camera)
     }
+
+    fn grid_judge(&self) -> Option<&GridJudge> {
+        Tessellator::grid_judge(self)
+    }
+
+    fn fixed_on_grid(&self, v: u32, grid: &super::grid_view::GridView) -> Option<[i32; 3]> {
+        Tessellator::fixed_on_grid(self, v, grid)
+    }
 }
 
 /// Judges `h` in `view`: by its node's kept vectors, or below the bake by its own lattice
@@ -150,6 +169,23 @@ pub(super) fn judge(
     let tree = selection.tree();
     let mut baked = None;
     if let Some((node, leaf)) = tree.node_bound(h) {
+        // Where the frame takes one, a first look in integers (see `grid_judge`): it finds
+        // most triangles within as the `f32` judgement would, and most others in view. (A
+        // bound within the tolerance is never asked for in full: `exact` is for one over.)
+        let mut in_view = false;
+        if let (View::Screen { .. }, Some(grid), Some(look), None) =
+            (view, selection.grid_view(), selection.grid_judge(), eager)
+        {
+            let [a, b, c] = h.corners.map(|v| selection.fixed_on_grid(v, grid));
+            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+                let first = look.look(grid, [a, b, c], &node.vectors, node.scale, node.remainder);
+                match first {
+                    FirstLook::Within(bound) => return Judged::bare(bound, false),
+                    FirstLook::InView => in_view = true,
+                    FirstLook::Unknown => {}
+                }
+            }
+        }
         // In model units, the bake's own bound (the oracles' too); on screen, one from the
         // quantised vectors, and the vectors only when the isotropic bound is not enough.
         let big = match view {
@@ -177,6 +213,7 @@ pub(super) fn judge(
                 Some(_) => 0.0,
                 None => selection.grid_view().map_or(0.0, |g| g.slack()),
             },
+            in_view,
             stop,
             // A certificate bounds the float vectors' bound over a camera step; the integer
             // one may stand above it by its own roundings, which no certificate covers: its
@@ -219,6 +256,7 @@ pub(super) fn judge(
         big,
         remainder,
         0.0,
+        false,
         stop,
         asked,
     );
@@ -267,7 +305,8 @@ fn viewed(selection: &impl Frame, h: &Pending, camera: &Camera) -> [Vec3; 3] {
 /// (none longer than `big`) widened by `remainder`, the corners within `remainder` and
 /// `slack` more of their points' moves into view coordinates (see `deviation/screen.rs`:
 /// *Rounding*); a directional bound over `stop` may stop there (see [`judge`]), and with
-/// `asked` steps the judgement comes with its certificate.
+/// `asked` steps the judgement comes with its certificate. `in_view`: a first look found a
+/// corner in view of every plane (see `grid_judge`), so the triangle is not left out.
 #[allow(clippy::too_many_arguments)]
 fn judge_vectors<D: Deviations>(
     view: &View,
@@ -276,6 +315,7 @@ fn judge_vectors<D: Deviations>(
     big: f32,
     remainder: f32,
     slack: f32,
+    in_view: bool,
     stop: f32,
     asked: Asked<'_>,
 ) -> Judged {
@@ -289,7 +329,7 @@ fn judge_vectors<D: Deviations>(
             // (A test of its bits: where `f32` is software, a comparison is a library call.)
             let widened = |x: f32| if slack.to_bits() != 0 { x + slack } else { x };
             let corners = widened(remainder);
-            if beyond_one_plane(camera, viewed, size, widened(big + remainder)) {
+            if !in_view && beyond_one_plane(camera, viewed, size, widened(big + remainder)) {
                 return Judged::bare(0.0, true);
             }
             let tolerance = view.tolerance();
@@ -376,7 +416,7 @@ pub(super) fn hidden_below_the_bake(
 /// [`view_extent`]) lie beyond one plane of the view by more than `margin` (and the rounding
 /// of moving them into view coordinates).
 /// Never for an orthographic camera (it has no side planes here).
-fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], size: f32, margin: f32) -> bool {
+pub(super) fn beyond_one_plane(camera: &Camera, view: [Vec3; 3], size: f32, margin: f32) -> bool {
     if let Projection::Orthographic { .. } = camera.projection() {
         return false;
     }

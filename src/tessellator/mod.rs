@@ -66,6 +66,7 @@ mod budget;
 mod count;
 mod cull;
 pub(crate) mod format;
+mod grid_judge;
 mod grid_view;
 pub(crate) mod hierarchy;
 mod judge;

@@ -197,6 +197,9 @@ pub struct Tessellator<'t, 's> {
     /// The frame's move of the bytes' grid points into view coordinates in integers, with
     /// `Arithmetic::Integer` (see `grid_view`).
     grid_view: Option<super::grid_view::GridView>,
+    /// The frame's constants for a first look at triangles in integers, with `grid_view`
+    /// (see `grid_judge`).
+    grid_judge: super::grid_judge::GridJudge,
     /// How triangles' bounds are computed from their kept vectors.
     pub(super) arithmetic: Arithmetic,
     /// The node whose judgement over the tolerance is halving triangles now (kept with
@@ -232,10 +235,10 @@ const _: () = assert!(VIEWED.is_power_of_two());
 /// its sibling's, each moved once instead of once a triangle. Emptied by every frame (a view
 /// of its own); the same bits as moving them again.
 #[derive(Debug)]
-pub(super) struct ViewedCorners([Cell<(u32, [f32; 3])>; VIEWED]);
+pub(super) struct ViewedCorners([Cell<(u32, [u32; 3])>; VIEWED]);
 
 impl ViewedCorners {
-    const EMPTY: (u32, [f32; 3]) = (u32::MAX, [0.0; 3]);
+    const EMPTY: (u32, [u32; 3]) = (u32::MAX, [0; 3]);
 
     pub(super) fn new() -> Self {
         ViewedCorners(core::array::from_fn(|_| Cell::new(Self::EMPTY)))
@@ -251,6 +254,25 @@ impl ViewedCorners {
     /// `moved` gives: kept for the bake's vertices where there is a cache ([`VIEWED`]).
     #[inline(always)]
     pub(super) fn get(&self, v: u32, vertices: usize, moved: impl FnOnce() -> Vec3) -> Vec3 {
+        let bits = self.get_bits(v, vertices, || moved().to_array().map(f32::to_bits));
+        Vec3::from_array(bits.map(f32::from_bits))
+    }
+
+    /// Vertex `v` in the frame's view coordinates in fixed point (see `grid_view`), which
+    /// `moved` gives: kept as [`get`](Self::get) keeps points (a frame keeps one kind).
+    #[inline(always)]
+    pub(super) fn get_fixed(
+        &self,
+        v: u32,
+        vertices: usize,
+        moved: impl FnOnce() -> [i32; 3],
+    ) -> [i32; 3] {
+        let bits = self.get_bits(v, vertices, || moved().map(|x| x as u32));
+        bits.map(|x| x as i32)
+    }
+
+    #[inline(always)]
+    fn get_bits(&self, v: u32, vertices: usize, moved: impl FnOnce() -> [u32; 3]) -> [u32; 3] {
         if !CACHE_VIEWED || v as usize >= vertices {
             return moved();
         }
@@ -258,10 +280,10 @@ impl ViewedCorners {
         let entry = &self.0[v as usize & (VIEWED - 1)];
         let (key, at) = entry.get();
         if key == v {
-            return Vec3::from_array(at);
+            return at;
         }
         let at = moved();
-        entry.set((v, at.to_array()));
+        entry.set((v, at));
         at
     }
 }
@@ -376,6 +398,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             model_box: tree.model.aabb(),
             viewed: ViewedCorners::new(),
             grid_view: None,
+            grid_judge: super::grid_judge::GridJudge::OFF,
             arithmetic: Arithmetic::default(),
             trigger: super::reuse::NO_NODE,
             #[cfg(all(feature = "std", not(target_os = "none")))]
@@ -554,16 +577,36 @@ impl<'t, 's> Tessellator<'t, 's> {
         p: impl FnOnce() -> Vec3,
         camera: &Camera,
     ) -> Vec3 {
-        let moved = || match self.tree.grid_point(v as usize) {
-            Some(q) => grid.point(q),
+        match self.fixed_on_grid(v, grid) {
+            Some(fixed) => grid.point_of(fixed),
             None => camera.to_view(p()),
-        };
-        self.viewed.get(v, self.tree.vertex_count(), moved)
+        }
+    }
+
+    /// Vertex `v` of the bake in the frame's fixed point (`grid`'s, see `grid_view`), kept in
+    /// the cache of [`viewed`](Self::viewed); `None` for a vertex not on the grid.
+    pub(super) fn fixed_on_grid(
+        &self,
+        v: u32,
+        grid: &super::grid_view::GridView,
+    ) -> Option<[i32; 3]> {
+        let q = self.tree.grid_point(v as usize)?;
+        Some(
+            self.viewed
+                .get_fixed(v, self.tree.vertex_count(), || grid.fixed(q)),
+        )
     }
 
     /// The frame's move of the bake's points in integers, if it makes one (see `grid_view`).
     pub(super) fn grid_view(&self) -> Option<&super::grid_view::GridView> {
         self.grid_view.as_ref()
+    }
+
+    /// The frame's constants for a first look at triangles in integers, if it takes one
+    /// (see `grid_judge`).
+    pub(super) fn grid_judge(&self) -> Option<&super::grid_judge::GridJudge> {
+        // (Never on a bare-metal part with an FPU, which leaves the look's code out.)
+        Some(&self.grid_judge).filter(|g| super::grid_view::MOVES_IN_INTEGERS && g.is_on())
     }
 
     /// The point of vertex `v`: the bake's, or one below it.
@@ -735,6 +778,13 @@ impl<'t, 's> Tessellator<'t, 's> {
             }
             _ => None,
         };
+        self.grid_judge = match (&self.grid_view, view) {
+            (Some(grid), View::Screen { camera, .. }) => {
+                super::grid_judge::GridJudge::new(camera, view.tolerance(), grid)
+            }
+            _ => None,
+        }
+        .unwrap_or(super::grid_judge::GridJudge::OFF);
         (self.full, self.dropped_below, self.recount) = (false, false, false);
         self.dropped_patches = 0;
         // (Empty but after a step that gave up: see `step`.)

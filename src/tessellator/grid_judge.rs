@@ -1,0 +1,421 @@
+//! A first look at a triangle in integers, from its corners on the grid (see `grid_view`),
+//! for parts without an FPU: whether it is certainly in view of every plane, and whether it
+//! is certainly within the tolerance by the isotropic bound, in integer operations (a
+//! software `f32` quotient gives the bound of one within). Where the look decides nothing, the judgement goes on in `f32` as before; where
+//! it decides, it decides as the `f32` judgement would, so the frames are the same (the
+//! within bound it reports is its own, a little larger).
+//!
+//! # Notation
+//!
+//! A corner found in integers is `(X, Y, Z)` in units `U = 2^u` of the frame
+//! ([`GridView::fixed`]); the `f32` judgement reads it as `p = (x, y, z)`, each cut to 24 bits
+//! toward zero ([`GridView::point_of`]): `|x| <= |X| U`, and `z >= Z U (1 - 2^-23)` for
+//! `Z > 0`. `ε = 2^-24`. Every constant of a frame below is found once, in `f32`, rounded the
+//! safe way by a factor `1 ± 2^-16` or more, which covers its few roundings.
+//!
+//! # In view of every plane
+//!
+//! `judge`'s `beyond_one_plane` leaves a triangle out where all three corners lie beyond one
+//! plane: `near - z > w`, or `±x - s_x z > w n_x`, likewise `y`, with `w >= 0`. Take one corner
+//! with `Z >= N_z = ⌈near (1 + 2^-21) / U⌉` and `|X| <= S_x ⌊Z / 2^15⌋`, `S_x = ⌊s_x (1 -
+//! 2^-12) 2^15⌋` (and `S_y` alike; one 32-bit product each, for `s < 2`). Then `z >= near`,
+//! so `fl(near - z) <= 0 <= w`; and `|x| <= s_x Z U (1 - 2^-13) <= fl(s_x z)`, so
+//! `fl(±x - fl(s_x z)) <= 0 <= fl(w n_x)`: that corner is beyond no plane in `f32` either,
+//! and the triangle is not left out.
+//!
+//! # Within by the isotropic bound
+//!
+//! `screen::isotropic_from` bounds the deviation on screen by (see its module docs)
+//!
+//! `I = f S / z_ℓ · m (c + a + 2 η P / z_ℓ + 16 ε P)`, `a = (m + η) n / z_ℓ`, `P = 1 + s_x
+//! + s_y + a`,
+//!
+//! with `f` the focal length, `S` the screen slack, `c` the corner ray, `n = n_x + n_y`, `m`
+//! and `η` as the `f32` judgement finds them (`η` its remainder `r` and a rounding part `H`),
+//! and `z_ℓ >= z_c - m - η =: Z`, `z_c` the least corner depth. Take `m / Z <= μ = tol / (f
+//! S c)` and `H / Z <= h` (a frame's constant, about `2^-14`): with `r <= m`, `P <= P⁺ = 1 +
+//! s_x + s_y + (2 μ + h) n`, and the bracket is at most `G + (r / Z) D` with `G = c + (μ +
+//! h) n + 2 h P⁺ + 16 ε P⁺` and `D = n + 2 P⁺`. Then `I <= tol (K m + K_r r) / Z` with `K =
+//! f S G / tol` and `K_r = f S μ D / tol`. The test
+//!
+//! `m (K + 1) + K_r r + η <= z_c`
+//!
+//! gives `Z >= K m`, so `m / Z <= 1 / K <= μ`; and with `K >= 16` and `H <= 2^-14 z_c`, `Z >=
+//! z_c (1 - 2 / (K + 1) - 2^-14)`, which `h` is taken over. The bound `tol (K m + K_r r) /
+//! (z_c - m - η)` is convex in `m` and at most the line `tol (m (K + 1) + K_r r + η) / z_c`
+//! where the test holds: at `m = 0` as `z_c >= K_r r + η`, and where the line is `tol` both
+//! are. So the triangle is within, with bound `tol L / z_c` for the test's left side `L`.
+//! Near the tolerance (`m / Z` near `1 / K`) the look's terms are the bound's own, but for
+//! `h`.
+//!
+//! **In integers.** `m`, `r` and `η` are bounded above in units of `U` (an `f32` sum at most
+//! `ε` above its terms a rounding; the vectors' longest at most `2^-15` above `√n scale` for
+//! the largest squared code `n`, whose root is taken up in four fractional bits), `K + 1`
+//! by `K₁ / 2^16` and `K_r` by `K_r₁ / 2^16`, and `z_c (1 - 2^-12)` from below by `Z_min -
+//! ⌊Z_min / 2^11⌋ - 1`. The test is then exact, in 64-bit integers: `M K₁ + R K_r₁ + 2^16
+//! η⁺ <= 2^16 (Z_min - ⌊Z_min / 2^11⌋ - 1)`; and the bound `tol (1 + 2^-15) L / (2^16
+//! Z_min)` in `f32` (two conversions, a quotient, a product: their roundings are within the
+//! `2^-15`, and it stays within `tol`). The look also asks `η <= near / 2`, so that the `f32`
+//! bound is finite (`near - η > 0`).
+//!
+//! **The same judgement.** The test leaves `2^-12` of the tolerance: the `f32` isotropic
+//! bound is within that of `I`'s exact value, its one difference that can cancel, the least
+//! depth `z_f - m - η`, being at least `Z >= z_c / 2` here (its rounding at most `4 ε` of
+//! it). So a triangle the look finds within, the `f32` judgement finds within too, and the
+//! mesh is the same.
+//!
+//! Measured (`the_first_look_decides_as_the_float_judgement`, random triangles and cameras):
+//! the look finds within 9,461 of the 9,525 triangles the `f32` isotropic bound finds within,
+//! its bound at most 4.0% above that bound (0.5% where that is over 0.9 of the tolerance).
+//! On `fw_teapot`'s ARMv6-M build it takes frame 0's update from 26.68M to 22.49M
+//! instructions.
+
+use super::grid_view::{floor_fixed, GridView};
+use crate::deviation::kept::KEPT;
+use crate::deviation::{EPS, SCREEN_SLACK};
+use crate::view::{Camera, Projection};
+
+/// A frame's constants for the first look (see the [module docs](self)), in the units of
+/// its [`GridView`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub(crate) struct GridJudge {
+    /// `N_z`: at least the near plane's distance.
+    near: u32,
+    /// `S_x`, `S_y`: the side planes' slopes in 15 fractional bits, taken down.
+    slopes: [u16; 2],
+    /// The grid's slack, taken up.
+    slack: u32,
+    /// `K₁`: at least `K + 1`, in 16 fractional bits.
+    k: u32,
+    /// `K_r`: the remainder's share, in 16 fractional bits.
+    k_r: u32,
+    /// `tol (1 + 2^-15) 2^-16`.
+    tolerance: f32,
+}
+
+/// What the first look found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum FirstLook {
+    /// Within the tolerance, with this bound (at most the tolerance).
+    Within(f32),
+    /// In view of every plane (not left out), but not certainly within.
+    InView,
+    /// Nothing certain.
+    Unknown,
+}
+
+/// Fractional bits of `K₁` and `K_r`.
+const K_BITS: u32 = 16;
+
+/// `η`'s part other than the remainder is asked to be at most `2^-14` of the least depth.
+const ROUNDING_CAP: u32 = 14;
+
+impl GridJudge {
+    /// No first look (a frame that takes none).
+    pub const OFF: GridJudge = GridJudge {
+        near: 0,
+        slopes: [0; 2],
+        slack: 0,
+        k: 0,
+        k_r: 0,
+        tolerance: 0.0,
+    };
+
+    /// Whether the frame takes a first look (not [`OFF`](Self::OFF)).
+    pub fn is_on(&self) -> bool {
+        self.k != 0
+    }
+
+    /// The constants of a frame of `camera` at `tolerance` (pixels), moved by `grid`: `None`
+    /// for an orthographic view, or where the fixed point is too coarse near the eye or a
+    /// constant does not fit (the look then leaves every triangle to the `f32` judgement).
+    pub fn new(camera: &Camera, tolerance: f32, grid: &GridView) -> Option<GridJudge> {
+        if !matches!(camera.projection(), Projection::Perspective { .. }) {
+            return None;
+        }
+        let u = grid.unit_exponent();
+        let up = 1.0 + 1.0 / 65536.0;
+        let near = ceil_fixed(camera.near() * (1.0 + 1.0 / (1 << 20) as f32), u)?;
+        // (`N_z >= 2^12`: the depths' shifts below keep their margins.)
+        if !(1 << 12..1 << 30).contains(&near) {
+            return None;
+        }
+        let ([sx, sy], [nx, ny]) = camera.side_planes();
+        let slope = |s: f32| {
+            let fixed = s * (1.0 - 1.0 / 4096.0) * 32768.0;
+            (0.0..65536.0).contains(&fixed).then_some(fixed as u16)
+        };
+        let slopes = [slope(sx)?, slope(sy)?];
+        let slack = ceil_fixed(grid.slack(), u)?;
+        let (focal, c) = (camera.focal() * SCREEN_SLACK, camera.corner_ray());
+        let mu = tolerance / (focal * c) * up;
+        let least_k = focal * c / tolerance * (1.0 - 1.0 / 65536.0);
+        if least_k.is_nan() || least_k < 16.0 {
+            return None;
+        }
+        // `h`: the rounding part of `η`, at most `Z_min U / 2^14`, over `Z_ℓ`.
+        let below = 1.0 / (1u32 << ROUNDING_CAP) as f32;
+        let h = below / (1.0 - 2.0 / (least_k + 1.0) - below * (1.0 + 1.0 / 65536.0)) * up;
+        let n = nx + ny;
+        let spread = 1.0 + sx + sy + (2.0 * mu + h) * n;
+        let g = c + (mu + h) * n + 2.0 * h * spread + 16.0 * EPS * spread;
+        let k = (focal * g / tolerance + 1.0) * up * (1u32 << K_BITS) as f32;
+        let k_r = focal * mu * (n + 2.0 * spread) / tolerance * up * (1u32 << K_BITS) as f32;
+        let fits = |x: f32| (0.0..2147483648.0).contains(&x);
+        if !(fits(k) && fits(k_r)) {
+            return None;
+        }
+        Some(GridJudge {
+            near,
+            slopes,
+            slack,
+            k: k as u32 + 1,
+            k_r: k_r as u32 + 1,
+            tolerance: tolerance * (1.0 + 1.0 / 32768.0) / 65536.0,
+        })
+    }
+
+    /// The first look at a triangle with fixed corners `corners` ([`GridView::fixed`], in
+    /// `grid`'s units), kept vectors `vectors` of `scale` and remainder `remainder`.
+    pub fn look(
+        &self,
+        grid: &GridView,
+        corners: [[i32; 3]; 3],
+        vectors: &[[i8; 3]; KEPT],
+        scale: f32,
+        remainder: f32,
+    ) -> FirstLook {
+        let [sx, sy] = self.slopes.map(u32::from);
+        let in_view = corners.iter().any(|&[x, y, z]| {
+            z >= self.near as i32 && {
+                let z = (z >> 15) as u32;
+                x.unsigned_abs() <= sx * z && y.unsigned_abs() <= sy * z
+            }
+        });
+        if !in_view {
+            return FirstLook::Unknown;
+        }
+        let z_min = corners.iter().map(|c| c[2]).min().unwrap_or(0);
+        if z_min < self.near as i32 {
+            return FirstLook::InView;
+        }
+        let z_min = z_min as u64;
+        let u = grid.unit_exponent();
+        let (Some(r), Some(s)) = (ceil_fixed(remainder, u), ceil_fixed(abs(scale), u)) else {
+            return FirstLook::InView;
+        };
+        let (r, s) = (u64::from(r), u64::from(s));
+        // `η`: the remainder and the grid's slack, `16 ε` of the extent, and `4 ε` of the
+        // sum more.
+        let extent = corners
+            .iter()
+            .map(|c| c.iter().map(|v| u64::from(v.unsigned_abs())).sum::<u64>())
+            .max()
+            .unwrap_or(0);
+        let t = u64::from(self.slack) + (extent >> 20) + 1;
+        let rounding = t + (t >> 20) + 1;
+        let eta = r + (r >> 20) + 1 + rounding;
+        if rounding > z_min >> ROUNDING_CAP || eta > u64::from(self.near) >> 1 {
+            return FirstLook::InView;
+        }
+        // `m`: the longest vector (`√n scale`, its `f32` at most `2^-15` above; the root in
+        // four fractional bits, taken up), the remainder, and `ε` of the sum.
+        let n = vectors
+            .iter()
+            .map(|c| c.iter().map(|&v| i32::from(v) * i32::from(v)).sum::<i32>())
+            .max()
+            .unwrap_or(0);
+        let longest = (u64::from(sqrt_up((n as u32) << 8)) * s + 15) >> 4;
+        let longest = longest + (longest >> 15) + 1;
+        let m = longest + r + ((longest + r) >> 20) + 1;
+        let right = (z_min - (z_min >> 11) - 1) << K_BITS;
+        let Some(left) = m
+            .checked_mul(u64::from(self.k))
+            .and_then(|l| l.checked_add(r.checked_mul(u64::from(self.k_r))?))
+            .and_then(|l| l.checked_add(eta << K_BITS))
+        else {
+            return FirstLook::InView;
+        };
+        if left > right {
+            return FirstLook::InView;
+        }
+        FirstLook::Within(left as f32 / z_min as u32 as f32 * self.tolerance)
+    }
+}
+
+/// `|x|`, from its bits (no library call where `f32` is software).
+fn abs(x: f32) -> f32 {
+    f32::from_bits(x.to_bits() & 0x7fff_ffff)
+}
+
+/// `⌈x 2^-u⌉` for a finite `x >= 0` below `2^31` units; `None` otherwise.
+fn ceil_fixed(x: f32, u: i32) -> Option<u32> {
+    if x.to_bits() >> 31 != 0 && x.to_bits() != 0x8000_0000 {
+        return None;
+    }
+    let fixed = floor_fixed(-x, -u)?;
+    u32::try_from(-fixed).ok().filter(|&v| v < 1 << 31)
+}
+
+/// `⌈√n⌉` for `n < 2^24` (digit by digit).
+fn sqrt_up(n: u32) -> u32 {
+    let (mut rest, mut root, mut bit) = (n, 0u32, 1u32 << 22);
+    while bit > rest {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if rest >= root + bit {
+            rest -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root + u32::from(root * root < n)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::deviation::{isotropic_bound_on_screen, view_extent};
+    use crate::tessellator::quantize::PositionGrid;
+    use crate::tessellator::HierarchyNode;
+    use crate::test_rng::TestRng;
+
+    /// `screen::isotropic_from`'s bound in `f64`, its real value for the `f32` judgement's
+    /// own inputs: what the look's bound must cover.
+    fn isotropic_exact(camera: &Camera, z_corner: f32, size: f32, m: f32, slack: f32) -> f64 {
+        let ([sx, sy], [nx, ny]) = camera.side_planes();
+        let (sx, sy, nx, ny) = (sx as f64, sy as f64, nx as f64, ny as f64);
+        let eps = EPS as f64;
+        let (m, near) = (m as f64, camera.near() as f64);
+        let eta = (slack + 16.0 * EPS * size) as f64;
+        let z_f = (z_corner as f64).max(near - eta);
+        let z_least = (z_f - eta).min(near.max(z_f - m - eta));
+        let reach = (m + eta) * (nx + ny) / z_least;
+        let spread = 1.0 + sx + sy + reach;
+        let s = camera.corner_ray() as f64 + reach;
+        let g = m * (s + 2.0 * eta * spread / z_least + 16.0 * eps * spread);
+        camera.focal() as f64 / z_least * g * SCREEN_SLACK as f64
+    }
+
+    /// Random grids, cameras, tolerances and triangles, their deviation from far within the
+    /// tolerance to far over it: a triangle the look finds in view the `f32` judgement does
+    /// not leave out; one it finds within, the `f32` isotropic bound finds within too, and
+    /// the look's bound covers that bound's exact value and stays within the tolerance. And
+    /// the look is worth taking: it finds within most of what the `f32` bound does, with a
+    /// bound close to it.
+    #[test]
+    fn the_first_look_decides_as_the_float_judgement() {
+        let mut rng = TestRng::new(0x0f1f_5757);
+        let mut unit = |scale: f32| rng.signed(1 << 20) as f32 / (1 << 20) as f32 * scale;
+        let (mut looked, mut in_view, mut within, mut float_within) = (0, 0, 0, 0);
+        let mut loosest = 1.0f64;
+        let mut near_loosest = 1.0f64;
+        for k in 0..600 {
+            let size = [0.05, 1.0, 40.0][k % 3];
+            let centre = Vec3::new(unit(2.0), unit(2.0), unit(2.0)) * size;
+            let min = centre - Vec3::splat(size);
+            let grid = PositionGrid {
+                min: min.to_array(),
+                step: [2.0 * size / 65535.0; 3],
+            };
+            let eye = centre
+                + Vec3::new(unit(1.0), unit(1.0), unit(1.0)).normalize_or(Vec3::X)
+                    * size
+                    * (3.0 + unit(2.5));
+            let viewport = [[240, 240], [1024, 768], [128, 160]][k % 3];
+            let Ok(camera) = Camera::new(
+                eye,
+                centre + Vec3::new(unit(1.0), unit(1.0), unit(1.0)) * size * 0.3,
+                Vec3::Z,
+                Projection::Perspective {
+                    fov_y_degrees: 30.0 + unit(20.0).abs(),
+                },
+                size * (0.01 + unit(0.02).abs()),
+                viewport,
+            ) else {
+                continue;
+            };
+            let tolerance = 0.25 + unit(1.75).abs();
+            let Some(view) = GridView::new(&camera, &grid) else {
+                continue;
+            };
+            let Some(judge) = GridJudge::new(&camera, tolerance, &view) else {
+                continue;
+            };
+            for _ in 0..50 {
+                let base = [0, 1, 2].map(|_| (32768.0 + unit(30000.0)) as i32);
+                let corners = [0, 1, 2].map(|_| {
+                    let spread = [4000.0, 400.0, 40.0][k % 3];
+                    base.map(|b| (b + unit(spread) as i32).clamp(0, 65535) as u16)
+                });
+                let fixed = corners.map(|q| view.fixed(q));
+                let points = fixed.map(|f| view.point_of(f));
+                // A deviation from a tenth to ten times what the tolerance allows here.
+                let z = points
+                    .iter()
+                    .map(|p| p.z)
+                    .fold(f32::INFINITY, f32::min)
+                    .abs();
+                let allowed = tolerance * z / camera.focal();
+                let m = allowed * 10f32.powf(unit(1.0));
+                let node = HierarchyNode {
+                    vectors: [0; KEPT].map(|_: u8| [0; 3].map(|_: u8| unit(31.0) as i8)),
+                    scale: m / 40.0,
+                    remainder: m * unit(0.6).abs(),
+                    ..HierarchyNode::default()
+                };
+                let look = judge.look(&view, fixed, &node.vectors, node.scale, node.remainder);
+                looked += 1;
+                // The `f32` judgement's own steps (`judge::judge_vectors`).
+                let (big, r) = (node.longest_quantised(), node.remainder);
+                let slack = r + view.slack();
+                let size = view_extent(&points);
+                let beyond = super::super::judge::beyond_one_plane(
+                    &camera,
+                    points,
+                    size,
+                    big + r + view.slack(),
+                );
+                let z_corner = points.iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
+                let isotropic = isotropic_bound_on_screen(&camera, points, size, big + r, slack);
+                if look != FirstLook::Unknown {
+                    in_view += 1;
+                    assert!(!beyond, "case {k}: in view, but left out");
+                }
+                float_within += usize::from(!beyond && isotropic <= tolerance);
+                if let FirstLook::Within(bound) = look {
+                    within += 1;
+                    let exact = isotropic_exact(&camera, z_corner, size, big + r, slack);
+                    assert!(
+                        isotropic <= tolerance,
+                        "case {k}: {isotropic} over {tolerance}"
+                    );
+                    assert!(bound <= tolerance, "case {k}: {bound} over {tolerance}");
+                    assert!(bound as f64 >= exact, "case {k}: {bound} under {exact}");
+                    loosest = loosest.max(bound as f64 / isotropic as f64);
+                    if isotropic > 0.9 * tolerance {
+                        near_loosest = near_loosest.max(bound as f64 / isotropic as f64);
+                    }
+                }
+            }
+        }
+        assert!(looked > 20_000, "{looked} triangles looked at");
+        // Measured: 22,365 of 30,000 in view (the others partly off the screen); within
+        // 9,461 of the 9,525 the `f32` bound finds, the look's bound at most 4.0% above it,
+        // 0.5% where that is over 0.9 of the tolerance.
+        assert!(
+            in_view * 10 > looked * 7
+                && within * 100 > float_within * 95
+                && loosest < 1.08
+                && near_loosest < 1.02,
+            "in view {in_view} of {looked}, within {within} of {float_within}, loosest \
+             {loosest} ({near_loosest} near the tolerance)"
+        );
+    }
+}
