@@ -173,6 +173,7 @@ impl Polygon {
 /// term of all vertices at the least depth of all, and fewer vertices give a smaller or equal
 /// term at a greater or equal depth, computed the same way: rounding keeps the order). With
 /// `stop` infinite, the bound.
+#[cfg(test)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bound_on_screen(
     camera: &Camera,
@@ -183,6 +184,23 @@ pub(crate) fn bound_on_screen(
     r: f32,
     slack: f32,
     stop: f32,
+) -> f32 {
+    bound_on_screen_inside(camera, corners, size, e, big, r, slack, stop, false)
+}
+
+/// [`bound_on_screen`], for corners of which it is known (`inside`) that each lies inside
+/// every plane as its test finds it (see `tessellator::grid_judge`), or not known.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn bound_on_screen_inside(
+    camera: &Camera,
+    corners: [Vec3; 3],
+    size: f32,
+    e: &impl Deviations,
+    big: f32,
+    r: f32,
+    slack: f32,
+    stop: f32,
+    inside: bool,
 ) -> f32 {
     let m = big + r;
     let focal = camera.focal();
@@ -202,13 +220,14 @@ pub(crate) fn bound_on_screen(
     // a corner on a plane, the test may skip a clip that would move it by a rounding, which
     // only leaves the polygon a hair larger.
     let (wx, wy) = (w * nx, w * ny);
-    let inside = corners.iter().all(|&p| {
-        p.z >= near
-            && (-p.x - sx * p.z) <= wx
-            && (p.x - sx * p.z) <= wx
-            && (-p.y - sy * p.z) <= wy
-            && (p.y - sy * p.z) <= wy
-    });
+    let inside = inside
+        || corners.iter().all(|&p| {
+            p.z >= near
+                && (-p.x - sx * p.z) <= wx
+                && (p.x - sx * p.z) <= wx
+                && (-p.y - sy * p.z) <= wy
+                && (p.y - sy * p.z) <= wy
+        });
     let clipped;
     let front: &[Vec3] = if inside {
         &corners

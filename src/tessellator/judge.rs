@@ -18,14 +18,14 @@
 use glam::Vec3;
 
 use super::address::ONE;
-use super::grid_judge::{FirstLook, GridJudge};
+use super::grid_judge::{FirstLook, GridJudge, Seen, Sight};
 use super::hierarchy::{Hierarchy, Pending};
 use super::select::Tessellator;
 use crate::deviation::certificate::{Asked, Lasting};
 use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
-use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
+use crate::deviation::{bound_on_screen_inside, isotropic_bound_on_screen, view_extent, EPS};
 use crate::view::{Camera, Projection, View};
 use crate::Arithmetic;
 
@@ -172,7 +172,7 @@ pub(super) fn judge(
         // Where the frame takes one, a first look in integers (see `grid_judge`): it finds
         // most triangles within as the `f32` judgement would, and most others in view. (A
         // bound within the tolerance is never asked for in full: `exact` is for one over.)
-        let mut in_view = false;
+        let mut seen = Seen::NOTHING;
         if let (View::Screen { .. }, Some(grid), Some(look), None) =
             (view, selection.grid_view(), selection.grid_judge(), eager)
         {
@@ -181,8 +181,7 @@ pub(super) fn judge(
                 let first = look.look(grid, [a, b, c], &node.vectors, node.scale, node.remainder);
                 match first {
                     FirstLook::Within(bound) => return Judged::bare(bound, false),
-                    FirstLook::InView => in_view = true,
-                    FirstLook::Unknown => {}
+                    FirstLook::Seen(found) => seen = found,
                 }
             }
         }
@@ -213,7 +212,7 @@ pub(super) fn judge(
                 Some(_) => 0.0,
                 None => selection.grid_view().map_or(0.0, |g| g.slack()),
             },
-            in_view,
+            seen,
             stop,
             // A certificate bounds the float vectors' bound over a camera step; the integer
             // one may stand above it by its own roundings, which no certificate covers: its
@@ -256,7 +255,7 @@ pub(super) fn judge(
         big,
         remainder,
         0.0,
-        false,
+        Seen::NOTHING,
         stop,
         asked,
     );
@@ -305,8 +304,8 @@ fn viewed(selection: &impl Frame, h: &Pending, camera: &Camera) -> [Vec3; 3] {
 /// (none longer than `big`) widened by `remainder`, the corners within `remainder` and
 /// `slack` more of their points' moves into view coordinates (see `deviation/screen.rs`:
 /// *Rounding*); a directional bound over `stop` may stop there (see [`judge`]), and with
-/// `asked` steps the judgement comes with its certificate. `in_view`: a first look found a
-/// corner in view of every plane (see `grid_judge`), so the triangle is not left out.
+/// `asked` steps the judgement comes with its certificate. `seen`: what a first look found
+/// certain (see `grid_judge`), which the `f32` tests then need not look at.
 #[allow(clippy::too_many_arguments)]
 fn judge_vectors<D: Deviations>(
     view: &View,
@@ -315,7 +314,7 @@ fn judge_vectors<D: Deviations>(
     big: f32,
     remainder: f32,
     slack: f32,
-    in_view: bool,
+    seen: Seen,
     stop: f32,
     asked: Asked<'_>,
 ) -> Judged {
@@ -329,14 +328,20 @@ fn judge_vectors<D: Deviations>(
             // (A test of its bits: where `f32` is software, a comparison is a library call.)
             let widened = |x: f32| if slack.to_bits() != 0 { x + slack } else { x };
             let corners = widened(remainder);
-            if !in_view && beyond_one_plane(camera, viewed, size, widened(big + remainder)) {
+            if seen.sight == Sight::Unknown
+                && beyond_one_plane(camera, viewed, size, widened(big + remainder))
+            {
                 return Judged::bare(0.0, true);
             }
             let tolerance = view.tolerance();
             // Most triangles a frame judges are within the tolerance by the isotropic bound
             // already, which needs no vectors; the others take the directional one.
             let m = big + remainder;
-            let isotropic = isotropic_bound_on_screen(camera, viewed, size, m, corners);
+            // (A first look may know it over: then only its being over is read.)
+            let isotropic = match seen.isotropic_over {
+                true => f32::INFINITY,
+                false => isotropic_bound_on_screen(camera, viewed, size, m, corners),
+            };
             let asked = if cfg!(feature = "reuse") {
                 asked
             } else {
@@ -364,7 +369,12 @@ fn judge_vectors<D: Deviations>(
                 return j;
             }
             let e = vectors(camera);
-            let full = || bound_on_screen(camera, viewed, size, &e, big, remainder, corners, stop);
+            let inside = seen.sight == Sight::EveryCorner;
+            let full = || {
+                bound_on_screen_inside(
+                    camera, viewed, size, &e, big, remainder, corners, stop, inside,
+                )
+            };
             if asked.is_empty() {
                 return Judged::bare(full(), false);
             }

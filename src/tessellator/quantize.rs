@@ -182,7 +182,10 @@ impl LogGrid {
                     _ => EIGHTHS[step & 7],
                 };
                 let e = (octave + self.unit).clamp(-126, 127);
-                f32::from_bits(table) * f32::from_bits(((e + 127) as u32) << 23)
+                // `table 2^e`: the table's values lie in `[1, 2)` and the product is a normal
+                // number, so it is exact, the table's bits with `e` added to the exponent
+                // (no library call where `f32` is software).
+                f32::from_bits((table as i32 + (e << 23)) as u32)
             }
         }
     }
@@ -217,6 +220,30 @@ impl LogGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every code's value is the table's step times the power of two of its octave, as the
+    /// product of the two `f32` numbers gives it, for both grids and every unit a model may
+    /// have (the exponent's clamps included).
+    #[test]
+    fn values_are_the_steps_times_their_octaves() {
+        for (zero, shift) in [(152, 3), (218, 2)] {
+            for unit in -100..=100 {
+                let g = LogGrid { unit, zero, shift };
+                for b in 1..255u8 {
+                    let k = b as i32 - zero;
+                    let (octave, step) = (k >> shift, (k & ((1 << shift) - 1)) as usize);
+                    let table = if shift == 2 {
+                        QUARTERS[step]
+                    } else {
+                        EIGHTHS[step]
+                    };
+                    let e = (octave + unit).clamp(-126, 127);
+                    let product = f32::from_bits(table) * f32::from_bits(((e + 127) as u32) << 23);
+                    assert_eq!(g.value(b).to_bits(), product.to_bits(), "{unit} {b}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn bounds_round_up_to_the_smallest_grid_value() {
