@@ -259,7 +259,6 @@ impl GridJudge {
                 isotropic_over: false,
             });
         };
-        let (r, s) = (u64::from(r), u64::from(s));
         // `η`: the remainder and the grid's slack, `16 ε` of the extent, and `4 ε` of the
         // sum more.
         let extent = corners
@@ -269,7 +268,7 @@ impl GridJudge {
             .unwrap_or(0);
         let t = u64::from(self.slack) + (extent >> 20) + 1;
         let rounding = t + (t >> 20) + 1;
-        let eta = r + (r >> 20) + 1 + rounding;
+        let eta = u64::from(r) + u64::from(r >> 20) + 1 + rounding;
         if rounding > z_min >> ROUNDING_CAP || eta > u64::from(self.near) >> 1 {
             return FirstLook::Seen(Seen {
                 sight,
@@ -283,20 +282,20 @@ impl GridJudge {
             .map(|c| c.iter().map(|&v| i32::from(v) * i32::from(v)).sum::<i32>())
             .max()
             .unwrap_or(0);
-        let longest = (u64::from(sqrt_up((n as u32) << 8)) * s + 15) >> 4;
+        let longest = (wide(sqrt_up((n as u32) << 8), s) + 15) >> 4;
         let longest = longest + (longest >> 15) + 1;
-        let m = longest + r + ((longest + r) >> 20) + 1;
+        let m = longest + u64::from(r) + ((longest + u64::from(r)) >> 20) + 1;
         let right = (z_min - (z_min >> 11) - 1) << K_BITS;
-        let Some(left) = m
-            .checked_mul(u64::from(self.k))
-            .and_then(|l| l.checked_add(r.checked_mul(u64::from(self.k_r))? << (K_BITS - R_BITS)))
-            .and_then(|l| l.checked_add(eta << K_BITS))
-        else {
+        // (Below `2^63 + 2^52 + 2^45`: no overflow.)
+        let Ok(m) = u32::try_from(m) else {
+            let isotropic_over = self.isotropic_over(z_min, n, scale, remainder, u);
             return FirstLook::Seen(Seen {
                 sight,
-                isotropic_over: false,
+                isotropic_over,
             });
         };
+        let left =
+            wide(m, self.k) + (wide(r, u32::from(self.k_r)) << (K_BITS - R_BITS)) + (eta << K_BITS);
         if left > right {
             let isotropic_over = self.isotropic_over(z_min, n, scale, remainder, u);
             return FirstLook::Seen(Seen {
@@ -317,14 +316,32 @@ impl GridJudge {
         let (Some(r), Some(s)) = (floor_fixed(remainder, -u), floor_fixed(scale, -u)) else {
             return false;
         };
-        let Some(longest) = u64::from(sqrt_down((n as u32) << 8)).checked_mul(s as u64) else {
-            return false;
-        };
-        let sum = (longest >> 4).saturating_add(r as u64);
+        // (Taken down to `u32`, each stays a lower bound.)
+        let down = |x: i64| u32::try_from(x).unwrap_or(u32::MAX);
+        let longest = wide(sqrt_down((n as u32) << 8), down(s)) >> 4;
+        let sum = longest + u64::from(down(r));
         let m = sum.saturating_sub((sum >> 20) + 1);
-        m.checked_mul(u64::from(self.k_c))
-            .is_some_and(|l| l > z_min << K_BITS)
+        wide(u32::try_from(m).unwrap_or(u32::MAX), self.k_c) > z_min << K_BITS
     }
+}
+
+/// `a b`, exact. On 32-bit ARM without an FPU (ARMv6-M has no 32 by 32 to 64-bit multiply),
+/// from four 16-bit products rather than the library's 64-bit one.
+#[inline(always)]
+fn wide(a: u32, b: u32) -> u64 {
+    if crate::math::HARD_FLOAT || !cfg!(target_arch = "arm") {
+        u64::from(a) * u64::from(b)
+    } else {
+        wide_in_halves(a, b)
+    }
+}
+
+/// [`wide`] from 16-bit halves.
+#[inline(always)]
+fn wide_in_halves(a: u32, b: u32) -> u64 {
+    let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
+    let middle = u64::from(ah * bl) + u64::from(al * bh);
+    (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
 }
 
 /// `|x|`, from its bits (no library call where `f32` is software).
@@ -375,6 +392,21 @@ mod tests {
     use crate::tessellator::quantize::PositionGrid;
     use crate::tessellator::HierarchyNode;
     use crate::test_rng::TestRng;
+
+    #[test]
+    fn wide_products_are_exact() {
+        let mut rng = TestRng::new(0x71de_0001);
+        for k in 0..100_000 {
+            let (a, b) = match k {
+                0 => (u32::MAX, u32::MAX),
+                1 => (0, u32::MAX),
+                2 => (65535, 65536),
+                _ => (rng.next_u32(), rng.next_u32() >> (k % 32)),
+            };
+            assert_eq!(wide_in_halves(a, b), u64::from(a) * u64::from(b), "{a} {b}");
+            assert_eq!(wide(a, b), u64::from(a) * u64::from(b), "{a} {b}");
+        }
+    }
 
     /// `screen::isotropic_from`'s bound in `f64`, its real value for the `f32` judgement's
     /// own inputs: what the look's bound must cover.
