@@ -41,6 +41,36 @@ pub(crate) fn f32_of(v: i32, e: i32) -> f32 {
     f32::from_bits(sign | (exponent as u32) << 23 | (mantissa & 0x7f_ffff))
 }
 
+/// `a b`, exact. On 32-bit ARM without an FPU (ARMv6-M has no 32 by 32 to 64-bit multiply),
+/// from four 16-bit products rather than the library's 64-bit one.
+#[inline(always)]
+pub(crate) fn wide(a: u32, b: u32) -> u64 {
+    if crate::math::HARD_FLOAT || !cfg!(target_arch = "arm") {
+        u64::from(a) * u64::from(b)
+    } else {
+        wide_in_halves(a, b)
+    }
+}
+
+/// [`wide`] from 16-bit halves.
+#[inline(always)]
+pub(crate) fn wide_in_halves(a: u32, b: u32) -> u64 {
+    let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
+    let middle = u64::from(ah * bl) + u64::from(al * bh);
+    (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
+}
+
+/// `a b` for `i32` operands, exact: [`wide`] of their magnitudes, with their sign.
+#[inline(always)]
+pub(crate) fn wide_signed(a: i32, b: i32) -> i64 {
+    let magnitude = wide(a.unsigned_abs(), b.unsigned_abs()) as i64;
+    if (a ^ b) < 0 {
+        -magnitude
+    } else {
+        magnitude
+    }
+}
+
 /// Square root (correctly rounded on every target).
 #[inline]
 pub(crate) fn sqrt(x: f32) -> f32 {
@@ -178,6 +208,24 @@ mod tests {
 
     /// `sqrt_one_plus_above` is at least `√(1 + x)`, within `3 · 10^-5` of it up to `x = 1/4`
     /// and within a factor of 1.1 up to `x = 1`.
+    #[test]
+    fn wide_products_are_exact() {
+        let mut rng = crate::test_rng::TestRng::new(0x71de_0001);
+        for k in 0..100_000 {
+            let (a, b) = match k {
+                0 => (u32::MAX, u32::MAX),
+                1 => (0, u32::MAX),
+                2 => (65535, 65536),
+                3 => (0x8000_0000, 0x8000_0000),
+                _ => (rng.next_u32(), rng.next_u32() >> (k % 32)),
+            };
+            assert_eq!(wide_in_halves(a, b), u64::from(a) * u64::from(b), "{a} {b}");
+            assert_eq!(wide(a, b), u64::from(a) * u64::from(b), "{a} {b}");
+            let (a, b) = (a as i32, b as i32);
+            assert_eq!(wide_signed(a, b), i64::from(a) * i64::from(b), "{a} {b}");
+        }
+    }
+
     #[test]
     fn sqrt_one_plus_above_bounds_the_root() {
         let mut rng = crate::test_rng::TestRng::new(0x0e1f_2026);

@@ -18,15 +18,18 @@
 //! `p_y = up - τ_y forward`, so `φ(τ, e_k) = scale · |P c_k|`, and `P` is found once a ray for
 //! all the vectors.
 //!
-//! - `P` is computed in `f32`: each entry within `2.01 ε t` of the exact one, with
-//!   `t = 1 + max(|τ_x|, |τ_y|)` (a product and a difference of numbers at most `t`, the rows
-//!   being unit to within a few `ε`).
-//! - Scaled by `2^s` (exact), where `2^s` puts the largest `|P_ij|` in `[2^21, 2^22)`, and
-//!   truncated to integers `P̃`: `|P_ij 2^s - P̃_ij| < 1 + 2.01 ε t 2^s`. The row of the
-//!   larger `|τ|` is `√(1 + τ²) >= t / √2` long (`right` or `up` is orthogonal to `forward`),
-//!   so its largest entry is at least `t / √6` (less a few `ε`), and `2^s < 2^22` over the
-//!   largest entry: `2.01 ε t 2^s < 2.01 √6 / 4 < 1.24`. So `u = 2.5` bounds each entry's
-//!   error, whatever the ray.
+//! - `P` is computed in integers, with `t = 1 + max(|τ_x|, |τ_y|)`: the rows' entries (unit
+//!   to within a few `ε`) truncated to 29 fractional bits, the rays to `T = τ 2^k` truncated
+//!   (`|τ| < 2^(q + 1)`, `q >= 0`, `k = 28 - q`; a ray past `2^21` gives infinity), and
+//!   `2^29 P_ij` as `R_ij - ⌊T F_j 2^-k⌋`, `F_j` the forward row's entry (a product of two
+//!   `i32` in 64 bits). Off the exact value by less than `1` (`R`) `+ |τ|` (`F`'s truncation
+//!   times `|τ|`) `+ 2^(q + 1) <= 2 t` (`T`'s, times `|F| <= 1`) `+ 1` (the floor): `5 t`.
+//! - Shifted right (a floor) to put the largest `|P_ij|` in `[2^21, 2^22)`: `P̃ = 2^s P` with
+//!   `s = 29 - shift`. The row of the larger `|τ|` is `√(1 + τ²) >= t / √2` long (`right` or
+//!   `up` is orthogonal to `forward`), so its largest entry is at least `t / √6` (less a few
+//!   `ε`): the shift is at least `log2(2^29 t / √6 / 2^22) > 5.6 + log2 t`, and the `5 t`
+//!   above is under `0.11` after it. With the floor, `|P_ij 2^s - P̃_ij| < 1.11`: `u = 2.5`
+//!   bounds each entry's error, whatever the ray.
 //! - `a = P̃ c_k` is exact in `i32` (`|P̃_ij| < 2^22`, `|c| <= 128`, three terms: under
 //!   `2^31`), and `a_x² + a_y²` in `u64`. The exact `2^s P c_k` differs from `a` by at most
 //!   `u |c_k|_1` in each coordinate, so
@@ -53,7 +56,7 @@ use glam::Vec3;
 
 use super::kept::{dequantize, KEPT};
 use super::EPS;
-use crate::math::{max, sqrt_above};
+use crate::math::{max, sqrt_above, wide_signed};
 use crate::view::Camera;
 
 /// Deviation vectors whose worst term `max_k φ(τ, e_k)` the bound on screen takes (see the
@@ -168,22 +171,34 @@ impl Deviations for Quantised {
             return f32::INFINITY;
         }
         let [right, up, forward] = camera.view_rows();
-        let row =
-            |r: [f32; 3], t: f32| core::array::from_fn::<f32, 3, _>(|j| r[j] - t * forward[j]);
-        let rows = [row(right, tx), row(up, ty)];
-        // The largest entry's exponent `e`, `2^e <= |P_ij| < 2^(e + 1)`, from the bits alone
-        // (finite entries: no NaN to order).
+        // The rays in fixed point, `T = τ 2^k` truncated, `|τ| < 2^(q + 1)`, `k = 28 - q`.
+        let exponent = |x: f32| ((x.to_bits() >> 23) & 0xff) as i32 - 127;
+        let q = exponent(tx).max(exponent(ty)).max(0);
+        if q > 20 {
+            return f32::INFINITY;
+        }
+        let k = 28 - q;
+        let t = [tx, ty].map(|x| times_power_of_two_in_integers(x, k));
+        // The rows in 29 fractional bits.
+        let fixed29 = |x: f32| times_power_of_two_in_integers(x, 29);
+        let f = forward.map(fixed29);
+        let row = |r: [f32; 3], t: i32| {
+            [0, 1, 2].map(|j| i64::from(fixed29(r[j])) - (wide_signed(t, f[j]) >> k))
+        };
+        let rows = [row(right, t[0]), row(up, t[1])];
+        // `P̃`: the rows shifted to put the largest entry in `[2^21, 2^22)`, `2^s P`.
         let top = rows
             .iter()
             .flatten()
-            .map(|x| x.to_bits() & 0x7fff_ffff)
-            .max();
-        let exponent = (top.unwrap_or(0) >> 23) as i32 - 127;
-        let s = 21 - exponent;
-        if exponent > 127 || !(-126..=126).contains(&s) {
+            .map(|x| x.unsigned_abs())
+            .max()
+            .unwrap_or(0);
+        let shift = 64 - top.leading_zeros() as i32 - 22;
+        let s = 29 - shift;
+        if shift < 0 || !(-126..=126).contains(&s) {
             return f32::INFINITY;
         }
-        let fixed = rows.map(|r| r.map(|x| times_power_of_two(x, s)));
+        let fixed = rows.map(|r| r.map(|x| (x >> shift) as i32));
         let mut square = 0u64;
         for c in &self.vectors {
             let c = c.map(i32::from);
@@ -219,18 +234,6 @@ impl Deviations for Quantised {
     }
 }
 
-/// `x 2^s` truncated toward zero, for a finite `x` with `|x 2^s| < 2^31`: what
-/// `(x * 2^s) as i32` gives (the product is exact), from the bits alone where `f32` is
-/// software.
-#[inline(always)]
-fn times_power_of_two(x: f32, s: i32) -> i32 {
-    if crate::math::HARD_FLOAT {
-        (x * power_of_two(s)) as i32
-    } else {
-        times_power_of_two_in_integers(x, s)
-    }
-}
-
 /// `a²`, exact. On 32-bit ARM without an FPU (ARMv6-M has no 32 by 32 to 64-bit multiply),
 /// from three 32-bit products of `|a|`'s halves rather than the library's 64-bit one: 3.4M
 /// of `fw_teapot`'s update instructions on ARMv6-M were that library call.
@@ -259,7 +262,8 @@ fn power_of_two(k: i32) -> f32 {
     f32::from_bits(((127 + k) as u32) << 23)
 }
 
-/// [`times_power_of_two`] in integer operations.
+/// `x 2^s` truncated toward zero, for a finite `x` with `|x 2^s| < 2^31`, in integer
+/// operations (the product is exact).
 #[inline(always)]
 fn times_power_of_two_in_integers(x: f32, s: i32) -> i32 {
     let bits = x.to_bits();

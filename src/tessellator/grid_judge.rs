@@ -83,6 +83,7 @@
 use super::grid_view::{floor_fixed, GridView};
 use crate::deviation::kept::KEPT;
 use crate::deviation::{EPS, SCREEN_SLACK};
+use crate::math::wide;
 use crate::view::{Camera, Projection};
 
 /// A frame's constants for the first look (see the [module docs](self)), in the units of
@@ -325,25 +326,6 @@ impl GridJudge {
     }
 }
 
-/// `a b`, exact. On 32-bit ARM without an FPU (ARMv6-M has no 32 by 32 to 64-bit multiply),
-/// from four 16-bit products rather than the library's 64-bit one.
-#[inline(always)]
-fn wide(a: u32, b: u32) -> u64 {
-    if crate::math::HARD_FLOAT || !cfg!(target_arch = "arm") {
-        u64::from(a) * u64::from(b)
-    } else {
-        wide_in_halves(a, b)
-    }
-}
-
-/// [`wide`] from 16-bit halves.
-#[inline(always)]
-fn wide_in_halves(a: u32, b: u32) -> u64 {
-    let (ah, al, bh, bl) = (a >> 16, a & 0xffff, b >> 16, b & 0xffff);
-    let middle = u64::from(ah * bl) + u64::from(al * bh);
-    (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
-}
-
 /// `|x|`, from its bits (no library call where `f32` is software).
 fn abs(x: f32) -> f32 {
     f32::from_bits(x.to_bits() & 0x7fff_ffff)
@@ -392,21 +374,6 @@ mod tests {
     use crate::tessellator::quantize::PositionGrid;
     use crate::tessellator::HierarchyNode;
     use crate::test_rng::TestRng;
-
-    #[test]
-    fn wide_products_are_exact() {
-        let mut rng = TestRng::new(0x71de_0001);
-        for k in 0..100_000 {
-            let (a, b) = match k {
-                0 => (u32::MAX, u32::MAX),
-                1 => (0, u32::MAX),
-                2 => (65535, 65536),
-                _ => (rng.next_u32(), rng.next_u32() >> (k % 32)),
-            };
-            assert_eq!(wide_in_halves(a, b), u64::from(a) * u64::from(b), "{a} {b}");
-            assert_eq!(wide(a, b), u64::from(a) * u64::from(b), "{a} {b}");
-        }
-    }
 
     /// `screen::isotropic_from`'s bound in `f64`, its real value for the `f32` judgement's
     /// own inputs: what the look's bound must cover.
