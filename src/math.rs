@@ -16,6 +16,11 @@ pub(crate) const HARD_FLOAT: bool = cfg!(any(
     target_feature = "f"
 ));
 
+/// Whether the build carries the integer forms of work that is `f32` elsewhere: where `f32`
+/// is software, and on a host (which finds the frames such a part finds). A bare-metal part
+/// with an FPU leaves them out (its flash), and computes those steps in `f32`.
+pub(crate) const INTEGER_FORMS: bool = !HARD_FLOAT || cfg!(not(target_os = "none"));
+
 /// `v 2^-e` as `f32`, exact where `|v| < 2^24`, from bits (no `f32` arithmetic); beyond that
 /// the bits that do not fit are cut off. Zero where the value is below `f32`'s normal range,
 /// infinite above it.

@@ -47,8 +47,7 @@ use crate::view::Camera;
 /// Whether the build moves grid points in integers at all: where `f32` is software, and on a
 /// host (which finds the frames such a part finds); a bare-metal part with an FPU draws with
 /// `Arithmetic::Float`, and leaves the code out (1.3 KB of the Cortex-M4F's flash).
-pub(crate) const MOVES_IN_INTEGERS: bool =
-    !crate::math::HARD_FLOAT || cfg!(not(target_os = "none"));
+pub(crate) const MOVES_IN_INTEGERS: bool = crate::math::INTEGER_FORMS;
 
 /// A frame's move of the grid's points into view coordinates, in fixed point (see the
 /// [module docs](self)).

@@ -183,9 +183,13 @@ impl LogGrid {
                 };
                 let e = (octave + self.unit).clamp(-126, 127);
                 // `table 2^e`: the table's values lie in `[1, 2)` and the product is a normal
-                // number, so it is exact, the table's bits with `e` added to the exponent
-                // (no library call where `f32` is software).
-                f32::from_bits((table as i32 + (e << 23)) as u32)
+                // number, so it is exact: where `f32` is software, the table's bits with `e`
+                // added to the exponent (no library call; an FPU's product is cheaper).
+                if crate::math::HARD_FLOAT {
+                    f32::from_bits(table) * f32::from_bits(((e + 127) as u32) << 23)
+                } else {
+                    f32::from_bits((table as i32 + (e << 23)) as u32)
+                }
             }
         }
     }
@@ -239,6 +243,8 @@ mod tests {
                     };
                     let e = (octave + unit).clamp(-126, 127);
                     let product = f32::from_bits(table) * f32::from_bits(((e + 127) as u32) << 23);
+                    let added = f32::from_bits((table as i32 + (e << 23)) as u32);
+                    assert_eq!(added.to_bits(), product.to_bits(), "{unit} {b}");
                     assert_eq!(g.value(b).to_bits(), product.to_bits(), "{unit} {b}");
                 }
             }
