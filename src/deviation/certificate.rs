@@ -705,7 +705,7 @@ mod tests {
             return false;
         }
         let e = vectors.map(|v| camera.rotate_to_view(v));
-        bound_on_screen(camera, viewed, size, &e, big, r, r, tolerance) > tolerance
+        bound_on_screen(camera, viewed, size, &e, big, r, r, tolerance, false) > tolerance
     }
 
     fn camera(eye: Vec3, target: Vec3) -> Option<Camera> {
@@ -788,7 +788,7 @@ mod tests {
             let e = vectors.map(|v| c0.rotate_to_view(v));
             // The tolerance within a factor of two of the bound, either side.
             let size = view_extent(&viewed);
-            let bound = bound_on_screen(&c0, viewed, size, &e, big, r, r, f32::INFINITY);
+            let bound = bound_on_screen(&c0, viewed, size, &e, big, r, r, f32::INFINITY, false);
             if !(bound.is_finite() && bound > 0.0) {
                 continue;
             }
@@ -928,7 +928,7 @@ mod tests {
             let viewed = corners.map(|p| camera.to_view(p));
             let e = vectors.map(|v| camera.rotate_to_view(v));
             let size = view_extent(&viewed);
-            let full = bound_on_screen(&camera, viewed, size, &e, big, r, r, f32::INFINITY);
+            let full = bound_on_screen(&camera, viewed, size, &e, big, r, r, f32::INFINITY, false);
             if !(full.is_finite() && full > 0.0) {
                 continue;
             }
@@ -966,7 +966,7 @@ mod tests {
                 exact,
                 || {
                     called = true;
-                    bound_on_screen(&camera, viewed, size, &e, big, r, r, stop)
+                    bound_on_screen(&camera, viewed, size, &e, big, r, r, stop, false)
                 },
             );
             assert_eq!(bound > tolerance, over, "case {k}: {bound} against {full}");
@@ -1062,7 +1062,7 @@ mod tests {
                 let e = vectors.map(|v| c1.rotate_to_view(v));
                 let size = view_extent(&viewed);
                 let i = isotropic_bound_on_screen(&c1, viewed, size, big + r, r);
-                let d = bound_on_screen(&c1, viewed, size, &e, big, r, r, f32::INFINITY);
+                let d = bound_on_screen(&c1, viewed, size, &e, big, r, r, f32::INFINITY, false);
                 let slack = 1.0 + 1.0 / 4096.0;
                 assert!(
                     i_low <= i * slack && i <= i_up * slack,

@@ -71,9 +71,7 @@ mod screen;
 pub(crate) mod vectors;
 
 pub use patch_bounds::PatchBounds;
-pub(crate) use screen::{
-    bound_on_screen_inside, isotropic_bound_on_screen, view_extent, SCREEN_SLACK,
-};
+pub(crate) use screen::{bound_on_screen, isotropic_bound_on_screen, view_extent, SCREEN_SLACK};
 
 /// Unit roundoff of `f32`.
 pub(crate) const EPS: f32 = f32::EPSILON * 0.5;

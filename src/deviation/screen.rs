@@ -172,26 +172,10 @@ impl Polygon {
 /// and returns that: a value above `stop` and at most the bound (the bound is the largest
 /// term of all vertices at the least depth of all, and fewer vertices give a smaller or equal
 /// term at a greater or equal depth, computed the same way: rounding keeps the order). With
-/// `stop` infinite, the bound.
-#[cfg(test)]
+/// `stop` infinite, the bound. `inside`: the caller knows that each corner lies inside every
+/// plane as the test below finds it (see `tessellator::grid_judge`), which it then skips.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bound_on_screen(
-    camera: &Camera,
-    corners: [Vec3; 3],
-    size: f32,
-    e: &impl Deviations,
-    big: f32,
-    r: f32,
-    slack: f32,
-    stop: f32,
-) -> f32 {
-    bound_on_screen_inside(camera, corners, size, e, big, r, slack, stop, false)
-}
-
-/// [`bound_on_screen`], for corners of which it is known (`inside`) that each lies inside
-/// every plane as its test finds it (see `tessellator::grid_judge`), or not known.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn bound_on_screen_inside(
     camera: &Camera,
     corners: [Vec3; 3],
     size: f32,
@@ -428,6 +412,7 @@ mod tests {
                 r,
                 r,
                 f32::INFINITY,
+                false,
             );
             let isotropic = isotropic_bound_on_screen(&camera, corners, size, longest + r, r);
             assert!(
@@ -452,8 +437,9 @@ mod tests {
         for k in 0..4000 {
             let (camera, corners, vectors, longest, r) = random_case(&mut rng, k);
             let size = view_extent(&corners);
-            let bound =
-                |stop| bound_on_screen(&camera, corners, size, &vectors, longest, r, r, stop);
+            let bound = |stop| {
+                bound_on_screen(&camera, corners, size, &vectors, longest, r, r, stop, false)
+            };
             let full = bound(f32::INFINITY);
             if !full.is_finite() || full == 0.0 {
                 continue;

@@ -83,7 +83,7 @@
 use super::grid_view::{floor_fixed, GridView};
 use crate::deviation::kept::KEPT;
 use crate::deviation::{EPS, SCREEN_SLACK};
-use crate::math::wide;
+use crate::math::{isqrt, wide};
 use crate::view::{Camera, Projection};
 
 /// A frame's constants for the first look (see the [module docs](self)), in the units of
@@ -319,7 +319,7 @@ impl GridJudge {
         };
         // (Taken down to `u32`, each stays a lower bound.)
         let down = |x: i64| u32::try_from(x).unwrap_or(u32::MAX);
-        let longest = wide(sqrt_down((n as u32) << 8), down(s)) >> 4;
+        let longest = wide(isqrt((n as u32) << 8), down(s)) >> 4;
         let sum = longest + u64::from(down(r));
         let m = sum.saturating_sub((sum >> 20) + 1);
         wide(u32::try_from(m).unwrap_or(u32::MAX), self.k_c) > z_min << K_BITS
@@ -340,28 +340,10 @@ fn ceil_fixed(x: f32, u: i32) -> Option<u32> {
     u32::try_from(-fixed).ok().filter(|&v| v < 1 << 31)
 }
 
-/// `⌈√n⌉` for `n < 2^24`.
+/// `⌈√n⌉`.
 fn sqrt_up(n: u32) -> u32 {
-    let root = sqrt_down(n);
+    let root = isqrt(n);
     root + u32::from(root * root < n)
-}
-
-/// `⌊√n⌋` for `n < 2^24` (digit by digit).
-fn sqrt_down(n: u32) -> u32 {
-    let (mut rest, mut root, mut bit) = (n, 0u32, 1u32 << 22);
-    while bit > rest {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if rest >= root + bit {
-            rest -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root
 }
 
 #[cfg(test)]
@@ -370,7 +352,7 @@ mod tests {
 
     use super::*;
     use crate::deviation::vectors::Quantised;
-    use crate::deviation::{bound_on_screen_inside, isotropic_bound_on_screen, view_extent};
+    use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent};
     use crate::tessellator::quantize::PositionGrid;
     use crate::tessellator::HierarchyNode;
     use crate::test_rng::TestRng;
@@ -497,7 +479,7 @@ mod tests {
                     // The bound on screen's own test finds the corners inside: the same bits.
                     let e = Quantised::new(node.vectors, node.scale);
                     let bound = |inside| {
-                        bound_on_screen_inside(
+                        bound_on_screen(
                             &camera,
                             points,
                             size,

@@ -25,7 +25,7 @@ use crate::deviation::certificate::{Asked, Lasting};
 use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
-use crate::deviation::{bound_on_screen_inside, isotropic_bound_on_screen, view_extent, EPS};
+use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
 use crate::view::{Camera, Projection, View};
 use crate::Arithmetic;
 
@@ -371,7 +371,7 @@ fn judge_vectors<D: Deviations>(
             let e = vectors(camera);
             let inside = seen.sight == Sight::EveryCorner;
             let full = || {
-                bound_on_screen_inside(
+                bound_on_screen(
                     camera, viewed, size, &e, big, remainder, corners, stop, inside,
                 )
             };

@@ -2,6 +2,7 @@
 //! the corners of small viewports, 64 bits beyond.
 
 use super::{HALF, SUBPIXELS};
+use crate::math::isqrt;
 use crate::render::walk::FixedRamp;
 
 /// The edges as limits on the columns of each row: at the row through subpixel height `yc`,
@@ -214,26 +215,6 @@ pub(super) fn wire_limit_from_integers(half_width: f32, dx: i32, dy: i32, bias: 
     (reach.min(i32::MAX as u64) as i32)
         .saturating_sub(bias)
         .max(0)
-}
-
-/// `⌊√n⌋`, digit by digit. (Not `u32::isqrt`: on ARMv6-M it cost `fw_teapot`'s wireframe frame
-/// 0.7M instructions more.)
-fn isqrt(n: u32) -> u32 {
-    let (mut rest, mut root) = (n, 0u32);
-    let mut bit = 1u32 << 30;
-    while bit > n {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if rest >= root + bit {
-            rest -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root
 }
 
 /// The wireframe test along a span of `n` pixels, the scan's own ([`wire_limit`]): pixel `j`
