@@ -18,7 +18,8 @@ pub(crate) const HARD_FLOAT: bool = cfg!(any(
 
 /// Whether the build carries the integer forms of work that is `f32` elsewhere: where `f32`
 /// is software, and on a host (which finds the frames such a part finds). A bare-metal part
-/// with an FPU leaves them out (its flash), and computes those steps in `f32`.
+/// with an FPU leaves them out (its flash: the grid's integer move alone was 1.3 KB of the
+/// Cortex-M4F's), and computes those steps in `f32`.
 pub(crate) const INTEGER_FORMS: bool = !HARD_FLOAT || cfg!(not(target_os = "none"));
 
 /// `v 2^-e` as `f32`, exact where `|v| < 2^24`, from bits (no `f32` arithmetic); beyond that

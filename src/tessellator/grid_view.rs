@@ -44,11 +44,6 @@ use crate::deviation::EPS;
 use crate::math::{f32_of, max};
 use crate::view::Camera;
 
-/// Whether the build moves grid points in integers at all: where `f32` is software, and on a
-/// host (which finds the frames such a part finds); a bare-metal part with an FPU draws with
-/// `Arithmetic::Float`, and leaves the code out (1.3 KB of the Cortex-M4F's flash).
-pub(crate) const MOVES_IN_INTEGERS: bool = crate::math::INTEGER_FORMS;
-
 /// A frame's move of the grid's points into view coordinates, in fixed point (see the
 /// [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -73,7 +73,9 @@ pub(super) trait Frame {
         None
     }
     /// [`viewed`](Self::viewed), the bake's points moved by `grid`: within its
-    /// [`slack`](super::grid_view::GridView::slack) of those bits.
+    /// [`slack`](super::grid_view::GridView::slack) of those bits. (From
+    /// [`fixed_on_grid`](Self::fixed_on_grid); a point off the grid, below the bake, is moved
+    /// in `f32`.)
     fn viewed_on_grid(
         &self,
         v: u32,
@@ -81,8 +83,10 @@ pub(super) trait Frame {
         p: impl FnOnce() -> Vec3,
         camera: &Camera,
     ) -> Vec3 {
-        let _ = grid;
-        self.viewed(v, p, camera)
+        match self.fixed_on_grid(v, grid) {
+            Some(fixed) => grid.point_of(fixed),
+            None => camera.to_view(p()),
+        }
     }
     /// The frame's constants for a first look in integers, where it takes one (see
     /// `grid_judge`): then corners come from [`fixed_on_grid`](Self::fixed_on_grid) too.
@@ -119,16 +123,6 @@ impl Frame for Tessellator<'_, '_> {
 
     fn grid_view(&self) -> Option<&super::grid_view::GridView> {
         Tessellator::grid_view(self)
-    }
-
-    fn viewed_on_grid(
-        &self,
-        v: u32,
-        grid: &super::grid_view::GridView,
-        p: impl FnOnce() -> Vec3,
-        camera: &Camera,
-    ) -> Vec3 {
-        Tessellator::viewed_on_grid(self, v, grid, p, camera)
     }
 
     fn grid_judge(&self) -> Option<&GridJudge> {

@@ -562,25 +562,10 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// Vertex `v`, whose point `p` gives, in `camera`'s view coordinates
     /// (`camera.to_view(p())`): kept for the bake's vertices in a small cache where there is
     /// one ([`VIEWED`]), emptied by each frame (`camera` is the frame's). (With
-    /// `Arithmetic::Integer` over bytes, [`viewed_on_grid`](Self::viewed_on_grid).)
+    /// `Arithmetic::Integer` over bytes, [`fixed_on_grid`](Self::fixed_on_grid).)
     pub(super) fn viewed(&self, v: u32, p: impl FnOnce() -> Vec3, camera: &Camera) -> Vec3 {
         self.viewed
             .get(v, self.tree.vertex_count(), || camera.to_view(p()))
-    }
-
-    /// [`viewed`](Self::viewed) for a frame that moves the bake's points in integers
-    /// (`grid`): the same cache.
-    pub(super) fn viewed_on_grid(
-        &self,
-        v: u32,
-        grid: &super::grid_view::GridView,
-        p: impl FnOnce() -> Vec3,
-        camera: &Camera,
-    ) -> Vec3 {
-        match self.fixed_on_grid(v, grid) {
-            Some(fixed) => grid.point_of(fixed),
-            None => camera.to_view(p()),
-        }
     }
 
     /// Vertex `v` of the bake in the frame's fixed point (`grid`'s, see `grid_view`), kept in
@@ -606,7 +591,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// (see `grid_judge`).
     pub(super) fn grid_judge(&self) -> Option<&super::grid_judge::GridJudge> {
         // (Never on a bare-metal part with an FPU, which leaves the look's code out.)
-        Some(&self.grid_judge).filter(|g| super::grid_view::MOVES_IN_INTEGERS && g.is_on())
+        Some(&self.grid_judge).filter(|g| crate::math::INTEGER_FORMS && g.is_on())
     }
 
     /// The point of vertex `v`: the bake's, or one below it.
@@ -769,9 +754,7 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.view = Some(*view);
         self.viewed.clear();
         self.grid_view = match (self.arithmetic, view) {
-            (Arithmetic::Integer, View::Screen { camera, .. })
-                if super::grid_view::MOVES_IN_INTEGERS =>
-            {
+            (Arithmetic::Integer, View::Screen { camera, .. }) if crate::math::INTEGER_FORMS => {
                 self.tree
                     .grid()
                     .and_then(|grid| super::grid_view::GridView::new(camera, &grid))
