@@ -42,7 +42,7 @@ pub(super) struct Judged {
 
 impl Judged {
     /// A judgement with no certificate.
-    const fn bare(bound: f32, hidden: bool) -> Judged {
+    pub(super) const fn bare(bound: f32, hidden: bool) -> Judged {
         Judged {
             bound,
             hidden,

@@ -52,8 +52,9 @@
 //! Most of a step is its first part, the judgements made again, each with its certificate;
 //! each reads the frame and writes nothing but its own judgement. Called from
 //! `update_parallel` (feature `std`), a step lists the lapsed nodes and what is asked of each,
-//! judges them on rayon's threads (each with its own cache of corners in view coordinates,
-//! which gives the same bits as moving them again), then keeps and notes the judgements in
+//! judges them in pieces, taken by the calling thread at once and by rayon's threads as they
+//! wake (each with its own cache of corners in view coordinates, which gives the same bits
+//! as moving them again), then keeps and notes the judgements in
 //! the list's order on the calling thread: the same judgements, kept in the same order, so the
 //! same step and the same figures, which the tests check along camera paths. A step with
 //! fewer than `STEP_THREADS_FROM` lapsed judgements stays on the calling thread.
@@ -98,6 +99,10 @@ const LOOKAHEAD: usize = if cfg!(all(feature = "std", not(target_os = "none"))) 
 /// Fewest lapsed judgements a step makes on the threads (fewer stay on the calling thread).
 #[cfg(all(feature = "std", not(target_os = "none")))]
 const STEP_THREADS_FROM: usize = 512;
+
+/// Lapsed judgements a thread of a step takes at a time (see `judge_the_lapsed_on_threads`).
+#[cfg(all(feature = "std", not(target_os = "none")))]
+const STEP_PIECE: usize = 64;
 
 /// What a thread of a step judges with (see `judge_the_lapsed_on_threads`): the
 /// tessellator's hierarchy, arithmetic and culled patches, and a cache of its own.
@@ -425,7 +430,7 @@ impl Tessellator<'_, '_> {
     /// thread: a thread's work costs more than it saves.)
     #[cfg(all(feature = "std", not(target_os = "none")))]
     fn judge_the_lapsed_on_threads(&mut self, view: &View, notes: &mut Notes) {
-        use rayon::prelude::*;
+        use std::vec;
         use std::vec::Vec;
         let tolerance = view.tolerance();
         // The lapsed nodes, their places, whether they are judged in full and the level a
@@ -454,22 +459,35 @@ impl Tessellator<'_, '_> {
                     .sphere
                     .is_some()
                     .then(|| &self.bits[self.layout().culled..]);
-                lapsed
-                    .par_iter()
-                    .map_init(
-                        || StepThread {
-                            tree,
-                            arithmetic,
-                            culled,
-                            viewed: super::select::ViewedCorners::new(),
-                        },
-                        |frame, &(_, h, exact, asked)| {
+                // Pieces of the list, each judged into its own place, taken by the calling
+                // thread from the start and by rayon's threads as they wake.
+                let mut judged = vec![Judged::bare(0.0, false); lapsed.len()];
+                let pieces = std::sync::Mutex::new(
+                    lapsed.chunks(STEP_PIECE).zip(judged.chunks_mut(STEP_PIECE)),
+                );
+                let work = || {
+                    let frame = StepThread {
+                        tree,
+                        arithmetic,
+                        culled,
+                        viewed: super::select::ViewedCorners::new(),
+                    };
+                    while let Some((from, to)) = pieces.lock().ok().and_then(|mut p| p.next()) {
+                        for (&(_, h, exact, asked), out) in from.iter().zip(to) {
                             let asked = asked
                                 .map_or(Asked::NONE, |(start, guess)| r.asked_from(start, guess));
-                            judge(frame, view, &h, exact, asked)
-                        },
-                    )
-                    .collect()
+                            *out = judge(&frame, view, &h, exact, asked);
+                        }
+                    }
+                };
+                rayon::in_place_scope(|scope| {
+                    let work = &work;
+                    for _ in 1..rayon::current_num_threads() {
+                        scope.spawn(move |_| work());
+                    }
+                    work();
+                });
+                judged
             }
             _ => Vec::new(),
         };
