@@ -39,6 +39,7 @@ use super::bits::set;
 use super::hierarchy::{Hierarchy, Pending};
 use super::select::{FrameStats, Part, RootAt, Tessellator, UpdateError};
 use super::storage::StackSlot;
+use crate::bound::BoundingSphere;
 use crate::math::max;
 use crate::view::View;
 use crate::Arithmetic;
@@ -142,8 +143,8 @@ impl Thread {
         }
     }
 
-    /// Searches part `number`, the roots `lo..hi` of `tree`, in `view`, adding to this
-    /// thread's bits and figures.
+    /// Searches part `number`, the roots `lo..hi` of `tree`, in `view` (with the frame's
+    /// `arithmetic` and culling `sphere`), adding to this thread's bits and figures.
     fn search(
         mut self,
         tree: Hierarchy<'_>,
@@ -151,9 +152,15 @@ impl Thread {
         number: usize,
         (lo, hi): Part,
         arithmetic: Arithmetic,
+        sphere: Option<BoundingSphere>,
     ) -> Thread {
-        let Ok(part) = Tessellator::from_slices(tree, &mut self.bits, &mut self.stack, &mut [])
-        else {
+        let Ok(part) = Tessellator::from_slices_culling(
+            tree,
+            &mut self.bits,
+            &mut self.stack,
+            &mut [],
+            sphere,
+        ) else {
             self.failed = true;
             return self;
         };
@@ -212,7 +219,7 @@ impl Tessellator<'_, '_> {
         if self.is_last_view(view)? {
             return Ok(self.stats);
         }
-        let (tree, arithmetic) = (self.tree, self.arithmetic);
+        let (tree, arithmetic, sphere) = (self.tree, self.arithmetic, self.sphere);
         let words = tree.bit_words();
         // One storage a thread (rayon's `fold` would make storage for every piece of work it
         // splits off), and a run of parts a thread (see `Runs`): the calling thread searches
@@ -221,7 +228,7 @@ impl Tessellator<'_, '_> {
         let work = |me: usize| {
             let mut thread = Thread::new(words);
             while let Some(number) = runs.next(me) {
-                thread = thread.search(tree, view, number, parts[number], arithmetic);
+                thread = thread.search(tree, view, number, parts[number], arithmetic, sphere);
             }
             thread
         };

@@ -365,6 +365,18 @@ impl<'t, 's> Tessellator<'t, 's> {
         stack: &'s mut [StackSlot],
         pool: &'s mut [PoolSlot],
     ) -> Result<Self, TessellatorError> {
+        Self::from_slices_culling(tree, bits, stack, pool, tree.culling_sphere())
+    }
+
+    /// [`from_slices`](Self::from_slices) with the model's culling sphere (`culling_sphere`,
+    /// of every control point: a part of a frame on a host's threads takes its frame's).
+    pub(super) fn from_slices_culling(
+        tree: Hierarchy<'t>,
+        bits: &'s mut [u32],
+        stack: &'s mut [StackSlot],
+        pool: &'s mut [PoolSlot],
+        sphere: Option<crate::bound::BoundingSphere>,
+    ) -> Result<Self, TessellatorError> {
         if bits.len() < tree.bit_words() {
             return Err(TessellatorError::BitsTooShort {
                 needed: tree.bit_words(),
@@ -389,7 +401,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             vertices: None,
             layout: Layout::of(&tree),
             view: None,
-            sphere: tree.culling_sphere(),
+            sphere,
             reuse: None,
             #[cfg(all(feature = "std", not(target_os = "none")))]
             step_threads: false,
