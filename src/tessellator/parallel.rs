@@ -86,6 +86,22 @@ impl Runs {
     }
 }
 
+/// `work(k)` for each `k` of `0..threads`, the calling thread's `work(0)` begun at once while
+/// rayon's threads wake for the others: their results, in order of `k`.
+pub(super) fn on_threads<T: Send>(threads: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let mut done: Vec<Option<T>> = (0..threads).map(|_| None).collect();
+    rayon::in_place_scope(|scope| {
+        let work = &work;
+        if let Some((first, others)) = done.split_first_mut() {
+            for (k, slot) in others.iter_mut().enumerate() {
+                scope.spawn(move |_| *slot = Some(work(k + 1)));
+            }
+            *first = Some(work(0));
+        }
+    });
+    done.into_iter().flatten().collect()
+}
+
 /// A hierarchy of fewer nodes than this (whose frames within the bake have at most half as
 /// many triangles) is searched on the calling thread: such a frame takes a few microseconds,
 /// less than waking the threads (measured on two cores, `frame_loop` orbits:
@@ -232,17 +248,7 @@ impl Tessellator<'_, '_> {
             }
             thread
         };
-        let mut searched: Vec<Option<Thread>> = (0..runs.count()).map(|_| None).collect();
-        rayon::in_place_scope(|scope| {
-            let work = &work;
-            if let Some((first, others)) = searched.split_first_mut() {
-                for (k, slot) in others.iter_mut().enumerate() {
-                    scope.spawn(move |_| *slot = Some(work(k + 1)));
-                }
-                *first = Some(work(0));
-            }
-        });
-        let threads: Vec<Thread> = searched.into_iter().flatten().collect();
+        let threads = on_threads(runs.count(), work);
         if threads.iter().any(|t| t.failed) {
             return self.update(view); // (never: the parts' storage fits the hierarchy)
         }

@@ -465,7 +465,7 @@ impl Tessellator<'_, '_> {
                 let pieces = std::sync::Mutex::new(
                     lapsed.chunks(STEP_PIECE).zip(judged.chunks_mut(STEP_PIECE)),
                 );
-                let work = || {
+                let work = |_| {
                     let frame = StepThread {
                         tree,
                         arithmetic,
@@ -480,13 +480,7 @@ impl Tessellator<'_, '_> {
                         }
                     }
                 };
-                rayon::in_place_scope(|scope| {
-                    let work = &work;
-                    for _ in 1..rayon::current_num_threads() {
-                        scope.spawn(move |_| work());
-                    }
-                    work();
-                });
+                super::parallel::on_threads(rayon::current_num_threads(), work);
                 judged
             }
             _ => Vec::new(),
