@@ -27,7 +27,8 @@
 //! from a new run time over the hierarchy with its links (`Hierarchy::with_links`, as the
 //! host's `Baked` reads it), its update and the indexed write, best of eleven or of as many as
 //! take half a second; *all cores ms*
-//! the same with the update on all cores (`Tessellator::update_parallel`), the two timed in
+//! the same with the update and the write on all cores (`Tessellator::update_parallel`,
+//! `Tessellator::write_mesh_parallel`), the two timed in
 //! five turns each so that a busy moment of the machine spoils at most one; *Mtri/s* the first's
 //! triangles per second. *Full / GLU* and *all cores / GLU* divide them by GLU's time.
 //!
@@ -417,8 +418,11 @@ fn main() {
                 false => s.update(&view),
             }
             .unwrap();
-            s.write_mesh(&mut vertices, &mut triangles, &mut remap)
-                .expect("room");
+            match all_cores {
+                true => s.write_mesh_parallel(&mut vertices, &mut triangles, &mut remap),
+                false => s.write_mesh(&mut vertices, &mut triangles, &mut remap),
+            }
+            .expect("room");
             (start.elapsed().as_secs_f64() * 1e3, stats)
         };
         let (mut best, mut all_cores) = (f64::INFINITY, f64::INFINITY);

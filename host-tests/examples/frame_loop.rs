@@ -6,7 +6,7 @@
 //! model, seen as the error table's 1.3-diagonal views see it. With `ORBIT=1` the eye goes
 //! around the model a degree a frame (`DEGREES` for another step), and with `REUSE=1` too the
 //! tessellator keeps its judgements from frame to frame (`Tessellator::with_reuse`). With
-//! `PARALLEL=1` each update searches on all cores (`Tessellator::update_parallel`). Prints the last frame's
+//! `PARALLEL=1` each update searches on all cores (`Tessellator::update_parallel`), and the write is on all cores too (`Tessellator::write_mesh_parallel`). Prints the last frame's
 //! triangles, the best, mean and median frame times and the median update's, the mean
 //! triangles judged and judgements kept a frame, and how many frames were steps from the one
 //! before (`FrameStats::stepped`). The bake happens before the loop and is not timed (a
@@ -152,9 +152,11 @@ fn main() {
             }
             .unwrap();
             updates.push(start.elapsed().as_secs_f64() * 1e3);
-            selection
-                .write_mesh(&mut vertices, &mut triangles, &mut remap)
-                .expect("room");
+            match parallel {
+                true => selection.write_mesh_parallel(&mut vertices, &mut triangles, &mut remap),
+                false => selection.write_mesh(&mut vertices, &mut triangles, &mut remap),
+            }
+            .expect("room");
             let ms = start.elapsed().as_secs_f64() * 1e3;
             whole.push(ms);
             stepped += usize::from(stats.stepped);
@@ -237,9 +239,11 @@ fn table() {
             }
             .expect("a valid view");
             let update = start.elapsed().as_secs_f64() * 1e3;
-            selection
-                .write_mesh(&mut vertices, &mut triangles, &mut remap)
-                .expect("room");
+            match all_cores.get() {
+                true => selection.write_mesh_parallel(&mut vertices, &mut triangles, &mut remap),
+                false => selection.write_mesh(&mut vertices, &mut triangles, &mut remap),
+            }
+            .expect("room");
             (start.elapsed().as_secs_f64() * 1e3, update, stats)
         };
         let (mut cold, mut parallel) = (Vec::new(), Vec::new());

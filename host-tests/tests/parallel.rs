@@ -1,13 +1,16 @@
 //! A frame searched on several threads (`Tessellator::update_parallel`) is the frame searched
 //! on one, bit for bit: on every model of the repository, from its records with links and
 //! from its bytes without, within the bake and below it, on pools of 1, 2 and 3 threads, with a
-//! tessellator kept from view to view, with the bounds in floats and in integers.
+//! tessellator kept from view to view, with the bounds in floats and in integers. A mesh
+//! written on several threads (`Tessellator::write_mesh_parallel`) is the mesh written on one,
+//! with the same errors.
 
 use host_tests::bake_relative as bake;
+use host_tests::runtime::Mesh;
 use host_tests::runtime::{indexed, VecStorage};
 use host_tests::{bpt_models, nurbs_fixtures};
-use spline_tess::tessellator::{FrameStats, NodeLink};
-use spline_tess::{Arithmetic, Camera, Hierarchy, Projection, Vec3, View};
+use spline_tess::tessellator::{FrameStats, NodeLink, Tessellator};
+use spline_tess::{Arithmetic, Camera, Hierarchy, Projection, Vec3, Vertex, View, WriteError};
 
 /// Views of a model: in model units within and below the bake, and cameras from afar, from
 /// close by (below the bake) and from inside its box.
@@ -53,6 +56,26 @@ fn figures(s: FrameStats) -> FrameStats {
     }
 }
 
+/// The current frame written on the threads of `pool` (`write_mesh_parallel`), into buffers
+/// of three vertices a triangle (which it takes without a count of the vertices, where the
+/// frame has none yet) and of the triangles.
+fn written_on_threads(t: &mut Tessellator<'_, '_>, pool: &rayon::ThreadPool) -> Mesh {
+    let triangles = t.stats().triangles;
+    let mut mesh = Mesh {
+        vertices: vec![Vertex::default(); 3 * triangles],
+        triangles: vec![[0; 3]; triangles],
+    };
+    let mut remap = vec![0u32; t.remap_len()];
+    // (`install` takes what is `Send`: a tessellator is not `Sync`, but `&mut` it is `Send`.)
+    let (v, tr, r) = (&mut mesh.vertices, &mut mesh.triangles, &mut remap);
+    let size = pool
+        .install(move || t.write_mesh_parallel(v, tr, r))
+        .expect("room for three vertices a triangle");
+    assert_eq!(size.triangles, triangles);
+    mesh.vertices.truncate(size.vertices);
+    mesh
+}
+
 #[test]
 fn parallel_frames_are_the_frames_of_one_thread() {
     let models: Vec<_> = bpt_models().into_iter().chain(nurbs_fixtures()).collect();
@@ -92,6 +115,7 @@ fn parallel_frames_are_the_frames_of_one_thread() {
             for view in views(&tree) {
                 let sx = x.update(&view).unwrap();
                 let sy = pool.install(|| y.update_parallel(&view)).unwrap();
+                let written = written_on_threads(&mut y, &pool);
                 if sx.pool_full {
                     // (A full pool makes a frame depend on which halvings came first.)
                     full_pools += 1;
@@ -112,6 +136,8 @@ fn parallel_frames_are_the_frames_of_one_thread() {
                     assert!(sy.worst_bound <= view.tolerance(), "{name}");
                 }
                 assert_eq!(mx, my, "{name}, {threads} threads: meshes");
+                assert_eq!(mx, written, "{name}, {threads} threads: written on threads");
+                assert_eq!(mx, written_on_threads(&mut y, &pool), "{name}: counted");
                 compared += mx.triangles.len();
             }
             // The same view again keeps its mesh.
@@ -129,13 +155,25 @@ fn parallel_frames_are_the_frames_of_one_thread() {
 /// table's 1.3-diagonal views see them, orbiting: views where a part's border leaves many
 /// halvings to the whole frame (one of them found a triangle across halved alone, which the
 /// whole frame's search once counted out of the mesh a second time).
+/// Their meshes written on two and three threads are the mesh written on one (frames within
+/// the bake, of thousands of triangles: what `write_mesh_parallel` shares out; the
+/// single-patch surface cut into parts by its roots).
 #[test]
 fn parallel_frames_on_fine_bakes() {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .unwrap();
-    for model in ["nurbs/rational_torus.json", "teapot.bpt"] {
+    let three = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap();
+    let models = [
+        "nurbs/rational_torus.json",
+        "teapot.bpt",
+        "nurbs/threejs_nurbs_example.json",
+    ];
+    for model in models {
         let baked = bake(&host_tests::models_dir().join(model), 2.5e-4);
         let mut links = vec![NodeLink::default(); baked.tree().link_slots()];
         baked.tree().fill_links(&mut links).unwrap();
@@ -167,7 +205,20 @@ fn parallel_frames_on_fine_bakes() {
             let sx = x.update(&view).unwrap();
             let sy = pool.install(|| y.update_parallel(&view)).unwrap();
             assert_eq!(figures(sx), figures(sy), "{model} at {degrees} degrees");
-            assert_eq!(indexed(&mut x), indexed(&mut y), "{model} at {degrees}");
+            let written = written_on_threads(&mut y, &pool);
+            let on_three = written_on_threads(&mut y, &three);
+            let mx = indexed(&mut x);
+            assert!(
+                mx.triangles.len() >= 1024,
+                "{model}: {}",
+                mx.triangles.len()
+            );
+            assert_eq!(mx, indexed(&mut y), "{model} at {degrees}");
+            assert_eq!(mx, written, "{model} at {degrees}: written on threads");
+            assert_eq!(
+                mx, on_three,
+                "{model} at {degrees}: written on three threads"
+            );
         }
     }
 }
@@ -235,4 +286,68 @@ fn small_frames_stay_on_the_calling_thread() {
             s2.judged
         );
     }
+}
+
+/// Buffers too small for a mesh written on threads give `write_mesh`'s errors, and are left
+/// untouched: a remap too short, too few triangles, too few vertices (counted). Indexed by
+/// `u16`, the same mesh.
+#[test]
+fn a_mesh_written_on_threads_that_does_not_fit_gives_the_same_errors() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let baked = bake(&host_tests::models_dir().join("teapot.bpt"), 1e-3);
+    let tree = baked.tree();
+    let mut storage = VecStorage::new(&tree, 256, 1 << 16);
+    let mut t = storage.tessellator(tree);
+    let view = views(&tree)[1]; // (within the bake: its pool is empty)
+    t.update(&view).unwrap();
+    let size = t.mesh_size();
+    assert!(
+        size.triangles >= 2048,
+        "{size:?}: large enough for the threads"
+    );
+    let cases = [
+        (size.vertices, size.triangles, t.remap_len() - 1),
+        (size.vertices, size.triangles - 1, t.remap_len()),
+        (size.vertices - 1, size.triangles, t.remap_len()),
+    ];
+    for (vertices, triangles, remap) in cases {
+        let sentinel = Vertex {
+            patch: 7,
+            ..Vertex::default()
+        };
+        let mut run = |parallel: bool| -> (Result<_, WriteError>, Mesh) {
+            let mut mesh = Mesh {
+                vertices: vec![sentinel; vertices],
+                triangles: vec![[9; 3]; triangles],
+            };
+            let mut remap = vec![0u32; remap];
+            let written = match parallel {
+                true => {
+                    let (t, v, tr, r) =
+                        (&mut t, &mut mesh.vertices, &mut mesh.triangles, &mut remap);
+                    pool.install(move || t.write_mesh_parallel(v, tr, r))
+                }
+                false => t.write_mesh(&mut mesh.vertices, &mut mesh.triangles, &mut remap),
+            };
+            (written, mesh)
+        };
+        let (one, threads) = (run(false), run(true));
+        assert!(one.0.is_err(), "{vertices} {triangles} {remap}");
+        assert_eq!(one, threads, "{vertices} {triangles} {remap}");
+        assert!(threads.1.vertices.iter().all(|v| *v == sentinel));
+        assert!(threads.1.triangles.iter().all(|t| *t == [9; 3]));
+    }
+    // Indexed by `u16`.
+    let mut room = (
+        vec![Vertex::default(); 3 * size.triangles],
+        vec![[0u16; 3]; size.triangles],
+    );
+    let mut remap = vec![0u32; t.remap_len()];
+    let one = t.write_mesh(&mut room.0, &mut room.1, &mut remap);
+    let (t, v, tr, r) = (&mut t, &mut room.0, &mut room.1, &mut remap);
+    let threads = pool.install(move || t.write_mesh_parallel(v, tr, r));
+    assert_eq!(one, threads);
 }

@@ -64,14 +64,14 @@ impl Mesh {
         surfaces: &Surfaces,
         stats: FrameStats,
     ) -> Result<Mesh, HostError> {
-        // Room for three vertices a triangle (or every vertex there is): one walk writes
-        // them, with no walk first to count them.
+        // Room for three vertices a triangle (or every vertex there is): written with no
+        // walk first to count them, on all cores (the same mesh as on one).
         let triangles_len = tessellator.stats().triangles;
         let room = (3 * triangles_len).min(tessellator.remap_len());
         let mut vertices = vec![Vertex::default(); room];
         let mut triangles = vec![[0u32; 3]; triangles_len];
         let mut remap = vec![0u32; tessellator.remap_len()];
-        let size = tessellator.write_mesh(&mut vertices, &mut triangles, &mut remap)?;
+        let size = tessellator.write_mesh_parallel(&mut vertices, &mut triangles, &mut remap)?;
         vertices.truncate(size.vertices);
         triangles.truncate(size.triangles);
         let domains = surfaces.domains();

@@ -74,6 +74,8 @@ mod links;
 mod output;
 #[cfg(all(feature = "std", not(target_os = "none")))]
 mod parallel;
+#[cfg(all(feature = "std", not(target_os = "none")))]
+mod parallel_write;
 pub(crate) mod quantize;
 mod refine;
 mod reuse;

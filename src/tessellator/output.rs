@@ -2,27 +2,40 @@
 //! vertices shared by index.
 
 use super::address::{unit, Point};
-use super::hierarchy::{walk_patches, Pending};
-use super::select::Tessellator;
+use super::hierarchy::{walk_roots, Pending};
+use super::select::{Part, Tessellator};
 use crate::sink::{MeshIndex, MeshSize, TriangleInfo, TriangleSink, Vertex, WriteError};
 
 impl Tessellator<'_, '_> {
     /// Calls `f` on every written leaf of the current mesh, patch by patch, with its
     /// vertices.
-    fn each_written(&self, mut f: impl FnMut(&Pending, [u32; 3])) {
-        self.each_written_of(&mut (), |_, _| true, |_, h, corners| f(h, corners));
+    fn each_written(&self, f: impl FnMut(&Pending, [u32; 3])) {
+        self.each_written_in(None, f);
     }
 
-    /// [`each_written`](Self::each_written) over the patches `wants` takes, both callbacks
-    /// given `state`.
+    /// [`each_written`](Self::each_written) from the roots of `part` alone (`None`: all), in
+    /// the same order.
+    pub(super) fn each_written_in(
+        &self,
+        part: Option<Part>,
+        mut f: impl FnMut(&Pending, [u32; 3]),
+    ) {
+        let wants = |_: &mut (), p| super::select::patch_in_part(part, p);
+        let root = |p, k| super::select::root_in_part(part, (p, k as u32));
+        self.each_written_of(&mut (), wants, root, |_, h, corners| f(h, corners));
+    }
+
+    /// [`each_written`](Self::each_written) over the patches `wants` takes, from the roots
+    /// `root` takes (root `k` of patch `p`), both callbacks given `state`.
     fn each_written_of<S: ?Sized>(
         &self,
         state: &mut S,
         wants: impl FnMut(&mut S, u32) -> bool,
+        root: impl Fn(u32, usize) -> bool,
         mut f: impl FnMut(&mut S, &Pending, [u32; 3]),
     ) {
         let mut bounds = None;
-        walk_patches(self.tree, state, wants, |state, h| {
+        walk_roots(self.tree, state, wants, root, |state, h| {
             if let Some(v) = self.split_vertex(h) {
                 return Some(v);
             }
@@ -38,7 +51,7 @@ impl Tessellator<'_, '_> {
     /// The output vertex of vertex `v`, written at grid point `at` of patch `patch` (a
     /// written triangle's corner), with the parameters every triangle gives it (see
     /// [`params`](Self::params)).
-    fn vertex(&self, v: u32, patch: u32, at: Point) -> Vertex {
+    pub(super) fn vertex(&self, v: u32, patch: u32, at: Point) -> Vertex {
         let (q, g) = self.params(v, patch, at);
         let (u, w) = unit(g);
         Vertex {
@@ -114,6 +127,7 @@ impl Tessellator<'_, '_> {
         self.each_written_of(
             sink,
             |sink, p| wants(sink, p),
+            |_, _| true,
             |sink, h, corners| {
                 let grid = self.oriented(h, h.tri.corners);
                 let parameters = sink.wants_parameters();
@@ -206,34 +220,12 @@ impl Tessellator<'_, '_> {
         triangles: &mut [[I; 3]],
         remap: &mut [u32],
     ) -> Result<MeshSize, WriteError> {
-        let needed = self.remap_len();
-        let Some(remap) = remap.get_mut(..needed) else {
-            return Err(WriteError::RemapTooSmall { needed });
-        };
-        // The pool's vertices are anywhere in it (a hash table), but most frames make none:
-        // then only the bake's vertices have entries to read or mark.
-        let pool = if self.pool.used > 0 {
-            self.pool.entries.len()
-        } else {
-            0
-        };
-        let remap = &mut remap[..self.tree.vertex_count() + pool];
+        let remap = self.cleared_remap(remap)?;
         // The mesh's size first, so that a mesh that does not fit leaves the buffers
-        // untouched: counted by `update` or `mesh_size`, or else found to fit without a count
-        // (at most three vertices a triangle, and no more than there are), or else counted
-        // here (`remap` marks the vertices seen, as [`SEEN`]).
-        const SEEN: u32 = u32::MAX - 1;
-        remap.fill(u32::MAX);
-        let most = remap.len().min(3 * self.stats.triangles);
-        let size = match self.vertices {
-            Some(vertices) => MeshSize {
-                vertices,
-                triangles: self.stats.triangles,
-            },
-            None if most <= vertices.len().min(I::LIMIT) => MeshSize {
-                vertices: most,
-                triangles: self.stats.triangles,
-            },
+        // untouched: known without a walk (see `known_size`), or else counted here (`remap`
+        // marks the vertices seen, as [`SEEN`]).
+        let size = match self.known_size::<I>(vertices.len()) {
+            Some(size) => size,
             None => {
                 let mut size = MeshSize::default();
                 self.each_written(|_, corners| {
@@ -248,14 +240,7 @@ impl Tessellator<'_, '_> {
                 size
             }
         };
-        if vertices.len() < size.vertices || triangles.len() < size.triangles {
-            return Err(WriteError::BuffersTooSmall { needed: size });
-        }
-        if size.vertices > I::LIMIT {
-            return Err(WriteError::IndexOverflow {
-                vertices: size.vertices,
-            });
-        }
+        check_room::<I>(size, vertices.len(), triangles.len())?;
         let (mut nv, mut nt) = (0usize, 0usize);
         self.each_written(|h, corners| {
             let mut out = [I::default(); 3];
@@ -283,4 +268,70 @@ impl Tessellator<'_, '_> {
             triangles: nt,
         })
     }
+
+    /// The entries of `remap` a frame's write reads: the pool's vertices are anywhere in it
+    /// (a hash table), but most frames make none, and then only the bake's vertices have
+    /// entries to read or mark.
+    fn remap_read(&self) -> usize {
+        let pool = match self.pool.used > 0 {
+            true => self.pool.entries.len(),
+            false => 0,
+        };
+        self.tree.vertex_count() + pool
+    }
+
+    /// The part of `remap` a frame's write reads, every entry cleared (`u32::MAX`), or the
+    /// error of a `remap` shorter than [`remap_len`](Self::remap_len).
+    pub(super) fn cleared_remap<'r>(
+        &self,
+        remap: &'r mut [u32],
+    ) -> Result<&'r mut [u32], WriteError> {
+        let needed = self.remap_len();
+        let Some(remap) = remap.get_mut(..needed) else {
+            return Err(WriteError::RemapTooSmall { needed });
+        };
+        let remap = &mut remap[..self.remap_read()];
+        remap.fill(u32::MAX);
+        Ok(remap)
+    }
+
+    /// The size of the mesh to write where it is known without a walk, for a vertex buffer
+    /// of `room` entries: counted by `update` or `mesh_size`, or else found to fit without a
+    /// count (at most three vertices a triangle, and no more than there are), as a size of
+    /// that many vertices. `None`: a walk must count it.
+    pub(super) fn known_size<I: MeshIndex>(&self, room: usize) -> Option<MeshSize> {
+        let triangles = self.stats.triangles;
+        let most = self.remap_read().min(3 * triangles);
+        match self.vertices {
+            Some(vertices) => Some(MeshSize {
+                vertices,
+                triangles,
+            }),
+            None => (most <= room.min(I::LIMIT)).then_some(MeshSize {
+                vertices: most,
+                triangles,
+            }),
+        }
+    }
+}
+
+/// A remap entry whose vertex has been seen by a count, and has no number yet.
+const SEEN: u32 = u32::MAX - 1;
+
+/// Whether buffers of `vertices` and `triangles` entries, indexed by `I`, hold a mesh of
+/// `size`.
+pub(super) fn check_room<I: MeshIndex>(
+    size: MeshSize,
+    vertices: usize,
+    triangles: usize,
+) -> Result<(), WriteError> {
+    if vertices < size.vertices || triangles < size.triangles {
+        return Err(WriteError::BuffersTooSmall { needed: size });
+    }
+    if size.vertices > I::LIMIT {
+        return Err(WriteError::IndexOverflow {
+            vertices: size.vertices,
+        });
+    }
+    Ok(())
 }

@@ -46,20 +46,20 @@ use crate::Arithmetic;
 
 /// Parts per thread: enough for the threads' work to even out, where the parts' roots differ
 /// in what a view makes of them.
-const PARTS_PER_THREAD: usize = 8;
+pub(super) const PARTS_PER_THREAD: usize = 8;
 
 /// The parts of a frame's search in runs, one a thread, in order. A thread searches the
 /// parts of its own run first, then takes what the others have not yet taken of theirs, until
 /// none is left. (The same thread takes the same roots frame after frame where the view lets
 /// the runs even out, and a run's roots lie together.)
-struct Runs {
+pub(super) struct Runs {
     /// Each run's next part, and its end.
     runs: Vec<(AtomicUsize, usize)>,
 }
 
 impl Runs {
     /// `parts` parts cut into `threads` runs (at least one) of about as many parts each.
-    fn new(parts: usize, threads: usize) -> Runs {
+    pub(super) fn new(parts: usize, threads: usize) -> Runs {
         let threads = threads.clamp(1, parts.max(1));
         let end = |k: usize| k * parts / threads;
         Runs {
@@ -70,13 +70,13 @@ impl Runs {
     }
 
     /// How many runs (and threads searching them) there are.
-    fn count(&self) -> usize {
+    pub(super) fn count(&self) -> usize {
         self.runs.len()
     }
 
     /// The next part for thread `me` to search: its own run's next, else the next of the
     /// runs after it; `None` when every part is taken.
-    fn next(&self, me: usize) -> Option<usize> {
+    pub(super) fn next(&self, me: usize) -> Option<usize> {
         let n = self.runs.len();
         (0..n).find_map(|j| {
             let (next, end) = &self.runs[(me + j) % n];
@@ -89,14 +89,22 @@ impl Runs {
 /// `work(k)` for each `k` of `0..threads`, the calling thread's `work(0)` begun at once while
 /// rayon's threads wake for the others: their results, in order of `k`.
 pub(super) fn on_threads<T: Send>(threads: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    let mut done: Vec<Option<T>> = (0..threads).map(|_| None).collect();
+    on_each((0..threads).collect(), work)
+}
+
+/// `work(item)` for each of `items`, on a thread each: the calling thread's, for the first,
+/// begun at once while rayon's threads wake for the others. Their results, in order.
+pub(super) fn on_each<W: Send, T: Send>(items: Vec<W>, work: impl Fn(W) -> T + Sync) -> Vec<T> {
+    let mut done: Vec<Option<T>> = items.iter().map(|_| None).collect();
     rayon::in_place_scope(|scope| {
         let work = &work;
-        if let Some((first, others)) = done.split_first_mut() {
-            for (k, slot) in others.iter_mut().enumerate() {
-                scope.spawn(move |_| *slot = Some(work(k + 1)));
-            }
-            *first = Some(work(0));
+        let mut items = items.into_iter().zip(done.iter_mut());
+        let first = items.next();
+        for (item, slot) in items {
+            scope.spawn(move |_| *slot = Some(work(item)));
+        }
+        if let Some((item, slot)) = first {
+            *slot = Some(work(item));
         }
     });
     done.into_iter().flatten().collect()
@@ -109,7 +117,7 @@ pub(super) fn on_threads<T: Send>(threads: usize, work: impl Fn(usize) -> T + Sy
 /// both; the teaspoon's of 1,382 triangles, 0.22 ms and 0.18 ms). `verb_quarter_cylinder` at
 /// 2.5e-4 of its diagonal has 368 nodes; the repository's next smallest hierarchy at that
 /// bake, 9,214.
-const SMALL_HIERARCHY: usize = 1024;
+pub(super) const SMALL_HIERARCHY: usize = 1024;
 
 /// Stack entries of a thread's parts (a part that finds it full walks its roots again).
 const PART_STACK: usize = 512;
@@ -346,7 +354,7 @@ impl Tessellator<'_, '_> {
 
 /// The parts of a frame's search, about `count` of them with about as many roots each: runs
 /// of whole patches, and a patch with more roots than a part takes cut into runs of its own.
-fn parts(t: &Tessellator<'_, '_>, count: usize) -> Vec<Part> {
+pub(super) fn parts(t: &Tessellator<'_, '_>, count: usize) -> Vec<Part> {
     let tree = t.tree;
     let patches = tree.patch_count() as u32;
     let roots: usize = (0..patches).map(|p| tree.root_count(p)).sum();

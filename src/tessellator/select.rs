@@ -320,12 +320,12 @@ pub(super) type RootAt = (u32, u32);
 pub(super) type Part = (RootAt, RootAt);
 
 /// Whether some root of patch `p` is in `part` (`None`: the whole model).
-fn patch_in_part(part: Option<Part>, p: u32) -> bool {
+pub(super) fn patch_in_part(part: Option<Part>, p: u32) -> bool {
     part.is_none_or(|(lo, hi)| lo.0 <= p && (p < hi.0 || (p == hi.0 && hi.1 > 0)))
 }
 
 /// Whether root `at` is in `part` (`None`: the whole model).
-fn root_in_part(part: Option<Part>, at: RootAt) -> bool {
+pub(super) fn root_in_part(part: Option<Part>, at: RootAt) -> bool {
     part.is_none_or(|(lo, hi)| lo <= at && at < hi)
 }
 
@@ -414,6 +414,47 @@ impl<'t, 's> Tessellator<'t, 's> {
             arithmetic: Arithmetic::default(),
             trigger: super::reuse::NO_NODE,
             #[cfg(all(feature = "std", not(target_os = "none")))]
+            group: None,
+        })
+    }
+
+    /// A tessellator that reads this one's frame (its mesh, hidden and culled triangles,
+    /// view and figures) from a copy of its bits in `bits`, for another thread to walk or
+    /// write out (see `parallel_write`: a tessellator is not `Sync`, for its cache of viewed
+    /// corners). `None` where the frame has vertices below the bake, which it does not copy,
+    /// or `bits` is too short.
+    #[cfg(all(feature = "std", not(target_os = "none")))]
+    pub(super) fn reading_copy<'b>(&self, bits: &'b mut [u32]) -> Option<Tessellator<'t, 'b>> {
+        let n = self.tree.bit_words();
+        if self.pool.used > 0 || bits.len() < n || self.bits.len() < n {
+            return None;
+        }
+        bits[..n].copy_from_slice(&self.bits[..n]);
+        Some(Tessellator {
+            tree: self.tree,
+            bits,
+            pool: Pool::new(&mut []),
+            stack: &mut [],
+            len: 0,
+            full: false,
+            dropped_patches: 0,
+            dropped_below: false,
+            recount: false,
+            inline: 0,
+            vertices: self.vertices,
+            layout: self.layout,
+            view: self.view,
+            sphere: self.sphere,
+            reuse: None,
+            step_threads: false,
+            stats: self.stats,
+            #[cfg(feature = "embedded-graphics")]
+            model_box: self.model_box,
+            viewed: ViewedCorners::new(),
+            grid_view: self.grid_view,
+            grid_judge: self.grid_judge,
+            arithmetic: self.arithmetic,
+            trigger: super::reuse::NO_NODE,
             group: None,
         })
     }
