@@ -20,10 +20,14 @@
 //! vertices (decoding the hierarchy's points and normals, finding parameters) are what is
 //! shared out, and the second pass is a lookup and a copy per vertex and per triangle.
 //!
-//! Measured on two cores (`frame_loop`, `PARALLEL=1`, best of 3,000 frames at the 2.5e-4
-//! bake, 1024x768, in one run): the rational torus 0.331 -> 0.307 ms a frame, the teapot
-//! 0.588 -> 0.550 ms, the single-patch threejs surface (four parts) 0.200 -> 0.199 ms.
+//! Measured on two cores against `write_mesh` (`frame_loop`, `PARALLEL=1`, best of 3,000
+//! frames at the 2.5e-4 bake, 1024x768, in one run): the rational torus 0.331 -> 0.307 ms a
+//! frame, the teapot 0.588 -> 0.550 ms, the single-patch threejs surface (four parts)
+//! 0.200 -> 0.199 ms; with the calling thread spinning at the end of the threads' work (see
+//! `parallel`'s `spin_until`) and each thread's table kept ([`NUMBERS`]), the medians fell
+//! by a further 10-17%.
 
+use core::cell::RefCell;
 use std::vec;
 use std::vec::Vec;
 
@@ -43,6 +47,15 @@ const SMALL_MESH: usize = 1024;
 struct Part {
     triangles: Vec<[u32; 3]>,
     vertices: Vec<(u32, Vertex)>,
+}
+
+std::thread_local! {
+    /// A thread's table of a part's numbers for the frame's vertices (`u32::MAX`: none yet),
+    /// kept from write to write so that a write neither allocates nor clears an entry a
+    /// vertex of the hierarchy: a part sets the entries of its vertices, and clears them when
+    /// it is done. (Each thread that writes keeps four bytes a vertex of the largest
+    /// hierarchy it wrote, for the thread's life.)
+    static NUMBERS: RefCell<Vec<u32>> = const { RefCell::new(Vec::new()) };
 }
 
 impl Tessellator<'_, '_> {
@@ -106,32 +119,16 @@ impl Tessellator<'_, '_> {
         let vertex_count = remap.len();
         let items: Vec<_> = copies.into_iter().enumerate().collect();
         let walked = on_each(items, |(me, copy)| {
-            // A part's number of each vertex it has written, `u32::MAX` for none yet.
-            let mut local = vec![u32::MAX; vertex_count];
-            let mut found = Vec::new();
-            while let Some(number) = runs.next(me) {
-                let mut part = Part::default();
-                copy.each_written_in(Some(parts[number]), |h, corners| {
-                    let grid = copy.oriented(h, h.tri.corners);
-                    let mut out = [0; 3];
-                    for ((o, v), at) in out.iter_mut().zip(corners).zip(grid) {
-                        let Some(slot) = local.get_mut(v as usize) else {
-                            continue; // (never: every vertex of the frame has its entry)
-                        };
-                        if *slot == u32::MAX {
-                            *slot = part.vertices.len() as u32;
-                            part.vertices.push((v, copy.vertex(v, h.tri.patch, at)));
-                        }
-                        *o = *slot;
-                    }
-                    part.triangles.push(out);
-                });
-                for &(v, _) in &part.vertices {
-                    local[v as usize] = u32::MAX;
+            NUMBERS.with_borrow_mut(|numbers| {
+                if numbers.len() < vertex_count {
+                    numbers.resize(vertex_count, u32::MAX);
                 }
-                found.push((number, part));
-            }
-            found
+                let mut found = Vec::new();
+                while let Some(number) = runs.next(me) {
+                    found.push((number, copy.write_part(parts[number], numbers)));
+                }
+                found
+            })
         });
         let mut found: Vec<(usize, Part)> = walked.into_iter().flatten().collect();
         found.sort_unstable_by_key(|(number, _)| *number);
@@ -166,5 +163,33 @@ impl Tessellator<'_, '_> {
             vertices: nv,
             triangles: nt,
         })
+    }
+
+    /// The triangles of `part`'s roots with numbers of the part's own for their vertices, in
+    /// order of first use, and those vertices; `numbers` has an entry a vertex, every one
+    /// `u32::MAX`, and is left so.
+    fn write_part(&self, part: super::select::Part, numbers: &mut [u32]) -> Part {
+        let mut out = Part::default();
+        self.each_written_in(Some(part), |h, corners| {
+            let grid = self.oriented(h, h.tri.corners);
+            let mut triangle = [0; 3];
+            for ((t, v), at) in triangle.iter_mut().zip(corners).zip(grid) {
+                let Some(slot) = numbers.get_mut(v as usize) else {
+                    continue; // (never: every vertex of the frame has its entry)
+                };
+                if *slot == u32::MAX {
+                    *slot = out.vertices.len() as u32;
+                    out.vertices.push((v, self.vertex(v, h.tri.patch, at)));
+                }
+                *t = *slot;
+            }
+            out.triangles.push(triangle);
+        });
+        for &(v, _) in &out.vertices {
+            if let Some(slot) = numbers.get_mut(v as usize) {
+                *slot = u32::MAX;
+            }
+        }
+        out
     }
 }

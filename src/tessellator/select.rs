@@ -387,10 +387,27 @@ impl<'t, 's> Tessellator<'t, 's> {
                 needed: Self::MIN_STACK,
             });
         }
-        Ok(Tessellator {
+        let t = Tessellator::bare(tree, bits, stack, Pool::new(pool), sphere);
+        #[cfg(feature = "embedded-graphics")]
+        let t = Tessellator {
+            model_box: tree.model.aabb(),
+            ..t
+        };
+        Ok(t)
+    }
+
+    /// A tessellator over `tree` in this storage, before any frame (with no model box yet).
+    fn bare(
+        tree: Hierarchy<'t>,
+        bits: &'s mut [u32],
+        stack: &'s mut [StackSlot],
+        pool: Pool<'s>,
+        sphere: Option<crate::bound::BoundingSphere>,
+    ) -> Self {
+        Tessellator {
             tree,
             bits,
-            pool: Pool::new(pool),
+            pool,
             stack,
             len: 0,
             full: false,
@@ -407,7 +424,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             step_threads: false,
             stats: FrameStats::default(),
             #[cfg(feature = "embedded-graphics")]
-            model_box: tree.model.aabb(),
+            model_box: None,
             viewed: ViewedCorners::new(),
             grid_view: None,
             grid_judge: super::grid_judge::GridJudge::OFF,
@@ -415,7 +432,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             trigger: super::reuse::NO_NODE,
             #[cfg(all(feature = "std", not(target_os = "none")))]
             group: None,
-        })
+        }
     }
 
     /// A tessellator that reads this one's frame (its mesh, hidden and culled triangles,
@@ -430,33 +447,18 @@ impl<'t, 's> Tessellator<'t, 's> {
             return None;
         }
         bits[..n].copy_from_slice(&self.bits[..n]);
-        Some(Tessellator {
-            tree: self.tree,
-            bits,
-            pool: Pool::new(&mut []),
-            stack: &mut [],
-            len: 0,
-            full: false,
-            dropped_patches: 0,
-            dropped_below: false,
-            recount: false,
-            inline: 0,
-            vertices: self.vertices,
-            layout: self.layout,
-            view: self.view,
-            sphere: self.sphere,
-            reuse: None,
-            step_threads: false,
-            stats: self.stats,
-            #[cfg(feature = "embedded-graphics")]
-            model_box: self.model_box,
-            viewed: ViewedCorners::new(),
-            grid_view: self.grid_view,
-            grid_judge: self.grid_judge,
-            arithmetic: self.arithmetic,
-            trigger: super::reuse::NO_NODE,
-            group: None,
-        })
+        let mut copy = Tessellator::bare(self.tree, bits, &mut [], Pool::new(&mut []), self.sphere);
+        copy.vertices = self.vertices;
+        copy.view = self.view;
+        copy.stats = self.stats;
+        copy.grid_view = self.grid_view;
+        copy.grid_judge = self.grid_judge;
+        copy.arithmetic = self.arithmetic;
+        #[cfg(feature = "embedded-graphics")]
+        {
+            copy.model_box = self.model_box;
+        }
+        Some(copy)
     }
 
     /// This tessellator, keeping each frame's judgements in `judgements` (at least
