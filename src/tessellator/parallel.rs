@@ -94,8 +94,8 @@ pub(super) fn on_threads<T: Send>(threads: usize, work: impl Fn(usize) -> T + Sy
 
 /// `work(item)` for each of `items`, on a thread each: the calling thread's, for the first,
 /// begun at once while rayon's threads wake for the others. Their results, in order. Done
-/// with its own, the calling thread spins until the others are done too (see
-/// [`spin_until`]).
+/// with its own, a calling thread outside rayon's pool spins until the others are done too
+/// (see [`spin_until`]).
 pub(super) fn on_each<W: Send, T: Send>(items: Vec<W>, work: impl Fn(W) -> T + Sync) -> Vec<T> {
     let mut done: Vec<Option<T>> = items.iter().map(|_| None).collect();
     let spawned = items.len().saturating_sub(1);
@@ -113,7 +113,11 @@ pub(super) fn on_each<W: Send, T: Send>(items: Vec<W>, work: impl Fn(W) -> T + S
         if let Some((item, slot)) = first {
             *slot = Some(work(item));
         }
-        spin_until(|| finished.load(Ordering::Acquire) >= spawned);
+        // (A thread of rayon's own waits at the scope's end by taking work, its threads' or
+        // these jobs, where a thread outside the pool can only sleep.)
+        if rayon::current_thread_index().is_none() {
+            spin_until(|| finished.load(Ordering::Acquire) >= spawned);
+        }
     });
     done.into_iter().flatten().collect()
 }
