@@ -120,7 +120,7 @@ pub(crate) fn log2(x: f32) -> f32 {
 /// excess; two steps leave it under `1e-6`. The steps' three roundings take at most `3 ε`
 /// off, which the final factor `1 + 2^-20` gives back.
 #[inline]
-pub(crate) fn sqrt_above(x: f32) -> f32 {
+pub(crate) const fn sqrt_above(x: f32) -> f32 {
     if x.is_nan() || x < 0.0 {
         return f32::NAN;
     }

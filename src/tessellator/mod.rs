@@ -129,6 +129,25 @@ impl Default for HierarchyNode {
     }
 }
 
+/// [`sqrt_above`](crate::math::sqrt_above) of every square of a quantised vector a node of
+/// the bytes can keep (`3 · 31²` at most), evaluated when the crate is built (`f32`'s
+/// operations are IEEE's there too: the same bits), on a host: the judgement of a node on
+/// screen takes the root of its longest vector's square, two dependent divisions, which a
+/// host's cold frame spends about 2% of its time waiting for. (A part keeps its flash, and
+/// computes them.)
+#[cfg(not(target_os = "none"))]
+static ROOTS_ABOVE: [f32; 3 * 31 * 31 + 1] = {
+    let mut roots = [0.0; 3 * 31 * 31 + 1];
+    let mut n = 0;
+    while n < roots.len() {
+        roots[n] = crate::math::sqrt_above(n as f32);
+        n += 1;
+    }
+    roots
+};
+#[cfg(target_os = "none")]
+static ROOTS_ABOVE: [f32; 0] = [];
+
 /// One vertex of the baked hierarchy: a patch corner or a hypotenuse's midpoint.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -223,11 +242,48 @@ impl HierarchyNode {
     pub(crate) fn longest_quantised(&self) -> f32 {
         let square = |q: &[i8; 3]| q.iter().map(|&c| c as i32 * c as i32).sum::<i32>();
         let n = self.vectors.iter().map(square).max().unwrap_or(0);
-        crate::math::sqrt_above(n as f32) * self.scale * (1.0 + 4.0 * crate::deviation::EPS)
+        let root = match ROOTS_ABOVE.get(n as usize) {
+            Some(&root) => root,
+            None => crate::math::sqrt_above(n as f32),
+        };
+        root * self.scale * (1.0 + 4.0 * crate::deviation::EPS)
     }
 
     /// The kept vectors in model units.
     pub(crate) fn kept(&self) -> [glam::Vec3; KEPT] {
         crate::deviation::kept::dequantize(&self.vectors, self.scale)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The roots evaluated when the crate is built are the bits the judgement would compute,
+    /// and a node's longest vector reads them where it can, computing the others.
+    #[test]
+    fn the_roots_built_in_are_the_computed_ones() {
+        for (n, &root) in ROOTS_ABOVE.iter().enumerate() {
+            assert_eq!(
+                root.to_bits(),
+                crate::math::sqrt_above(n as f32).to_bits(),
+                "{n}"
+            );
+        }
+        for vector in [[31, 31, 31], [-31, 0, 1], [100, -100, 7], [0, 0, 0]] {
+            let node = HierarchyNode {
+                vectors: [vector, [1, 2, 3], [0; 3], [-1, 0, 0]],
+                scale: 0.25,
+                ..HierarchyNode::default()
+            };
+            let square = vector
+                .iter()
+                .map(|&c| c as i32 * c as i32)
+                .sum::<i32>()
+                .max(14);
+            let computed =
+                crate::math::sqrt_above(square as f32) * 0.25 * (1.0 + 4.0 * crate::deviation::EPS);
+            assert_eq!(node.longest_quantised().to_bits(), computed.to_bits());
+        }
     }
 }

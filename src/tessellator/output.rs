@@ -51,6 +51,7 @@ impl Tessellator<'_, '_> {
     /// The output vertex of vertex `v`, written at grid point `at` of patch `patch` (a
     /// written triangle's corner), with the parameters every triangle gives it (see
     /// [`params`](Self::params)).
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub(super) fn vertex(&self, v: u32, patch: u32, at: Point) -> Vertex {
         let (q, g) = self.params(v, patch, at);
         let (u, w) = unit(g);

@@ -667,6 +667,7 @@ impl<'t, 's> Tessellator<'t, 's> {
 
     /// The vertices written out at the corners of leaf `h`: their own, or where a corner lies
     /// on a side collapsed to a pole, the pole's corner vertex.
+    #[cfg_attr(not(target_os = "none"), inline)]
     fn written_corners(&self, h: &Pending) -> [u32; 3] {
         let poles = self.tree.poles(h.tri.patch);
         if poles == 0 {
@@ -715,25 +716,37 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// A triangle below the bake that finds the stack full is judged at once instead (it has
     /// no bit a walk could find it by), up to [`INLINE_DEPTH`] deep; past that it is dropped
     /// and the frame's figures are recounted (see [`update`](Self::update)).
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub(super) fn push(&mut self, h: Pending) {
+        self.push_slot(StackSlot::of(&h));
+    }
+
+    /// [`push`](Self::push) of the triangle `slot` holds.
+    #[cfg_attr(not(target_os = "none"), inline(always))]
+    fn push_slot(&mut self, slot: StackSlot) {
         match self.stack.get_mut(self.len) {
-            Some(slot) => {
-                *slot = StackSlot(h);
+            Some(s) => {
+                *s = slot;
                 self.len += 1;
                 self.stats.stack_peak = self.stats.stack_peak.max(self.len);
             }
-            None if h.node == RUN_TIME && self.inline < INLINE_DEPTH => {
-                if let Some(view) = self.view {
-                    self.inline += 1;
-                    self.process(&view, view.tolerance(), h);
-                    self.inline -= 1;
-                }
+            None => self.push_over(slot.get()),
+        }
+    }
+
+    /// [`push`](Self::push) of `h` to a full stack.
+    #[inline(never)]
+    fn push_over(&mut self, h: Pending) {
+        if h.node == RUN_TIME && self.inline < INLINE_DEPTH {
+            if let Some(view) = self.view {
+                self.inline += 1;
+                self.process(&view, view.tolerance(), h);
+                self.inline -= 1;
             }
-            None => {
-                self.full = true;
-                self.dropped_patches |= 1 << (h.tri.patch % 32);
-                self.dropped_below |= h.node == RUN_TIME;
-            }
+        } else {
+            self.full = true;
+            self.dropped_patches |= 1 << (h.tri.patch % 32);
+            self.dropped_below |= h.node == RUN_TIME;
         }
     }
 
@@ -950,7 +963,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     pub(super) fn drain(&mut self, view: &View, tolerance: f32) {
         while self.len > 0 {
             self.len -= 1;
-            let h = self.stack[self.len].0;
+            let h = self.stack[self.len].get();
             self.process(view, tolerance, h);
         }
     }
@@ -1176,10 +1189,11 @@ impl<'t, 's> Tessellator<'t, 's> {
         // into `h` before it goes across.
         for x in [across, Some(*h)].into_iter().flatten() {
             let [h0, h1] = self.tree.halves(&x, v);
+            let (s0, s1) = (StackSlot::of(&h0), StackSlot::of(&h1));
             self.list(h0.node);
             self.list(h1.node);
-            self.push(h1);
-            self.push(h0);
+            self.push_slot(s1);
+            self.push_slot(s0);
         }
         true
     }

@@ -724,7 +724,7 @@ impl Tessellator<'_, '_> {
         let tolerance = view.tolerance();
         while self.len > 0 {
             self.len -= 1;
-            let h = self.stack[self.len].0;
+            let h = self.stack[self.len].get();
             if h.node != RUN_TIME && !self.in_mesh(h.node) {
                 continue;
             }
