@@ -545,6 +545,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// The vertex `h` is halved at in the current mesh, if it is.
+    #[cfg_attr(not(target_os = "none"), inline)]
     pub(super) fn split_vertex(&self, h: &Pending) -> Option<u32> {
         let baked = self.tree.is_baked(h);
         if baked && !bit(self.halved(), h.node) {
@@ -575,6 +576,7 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// Whether leaf `h` is left out as hidden: a triangle of the bake by its bit, one below it
     /// by [`judge::hidden_below_the_bake`](super::judge::hidden_below_the_bake), with `bounds`
     /// holding the last patch's bounds it needed (walks go patch by patch).
+    #[cfg_attr(not(target_os = "none"), inline)]
     pub(super) fn is_hidden(&self, h: &Pending, bounds: &mut Option<(u32, PatchBounds)>) -> bool {
         if self.is_culled(h.tri.patch) {
             return true;
