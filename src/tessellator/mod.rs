@@ -129,15 +129,19 @@ impl Default for HierarchyNode {
     }
 }
 
-/// [`sqrt_above`](crate::math::sqrt_above) of every square of a quantised vector a node of
-/// the bytes can keep (`3 · 31²` at most), evaluated when the crate is built (`f32`'s
-/// operations are IEEE's there too: the same bits), on a host: the judgement of a node on
-/// screen takes the root of its longest vector's square, two dependent divisions, which a
-/// host's cold frame spends about 2% of its time waiting for. (A part keeps its flash, and
-/// computes them.)
+/// The largest square of a quantised vector the bytes can keep (`3 Q²`, `Q` its largest
+/// coordinate).
 #[cfg(not(target_os = "none"))]
-static ROOTS_ABOVE: [f32; 3 * 31 * 31 + 1] = {
-    let mut roots = [0.0; 3 * 31 * 31 + 1];
+const LARGEST_SQUARE: usize = 3 * (crate::deviation::kept::Q as usize).pow(2);
+
+/// [`sqrt_above`](crate::math::sqrt_above) of every square of a quantised vector a node of
+/// the bytes can keep, evaluated when the crate is built (`f32`'s operations are IEEE's
+/// there too: the same bits), on a host: the judgement of a node on screen takes the root of
+/// its longest vector's square, two dependent divisions; read from here, a host's cold frame
+/// took about 1% less time (`frame_loop`). (A part keeps its flash, and computes them.)
+#[cfg(not(target_os = "none"))]
+static ROOTS_ABOVE: [f32; LARGEST_SQUARE + 1] = {
+    let mut roots = [0.0; LARGEST_SQUARE + 1];
     let mut n = 0;
     while n < roots.len() {
         roots[n] = crate::math::sqrt_above(n as f32);
