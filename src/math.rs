@@ -77,6 +77,81 @@ pub(crate) fn wide_signed(a: i32, b: i32) -> i64 {
     }
 }
 
+/// Whether a division is one instruction: everywhere but on 32-bit ARM without an FPU, taken
+/// for ARMv6-M, whose quotients are library calls of 50 to 100 instructions. (An ARMv7-M
+/// part without an FPU divides in hardware, and takes the reciprocal there too: a product
+/// and a correction, about as cheap.)
+#[cfg(any(feature = "embedded-graphics", test))]
+pub(crate) const HARD_DIVIDE: bool = HARD_FLOAT || !cfg!(target_arch = "arm");
+
+/// A positive divisor `a`, ready for many exact quotients: where a division is a library
+/// call ([`HARD_DIVIDE`] false), with its reciprocal `⌊(2^32 - 1) / a⌋`, so that each quotient
+/// is one product and at most two corrections.
+///
+/// **Why two.** With `inv = ⌊(2^32 - 1) / a⌋`, `inv <= (2^32 - 1) / a < 2^32 / a` and
+/// `inv > (2^32 - 1) / a - 1`. For `x < 2^32` the estimate `q̂ = ⌊x inv / 2^32⌋` is then at
+/// most `⌊x / a⌋`, and `x inv / 2^32 > x / a - x / (a 2^32) - x / 2^32 > x / a - 2`, so
+/// `q̂ >= ⌊x / a⌋ - 2`: `x - q̂ a` (at most `x`, no overflow) is below `3 a`, and taking `a`
+/// off it while it is at least `a` ends in at most two steps at the exact remainder.
+#[cfg(any(feature = "embedded-graphics", test))]
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Divisor {
+    a: u32,
+    inv: u32,
+}
+
+#[cfg(any(feature = "embedded-graphics", test))]
+impl Divisor {
+    /// `a`, which must be positive (0 gives quotients of 0).
+    #[inline(always)]
+    pub fn new(a: u32) -> Divisor {
+        let inv = match HARD_DIVIDE {
+            true => 0,
+            false => u32::MAX.checked_div(a).unwrap_or(0),
+        };
+        Divisor { a, inv }
+    }
+
+    /// The divisor.
+    #[inline(always)]
+    pub fn get(&self) -> u32 {
+        self.a
+    }
+
+    /// `(⌊x / a⌋, x mod a)`, exact: a division where it is one instruction, else the
+    /// reciprocal's product and its corrections.
+    #[inline(always)]
+    pub fn div_rem(&self, x: u32) -> (u32, u32) {
+        match HARD_DIVIDE {
+            true => match (x.checked_div(self.a), x.checked_rem(self.a)) {
+                (Some(q), Some(r)) => (q, r),
+                _ => (0, x),
+            },
+            false => self.div_rem_by_reciprocal(x),
+        }
+    }
+
+    /// [`div_rem`](Self::div_rem) by the reciprocal (see the type's docs), on every target
+    /// (the tests check it against the division).
+    #[inline(always)]
+    pub fn div_rem_by_reciprocal(&self, x: u32) -> (u32, u32) {
+        let inv = match HARD_DIVIDE {
+            true => u32::MAX.checked_div(self.a).unwrap_or(0),
+            false => self.inv,
+        };
+        let mut q = (wide(x, inv) >> 32) as u32;
+        let mut r = x.wrapping_sub(q.wrapping_mul(self.a));
+        // (At most twice; `a = 0` leaves `r = x` and `q = 0`: the bound ends it.)
+        for _ in 0..2 {
+            if r >= self.a && self.a != 0 {
+                r -= self.a;
+                q += 1;
+            }
+        }
+        (q, r)
+    }
+}
+
 /// `⌊√n⌋`, digit by digit. (Not `u32::isqrt`: on ARMv6-M it cost `fw_teapot`'s wireframe frame
 /// 0.7M instructions more.)
 pub(crate) fn isqrt(n: u32) -> u32 {
@@ -232,8 +307,6 @@ pub(crate) fn clamp_param(t: f32, lo: f32, hi: f32) -> f32 {
 mod tests {
     use super::*;
 
-    /// `sqrt_one_plus_above` is at least `√(1 + x)`, within `3 · 10^-5` of it up to `x = 1/4`
-    /// and within a factor of 1.1 up to `x = 1`.
     #[test]
     fn wide_products_are_exact() {
         let mut rng = crate::test_rng::TestRng::new(0x71de_0001);
@@ -252,6 +325,40 @@ mod tests {
         }
     }
 
+    /// A divisor's quotients by its reciprocal are the division's, for divisors and
+    /// dividends over the whole range, at the edges and where the estimate falls short most
+    /// (dividends just below a multiple).
+    #[test]
+    fn quotients_by_the_reciprocal_are_exact() {
+        let mut rng = crate::test_rng::TestRng::new(0xd1f1_50e5);
+        let mut corrected = 0;
+        for k in 0..200_000u32 {
+            let a = match k % 7 {
+                0 => 1 + (rng.next_u32() >> (k % 32)),
+                1 => 1 + (k / 7) % 300,
+                2 => u32::MAX - (k / 7) % 5,
+                3 => 1 << (k % 32),
+                _ => (rng.next_u32() >> (k % 29)).max(1),
+            };
+            let x = match k % 5 {
+                0 => u32::MAX,
+                1 => a.wrapping_mul(rng.next_u32() >> (k % 32)).wrapping_sub(1),
+                2 => rng.next_u32() % a,
+                _ => rng.next_u32() >> (k % 32),
+            };
+            let d = Divisor::new(a);
+            let expected = (x / a, x % a);
+            assert_eq!(d.div_rem_by_reciprocal(x), expected, "{x} / {a}");
+            assert_eq!(d.div_rem(x), expected, "{x} / {a}");
+            let inv = u32::MAX / a;
+            corrected += u32::from((wide(x, inv) >> 32) as u32 != x / a);
+        }
+        // (Dividends just below a multiple take the corrections: the test reaches them.)
+        assert!(corrected > 1000, "{corrected}");
+    }
+
+    /// `sqrt_one_plus_above` is at least `√(1 + x)`, within `3 · 10^-5` of it up to `x = 1/4`
+    /// and within a factor of 1.1 up to `x = 1`.
     #[test]
     fn sqrt_one_plus_above_bounds_the_root() {
         let mut rng = crate::test_rng::TestRng::new(0x0e1f_2026);

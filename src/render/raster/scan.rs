@@ -8,7 +8,9 @@
 //! row, and solves the exact integer inequality of the module above (a pixel centre is inside
 //! edge `i` when `E_i - bias_i >= 0`) for the row's columns, one division per edge. (Testing
 //! every pixel of the box instead, three additions and a sign test each, is slower: most of a
-//! box is outside its triangle.) Triangles with a corner beyond
+//! box is outside its triangle.) Where a division is a library call (ARMv6-M), a box at most
+//! [`STEPPED_WIDTH`] pixels wide is solved by stepping along the row from each end instead:
+//! the same pixels, for a few additions a pixel outside. Triangles with a corner beyond
 //! [`NARROW_LIMIT`] take the 64-bit spans of [`Triangle`] instead (feature
 //! `large-viewports`): the same inequality, so both still tile.
 //!
@@ -48,7 +50,8 @@
 //! `n_x = -(d_1 dy_1 + d_2 dy_2)`, `n_y = d_1 dx_1 + d_2 dx_2` (`d_i = v_i - v_0`, the edges as
 //! in [`Plane::through`]): integers below `2^31` (`|d_i| < 2^16`, edges within
 //! `2^14` subpixels). Per pixel, in fixed point: `R = floor(n_x 2^(b+4) / a)` and likewise `D`,
-//! exact, in 32-bit divisions (`floor_div`). At the anchor, `(o_x, o_y)` subpixels from the
+//! exact, in 32-bit quotients (`floor_div`; on ARMv6-M each a product by the reciprocal of
+//! `a`, found once for the triangle's four slopes, and a correction). At the anchor, `(o_x, o_y)` subpixels from the
 //! first corner (each in `-7..=8`), `A = v_0 2^b + 2^(b-1) + floor((R o_x + D o_y) / 16)`.
 //!
 //! Precision: `R` and `D` are below their exact values by less than 1, so
@@ -72,6 +75,7 @@ use super::edge::{
 #[cfg(doc)]
 use super::Triangle;
 use super::{inv_sqrt, Plane, Snapped, HALF, SUBPIXELS};
+use crate::math::{Divisor, HARD_DIVIDE};
 use crate::render::project::{depth_from_u16, shade_from_u8};
 use crate::render::walk::{FixedRamp, SpanWalk, DEPTH_BITS, LEVEL_BITS};
 use crate::Arithmetic;
@@ -94,15 +98,16 @@ impl FixedPlane {
     fn through(
         v: [i32; 3],
         edges: &[[i32; 2]; 3],
-        area: i32,
+        area: Divisor,
         bits: u32,
         from: [i32; 2],
         first: [i32; 2],
     ) -> FixedPlane {
-        let (d1, d2) = (i64::from(v[1] - v[0]), i64::from(v[2] - v[0]));
-        let e = edges.map(|e| e.map(i64::from));
-        // `area` times the change per subpixel right and down (each below `2^31`: corner
-        // values below `2^16`, edges within `2^14` subpixels).
+        let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
+        let e = edges;
+        // `area` times the change per subpixel right and down, in 32 bits: each product is
+        // below `2^30` in size (corner values below `2^16`, edges within `2^14` subpixels),
+        // each sum below `2^31`.
         let nx = -(d1 * e[1][1] + d2 * e[2][1]);
         let ny = d1 * e[1][0] + d2 * e[2][0];
         // The change per pixel in fixed point, rounded down (below `2^49`).
@@ -114,11 +119,12 @@ impl FixedPlane {
         let anchor = from.map(|c| c >> shift_sub);
         let [ox, oy] =
             [0, 1].map(|i| i64::from(anchor[i] * SUBPIXELS as i32 + HALF as i32 - from[i]));
-        let at =
-            (i64::from(v[0]) << bits) + (1 << (bits - 1)) + ((right * ox + down * oy) >> shift_sub);
-        // Modulo `2^32` from here on.
+        let offset = (right * ox + down * oy) >> shift_sub;
+        // Modulo `2^32` from here on (the corner's value in 32 bits: its bits past 32 go).
         let (right, down) = (right as i32, down as i32);
-        let at = (at as i32)
+        let at = (v[0] << bits)
+            .wrapping_add(1 << (bits - 1))
+            .wrapping_add(offset as i32)
             .wrapping_add(right.wrapping_mul(first[0].wrapping_sub(anchor[0])))
             .wrapping_add(down.wrapping_mul(first[1].wrapping_sub(anchor[1])));
         FixedPlane { at, right, down }
@@ -184,26 +190,33 @@ impl FixedPlane {
     }
 }
 
-/// `floor(n 2^shift / a)`, exact, for `|n| < 2^32`, `a > 0` and `shift <= 31`: in 32-bit
-/// divisions, one and then one per `clz(a)` bits of `shift` (a 64-bit division is a library
-/// call on every 32-bit part; these are hardware on a Cortex-M3 and up). Out of line: one
-/// copy for the four slopes of a triangle.
+/// `floor(n 2^shift / a)`, exact, for `a > 0` and `shift <= 31`: in 32-bit quotients by
+/// `a`, one and then one per `clz(a)` bits of `shift` (a 64-bit division is a library call on
+/// every 32-bit part; these are hardware on a Cortex-M3 and up, and on ARMv6-M a product by
+/// the area's reciprocal, found once for the four slopes of a triangle: see [`Divisor`]).
+/// Out of line: one copy for the four slopes.
 #[inline(never)]
-fn floor_div(n: i64, shift: u32, a: i32) -> i64 {
-    let (m, a) = (n.unsigned_abs() as u32, a as u32);
+fn floor_div(n: i32, shift: u32, a: Divisor) -> i64 {
+    let m = n.unsigned_abs();
     // (Where `m 2^shift` fits 32 bits, as for a plane that changes little or not at all, one
-    // division.)
+    // quotient.)
     let (mut q, mut r, mut left) = match m.checked_shl(shift).filter(|w| w >> shift == m) {
-        Some(wide) => (u64::from(wide / a), wide % a, 0),
-        None => (u64::from(m / a), m % a, shift),
+        Some(wide) => {
+            let (q, r) = a.div_rem(wide);
+            (u64::from(q), r, 0)
+        }
+        None => {
+            let (q, r) = a.div_rem(m);
+            (u64::from(q), r, shift)
+        }
     };
     // `r < a < 2^31`: `r << step` fits.
-    let step = a.leading_zeros();
+    let step = a.get().leading_zeros();
     while left > 0 {
         let k = left.min(step);
-        let wide = r << k;
-        q = (q << k) + u64::from(wide / a);
-        r = wide % a;
+        let (digit, rest) = a.div_rem(r << k);
+        q = (q << k) + u64::from(digit);
+        r = rest;
         left -= k;
     }
     // `m 2^shift = q a + r`: for `n < 0` the floor is `-q`, or `-q - 1` with a remainder.
@@ -214,6 +227,10 @@ fn floor_div(n: i64, shift: u32, a: i32) -> i64 {
         q
     }
 }
+
+/// Widest box whose rows [`Scan::inside`] solves by stepping along them, where a division
+/// is a library call (ARMv6-M): in a box this narrow a few steps cost less than a quotient.
+const STEPPED_WIDTH: i32 = 32;
 
 /// A small triangle's scan, row by row over its bounding box's columns (within a band's).
 #[derive(Clone, Copy, Debug)]
@@ -324,6 +341,8 @@ impl Snapped {
         match arithmetic {
             Arithmetic::Integer => {
                 let (depth, level) = (depth.map(i32::from), shade.map(i32::from));
+                // (`area > 0`: `counter_clockwise` turns the corners so.)
+                let area = Divisor::new(area as u32);
                 scan.depth = FixedPlane::through(depth, &edges, area, DEPTH_BITS, corner, first);
                 scan.level = FixedPlane::through(level, &edges, area, LEVEL_BITS, corner, first);
             }
@@ -407,6 +426,15 @@ impl Scan {
     /// [`NARROW_LIMIT`](super::edge::NARROW_LIMIT), so nothing here overflows).
     #[inline(always)]
     fn inside(&self) -> (i32, i32) {
+        if !HARD_DIVIDE && self.width <= STEPPED_WIDTH {
+            return self.inside_stepped();
+        }
+        self.inside_by_quotients()
+    }
+
+    /// [`inside`](Self::inside) by a quotient an edge.
+    #[inline(always)]
+    fn inside_by_quotients(&self) -> (i32, i32) {
         let (mut lo, mut hi) = (0, self.width);
         for (&e, &k) in self.edge.iter().zip(&self.right) {
             if k > 0 {
@@ -415,6 +443,37 @@ impl Scan {
             } else if k < 0 {
                 // `n <= e / -k`: `n < floor(e / -k) + 1`.
                 hi = hi.min(e.div_euclid(-k) + 1);
+            } else if e < 0 {
+                hi = 0;
+            }
+        }
+        (lo, hi)
+    }
+
+    /// [`inside`](Self::inside) for a box at most [`STEPPED_WIDTH`] wide, where a division
+    /// is a library call: each edge's first pixel inside (or last) found by stepping along the
+    /// row, two additions and a test a pixel. The same pixels: `lo` is the least `n >= 0` with
+    /// every `E_i + n right_i >= 0` for the edges with `right_i > 0` (the quotients' solution,
+    /// or `width` where that is beyond the box), `hi` one past the greatest for the others;
+    /// where the quotients find no pixel, `lo >= hi` here too.
+    #[inline(always)]
+    fn inside_stepped(&self) -> (i32, i32) {
+        let (mut lo, mut hi) = (0, self.width);
+        for (&e, &k) in self.edge.iter().zip(&self.right) {
+            if k > 0 {
+                // (Every `n` below `lo` is out already: start there.)
+                let mut at = e.wrapping_add(k.wrapping_mul(lo));
+                while lo < hi && at < 0 {
+                    at = at.wrapping_add(k);
+                    lo += 1;
+                }
+            } else if k < 0 {
+                // The last pixel inside is before `hi`: step back from there.
+                let mut at = e.wrapping_add(k.wrapping_mul(hi - 1));
+                while hi > lo && at < 0 {
+                    at = at.wrapping_sub(k);
+                    hi -= 1;
+                }
             } else if e < 0 {
                 hi = 0;
             }
@@ -562,6 +621,42 @@ mod tests {
         assert_eq!(wire_apart, 0, "of {pixels}");
     }
 
+    /// Stepping along a row (for narrow boxes where a division is a library call) finds the
+    /// pixels the quotients find, row by row, on small and large triangles and bands that
+    /// cut them anywhere.
+    #[test]
+    fn stepping_along_rows_finds_the_quotients_pixels() {
+        let (mut rows, mut inside, mut narrow) = (0, 0, 0);
+        for (k, (tri, snapped)) in triangles(4000, 400).enumerate() {
+            let [first, last] = tri.rows();
+            let columns = [0..400, 190..206, 200..203][k % 3].clone();
+            let Some((mut scan, top)) =
+                small(&snapped, first..last + 1, columns, Arithmetic::Integer)
+            else {
+                continue;
+            };
+            narrow += usize::from(scan.width <= STEPPED_WIDTH);
+            for row in top..=last {
+                let (lo, hi) = scan.inside_by_quotients();
+                let (slo, shi) = scan.inside_stepped();
+                match lo < hi {
+                    true => {
+                        assert_eq!((slo, shi), (lo, hi), "row {row}");
+                        inside += 1;
+                    }
+                    false => assert!(slo >= shi, "row {row}: {slo}..{shi}, not {lo}..{hi}"),
+                }
+                assert!(0 <= slo && shi <= scan.width.max(0));
+                rows += 1;
+                scan.next();
+            }
+        }
+        assert!(
+            rows > 20_000 && inside > 10_000 && narrow > 1000,
+            "{rows} {inside} {narrow}"
+        );
+    }
+
     /// `draw` depth-tests and paints the pixels `next_row` walks, with the same values.
     #[test]
     fn drawing_a_scan_in_one_loop_walks_its_rows() {
@@ -648,7 +743,8 @@ mod tests {
             });
             let from = [x[0], y[0]];
             let first = [x.iter().min().unwrap() >> 4, y.iter().min().unwrap() >> 4];
-            let plane = FixedPlane::through(v, &edges, area, bits, from, first);
+            let plane =
+                FixedPlane::through(v, &edges, Divisor::new(area as u32), bits, from, first);
             let anchor = from.map(|c| c >> 4);
             // The exact plane (its values at the corners `v`), plus 1/2, times `2^bits`.
             let (w, f) = (v.map(f64::from), f64::from(1u32 << bits));
