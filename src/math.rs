@@ -98,6 +98,8 @@ pub(crate) const HARD_DIVIDE: bool = HARD_FLOAT || !cfg!(target_arch = "arm");
 pub(crate) struct Divisor {
     a: u32,
     inv: u32,
+    /// `a`'s leading zero bits (a library call on ARMv6-M: found once).
+    zeros: u32,
 }
 
 #[cfg(any(feature = "embedded-graphics", test))]
@@ -109,13 +111,17 @@ impl Divisor {
             true => 0,
             false => u32::MAX.checked_div(a).unwrap_or(0),
         };
-        Divisor { a, inv }
+        Divisor {
+            a,
+            inv,
+            zeros: a.leading_zeros(),
+        }
     }
 
-    /// The divisor.
+    /// The divisor's leading zero bits: a remainder shifted left by as many still fits.
     #[inline(always)]
-    pub fn get(&self) -> u32 {
-        self.a
+    pub fn leading_zeros(&self) -> u32 {
+        self.zeros
     }
 
     /// `(⌊x / a⌋, x mod a)`, exact: a division where it is one instruction, else the

@@ -211,7 +211,7 @@ fn floor_div(n: i32, shift: u32, a: Divisor) -> i64 {
         }
     };
     // `r < a < 2^31`: `r << step` fits.
-    let step = a.get().leading_zeros();
+    let step = a.leading_zeros();
     while left > 0 {
         let k = left.min(step);
         let (digit, rest) = a.div_rem(r << k);
