@@ -79,8 +79,8 @@ pub(crate) fn wide_signed(a: i32, b: i32) -> i64 {
 
 /// Whether a division is one instruction: everywhere but on 32-bit ARM without an FPU, taken
 /// for ARMv6-M, whose quotients are library calls of 50 to 100 instructions. (An ARMv7-M
-/// part without an FPU divides in hardware, and takes the reciprocal there too: a product
-/// and a correction, about as cheap.)
+/// part without an FPU, which divides in hardware, takes the reciprocal too: no target
+/// setting tells the two apart. Not measured there.)
 #[cfg(any(feature = "embedded-graphics", test))]
 pub(crate) const HARD_DIVIDE: bool = HARD_FLOAT || !cfg!(target_arch = "arm");
 

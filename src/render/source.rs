@@ -60,8 +60,7 @@ impl TriangleSource for Tessellator<'_, '_> {
         let patches = self.tree().model();
         // A patch that cannot reach the rows, or that the sink does not want, is not walked.
         self.stream_keyed(sink, |sink, patch| {
-            sink.wants_patch(patch)
-                && reaches(patches.patch(patch as usize), camera, &rows)
+            sink.wants_patch(patch) && reaches(patches.patch(patch as usize), camera, &rows)
         });
     }
 

@@ -51,8 +51,9 @@
 //! in [`Plane::through`]): integers below `2^31` (`|d_i| < 2^16`, edges within
 //! `2^14` subpixels). Per pixel, in fixed point: `R = floor(n_x 2^(b+4) / a)` and likewise `D`,
 //! exact, in 32-bit quotients (`floor_div`; on ARMv6-M each a product by the reciprocal of
-//! `a`, found once for the triangle's four slopes, and a correction). At the anchor, `(o_x, o_y)` subpixels from the
-//! first corner (each in `-7..=8`), `A = v_0 2^b + 2^(b-1) + floor((R o_x + D o_y) / 16)`.
+//! `a`, found once for the triangle's four slopes, and a correction). At the anchor,
+//! `(o_x, o_y)` subpixels from the first corner (each in `-7..=8`),
+//! `A = v_0 2^b + 2^(b-1) + floor((R o_x + D o_y) / 16)`.
 //!
 //! Precision: `R` and `D` are below their exact values by less than 1, so
 //! `(R o_x + D o_y) / 16` is off the exact change to the anchor by less than `(|o_x| + |o_y|) /
