@@ -593,8 +593,10 @@ impl<'a> Moved<'a> {
         for (n2, d) in lengths.iter_mut().zip(e) {
             *n2 = d.length_squared();
         }
-        let mut turns = [Turns::default(); 3];
-        for (([tx, ty], _, phi), turns) in self.rays.iter_mut().zip(&mut turns) {
+        // (Filled in place: a copy of the three corners' turns was a `memcpy` call for each
+        // triangle a step certified.)
+        let all = self.turns.insert([Turns::default(); 3]);
+        for (([tx, ty], _, phi), turns) in self.rays.iter_mut().zip(all.iter_mut()) {
             let (mut worst, mut largest) = (0.0f32, 0);
             for (k, (d, &n2)) in e.iter().zip(&lengths).enumerate() {
                 let (a, b) = (d.x - *tx * d.z, d.y - *ty * d.z);
@@ -614,7 +616,6 @@ impl<'a> Moved<'a> {
             *phi = sqrt(worst);
         }
         self.ez = e.iter().map(|d| d.z.abs()).fold(0.0f32, max);
-        self.turns = Some(turns);
         self.phis_found = true;
     }
 
