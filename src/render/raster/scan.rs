@@ -118,14 +118,22 @@ impl FixedPlane {
         // in `-7..=8`), and the plane there. (`>> 4` is `div_euclid(16)`.)
         let shift_sub = SUBPIXELS.trailing_zeros();
         let anchor = from.map(|c| c >> shift_sub);
-        let [ox, oy] =
-            [0, 1].map(|i| i64::from(anchor[i] * SUBPIXELS as i32 + HALF as i32 - from[i]));
-        let offset = (right * ox + down * oy) >> shift_sub;
+        let [ox, oy] = [0, 1].map(|i| anchor[i] * SUBPIXELS as i32 + HALF as i32 - from[i]);
+        // `⌊(R o_x + D o_y) / 16⌋` modulo `2^32`, in 32 bits: with `R = 16 R₁ + R₀` (`R₀` in
+        // `0..16`), likewise `D`, it is `R₁ o_x + D₁ o_y + ⌊(R₀ o_x + D₀ o_y) / 16⌋`, whose
+        // first two products are needed modulo `2^32` alone. (The 64-bit products were
+        // library calls on ARMv6-M.)
+        let high_low = |s: i64| ((s >> shift_sub) as i32, (s & (SUBPIXELS - 1)) as i32);
+        let ((r1, r0), (d1, d0)) = (high_low(right), high_low(down));
+        let offset = r1
+            .wrapping_mul(ox)
+            .wrapping_add(d1.wrapping_mul(oy))
+            .wrapping_add((r0 * ox + d0 * oy) >> shift_sub);
         // Modulo `2^32` from here on (the corner's value in 32 bits: its bits past 32 go).
         let (right, down) = (right as i32, down as i32);
         let at = (v[0] << bits)
             .wrapping_add(1 << (bits - 1))
-            .wrapping_add(offset as i32)
+            .wrapping_add(offset)
             .wrapping_add(right.wrapping_mul(first[0].wrapping_sub(anchor[0])))
             .wrapping_add(down.wrapping_mul(first[1].wrapping_sub(anchor[1])));
         FixedPlane { at, right, down }
