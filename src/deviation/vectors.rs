@@ -217,7 +217,7 @@ impl Deviations for Quantised {
 /// from three 32-bit products of `|a|`'s halves rather than the library's 64-bit one: 3.4M
 /// of `fw_teapot`'s update instructions on ARMv6-M were that library call.
 #[inline(always)]
-fn square_of(a: i32) -> u64 {
+pub(crate) fn square_of(a: i32) -> u64 {
     if crate::math::HARD_FLOAT || !cfg!(target_arch = "arm") {
         let a = i64::from(a);
         (a * a) as u64

@@ -167,55 +167,66 @@ pub(super) fn judge(
         // most triangles within as the `f32` judgement would, and most others in view. (A
         // bound within the tolerance is never asked for in full: `exact` is for one over.)
         let mut seen = Seen::NOTHING;
-        if let (View::Screen { .. }, Some(grid), Some(look), None) =
+        let mut over = None;
+        if let (View::Screen { camera, .. }, Some(grid), Some(look), None) =
             (view, selection.grid_view(), selection.grid_judge(), eager)
         {
             let [a, b, c] = h.corners.map(|v| selection.fixed_on_grid(v, grid));
             if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                let first = look.look(grid, [a, b, c], &node.vectors, node.scale, node.remainder);
+                let first = look.look(grid, [a, b, c], &node, camera, view.tolerance(), exact);
                 match first {
                     FirstLook::Within(bound) => return Judged::bare(bound, false),
+                    FirstLook::Over(bound) => over = Some(Judged::bare(bound, false)),
                     FirstLook::Seen(found) => seen = found,
                 }
             }
         }
-        // In model units, the bake's own bound (the oracles' too); on screen, one from the
-        // quantised vectors, and the vectors only when the isotropic bound is not enough.
-        let big = match view {
-            View::Object { .. } => node.longest(),
-            View::Screen { .. } => node.longest_quantised(),
+        // (Over by the first look, the judgement is made; a leaf of the bake may still be
+        // within by its own lattice, below.)
+        let j = match over {
+            Some(j) => j,
+            None => {
+                // In model units, the bake's own bound (the oracles' too); on screen, one from
+                // the quantised vectors, and the vectors only when the isotropic bound is not
+                // enough.
+                let big = match view {
+                    View::Object { .. } => node.longest(),
+                    View::Screen { .. } => node.longest_quantised(),
+                };
+                judge_vectors(
+                    view,
+                    |camera| match eager {
+                        Some(corners) => corners.map(|p| camera.to_view(p)),
+                        None => viewed(selection, h, camera),
+                    },
+                    |camera| match selection.arithmetic() {
+                        Arithmetic::Integer => {
+                            NodeVectors::Integer(Quantised::new(node.vectors, node.scale))
+                        }
+                        Arithmetic::Float => {
+                            NodeVectors::Float(node.kept().map(|v| camera.rotate_to_view(v)))
+                        }
+                    },
+                    big,
+                    node.remainder,
+                    // (The corners read from a cache may be the integer move's: see
+                    // `grid_view`.)
+                    match eager {
+                        Some(_) => 0.0,
+                        None => selection.grid_view().map_or(0.0, |g| g.slack()),
+                    },
+                    seen,
+                    stop,
+                    // A certificate bounds the float vectors' bound over a camera step; the
+                    // integer one may stand above it by its own roundings, which no certificate
+                    // covers: its judgements keep none, and are made again every frame.
+                    match selection.arithmetic() {
+                        Arithmetic::Float => asked,
+                        Arithmetic::Integer => Asked::NONE,
+                    },
+                )
+            }
         };
-        let j = judge_vectors(
-            view,
-            |camera| match eager {
-                Some(corners) => corners.map(|p| camera.to_view(p)),
-                None => viewed(selection, h, camera),
-            },
-            |camera| match selection.arithmetic() {
-                Arithmetic::Integer => {
-                    NodeVectors::Integer(Quantised::new(node.vectors, node.scale))
-                }
-                Arithmetic::Float => {
-                    NodeVectors::Float(node.kept().map(|v| camera.rotate_to_view(v)))
-                }
-            },
-            big,
-            node.remainder,
-            // (The corners read from a cache may be the integer move's: see `grid_view`.)
-            match eager {
-                Some(_) => 0.0,
-                None => selection.grid_view().map_or(0.0, |g| g.slack()),
-            },
-            seen,
-            stop,
-            // A certificate bounds the float vectors' bound over a camera step; the integer
-            // one may stand above it by its own roundings, which no certificate covers: its
-            // judgements keep none, and are made again every frame.
-            match selection.arithmetic() {
-                Arithmetic::Float => asked,
-                Arithmetic::Integer => Asked::NONE,
-            },
-        );
         // A leaf of the bake keeps one bound, no vector: where it is over, the run time's
         // own lattice (with `refine`) may be within, as it is for a triangle below the bake.
         if !(leaf && cfg!(feature = "refine") && !j.hidden && j.bound > view.tolerance()) {

@@ -65,6 +65,7 @@ mod bits;
 mod budget;
 mod count;
 mod cull;
+mod directional_look;
 pub(crate) mod format;
 mod grid_judge;
 mod grid_view;
