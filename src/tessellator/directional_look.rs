@@ -62,43 +62,54 @@
 //!
 //! (`z_i` is `Z U`, to `2^-23` below). Likewise `|v_i| / z_i` is `2^h [n - 2, n + 3] / Z` for
 //! `n = isqrt(X'² + Y'² + Z'²)` (each coordinate's floor moves the length by under `√3`),
-//! and `s_i <= 2^h (|X'| + |Y'| + Z' + 3) / Z = 2^h L / Z`. Every integer here is below `2^17`
-//! and reads into `f32` exactly (`math::f32_of`, its power of two in the exponent). Then
+//! and `s_i <= 2^h (|X'| + |Y'| + Z' + 3) / Z = 2^h L / Z`. Then
 //!
 //! `g_i⁺ = (σ 2^(h + t + j - 14) (ρ + 1 + δ) + r 2^h n⁺ + m⁺ U c 2^h L) / Z`,
 //!
 //! with `n⁺ = n + 3 + ⌊(n + 3) 2^-k⌋ + 1 >= q (n + 3)` and `c >= 2.75 η⁺ / z_ℓ + 2^-15` in 16
 //! fractional bits (from `Z_min`'s top 16 bits, taken down, and `η⁺` in their unit, taken up:
-//! one `u32` quotient),
-//! is at least `g_i` with `D_i` (each product and sum of nonnegative numbers rounds by `ε`,
-//! the quotient by a `Z` read at most `2^-23` low only raises it), and
+//! one `u32` quotient), is at least `g_i` with `D_i` (the quotient by `Z`, read at most
+//! `2^-23` low, only raises it), and
 //!
 //! `g_i⁻ = (σ 2^(h + t + j - 14) (ρ - δ) + r 2^h (n - 2) - 2^-15 m⁺ U 2^h L) / Z`
 //!
-//! is at most `g_i` less `D_i`, to the relative `2^-22` of its roundings. The `f32` bound is
-//! within the tolerance `τ_p` where every `g_i⁺ <= τ_p z_min⁻ / (f S) (1 - 2^-16)`, and over it
-//! where one `g_i⁻ > τ_p z_min⁺ / (f S) (1 + 2^-16)`: the `2^-16` covers every relative term
-//! above (together under `2^-17`). The look reports `f S max g_i⁺ / z_min⁻ (1 + 2^-15)` (at
-//! least the `f32` bound; at most the tolerance, which it reports where that rounds over)
-//! within, and `f S g_i⁻ / z_min⁺ (1 - 2^-15)` over (at most the `f32` bound; at least the
-//! next number above the tolerance). A corner whose `g_i⁺` is within cannot be over: only
+//! is at most `g_i` less `D_i`. The `f32` bound is within the tolerance `τ_p` where every
+//! `g_i⁺ <= τ_p z_min⁻ / (f S) (1 - 2^-16)`, and over it where one `g_i⁻ > τ_p z_min⁺ / (f S)
+//! (1 + 2^-16)`: the `2^-16` covers every relative term above (together under `2^-17`).
+//!
+//! **The tests in integers.** `σ` and `r` are read exactly from their bits (`m 2^e`, `m <
+//! 2^24`), and the right sides `τ_p / (f S)` (the frame's, found in `f32` with the margins
+//! above and a few more `ε`) times `z_min⁻` or `z_min⁺` in units (`Z_min - m⁺ - η⁺`, and
+//! `max(Z_min - m⁻, N_z)`) are products taken down or up to 31 bits. Each test is then `Z`
+//! times its side against the sum of `g_i`'s three terms times `Z`, every one an integer
+//! product (below `2^62`) shifted to the units of the within side's last place, taken up for
+//! `g_i⁺` and down for `g_i⁻` (a term past `2^62` is over anything compared). No `f32`
+//! operation is left in the tests.
+//!
+//! **What it reports.** Within, each corner's `g_i⁺ Z` against its side is a fraction at
+//! most 1, taken up to 30-bit integers; with the largest, `ρ`, every `g_i` is at most `ρ τ_p
+//! z_min⁻ / (f S)` (less the margins), so the `f32` bound is at most `ρ τ_p`: the look reports
+//! `ρ τ_p (1 + 2^-15)` in `f32` (its few roundings in the `2^-15`), or the tolerance where that
+//! rounds over. Over, it reports the next number above the tolerance: the `f32` bound, a
+//! number over it, is at least that, and a judgement that may report any bound over the
+//! tolerance (`judge`) needs no more. A corner whose `g_i⁺` is within cannot be over: only
 //! after one that is not is `g_i⁻` found, for that corner and the ones after it.
 //!
 //! The decision needs the isotropic bound over (else the `f32` judgement may stop there), the
 //! scale in `f32`'s normal range (else `Quantised::worst` raises it), and is the same on every
-//! target (integers, and `f32` operations in a fixed order).
+//! target (integers, and the frame's constants in `f32` operations in a fixed order).
 //!
 //! Measured (`the_directional_look_decides_as_the_float_bound`, random triangles and cameras):
 //! of 7,873 triangles the `f32` directional bound judged, the look decides 914 of the 921
 //! within and 6,933 of the 6,952 over, its within bound at most 0.7% above the `f32` one; of
 //! 16,069 facing the eye, 6,991 of the 7,018 within (2.6%) and 8,929 of the 9,051 over. On
-//! `fw_teapot`'s ARMv6-M build it takes frame 0's update from 18.14M to 10.67M instructions,
-//! every frame bit-identical.
+//! `fw_teapot`'s ARMv6-M build it takes frame 0's update from 18.14M to 9.55M instructions,
+//! every frame bit-identical (10.67M with the tests' sums in `f32`).
 
 use crate::deviation::kept::KEPT;
 use crate::deviation::vectors::square_of;
 use crate::deviation::SCREEN_SLACK;
-use crate::math::{f32_of, isqrt, max, min};
+use crate::math::{f32_of, isqrt, min, wide};
 use crate::view::Camera;
 
 /// The view's rows in integers, and the frame's other constants of the directional look
@@ -109,10 +120,9 @@ pub(crate) struct ViewRows {
     /// `⌊2^14 R⌋` toward zero: right, up, forward.
     rows: [[i16; 3]; 3],
     /// `tol / (f S)` taken down by `(1 - 2^-16) (1 - 2^-18)` and up by `(1 + 2^-16) (1 +
-    /// 2^-18)`: a depth times these is the largest `g_i⁺` within, and the least `g_i⁻` over.
-    per_depth: [f32; 2],
-    /// `f S`.
-    focal: f32,
+    /// 2^-18)`, exactly as `f32`: a depth times these is the largest `g_i⁺` within, and the
+    /// least `g_i⁻` over.
+    per_depth: [Scaled; 2],
     /// `k` with `2^-k` at least the root's excess `q - 1`, where `q = 1 + x^4 / 128 + 2^-18`
     /// for the largest `|τ|²` of a corner inside the view, `x`.
     root_excess: u8,
@@ -171,57 +181,58 @@ impl ViewRows {
         if !(per_depth[0] > 0.0 && per_depth[1] < f32::INFINITY) {
             return None;
         }
+        let per_depth = [Scaled::of_f32(per_depth[0])?, Scaled::of_f32(per_depth[1])?];
         Some(ViewRows {
             rows: [row(r)?, row(u)?, row(f)?],
             per_depth,
-            focal,
             root_excess,
         })
     }
 
     /// The look at a triangle with fixed corners `corners` (every one inside the view, at
-    /// least the near plane deep), least depth `z_least` and `η⁺` `eta` in units `2^u`, whose
-    /// `f32` isotropic bound is over `tolerance` (see the [module docs](self)). `over`:
-    /// whether a bound over the tolerance may be any value over it (a judgement not asked
-    /// for its exact bound).
+    /// least the near plane deep), least depth `z_least`, `η⁺` `eta` and `N_z >= near` `near`
+    /// in units `2^u`, whose `f32` isotropic bound is over `tolerance` (see the [module
+    /// docs](self)). `over`: whether a bound over the tolerance may be any value over it (a
+    /// judgement not asked for its exact bound).
     #[allow(clippy::too_many_arguments)]
     pub fn look(
         &self,
-        camera: &Camera,
         tolerance: f32,
         corners: [[i32; 3]; 3],
         node: &NodeTerms<'_>,
         z_least: u64,
         eta: u64,
+        near: u32,
         u: i32,
         over: bool,
     ) -> Option<Decided> {
         // The scale in the normal range, above `2^-100` (its products stay there), the
         // remainder a number at least 0.
         let sigma_bits = node.scale.to_bits() & 0x7fff_ffff;
-        if !((27 << 23)..0x7f80_0000).contains(&sigma_bits)
-            || node.remainder.to_bits() >= 0x7f80_0000
-        {
+        if !((27 << 23)..0x7f80_0000).contains(&sigma_bits) {
             return None;
         }
-        let (sigma, r) = (f32::from_bits(sigma_bits), node.remainder);
+        let sigma = Scaled::of_f32(f32::from_bits(sigma_bits))?;
+        let r = Scaled::of_f32(node.remainder)?;
         let [m_low, m_high] = node.m;
         if 4 * (m_high + eta) > z_least {
             return None;
         }
-        // (Each below `2^30`.)
-        let least_depth = |z: u64| max(camera.near(), f32_of(z as i32, -u));
-        let z_low = least_depth(z_least - m_high - eta);
-        let z_high = least_depth(z_least - m_low);
-        let within_at = z_low * self.per_depth[0];
-        let over_at = z_high * self.per_depth[1];
+        // The least depth in units, at least and at most (each below `2^30`), and what a
+        // corner's `g_i` is compared with, before its depth: `tol / (f S)` times these.
+        let z_low = z_least - m_high - eta;
+        let z_high = (z_least - m_low).max(u64::from(near));
+        let within_at = self.per_depth[0].mul(Scaled::new(z_low as u32, u), false);
+        let over_at = self.per_depth[1].mul(Scaled::new(z_high as u32, u), true);
         // `c = 2.75 η⁺ / z_ℓ + 2^-15` taken up, in 16 fractional bits: from `z_ℓ`'s top 16
         // bits (taken down) and `η⁺` in the same unit (taken up, below `2^14`).
         let shift = (64 - z_least.leading_zeros()).saturating_sub(16);
         let ratio = ((eta >> shift) as u32 + 1) << 16;
         let ratio = ratio.div_ceil((z_least >> shift) as u32);
-        let m_c = f32_of(m_high as i32, -u) * f32_of((11 * ratio).div_ceil(4) as i32 + 2, 16);
-        let m = f32_of(m_high as i32, -u);
+        // `m⁺ U c` and `2^-15 m⁺ U`.
+        let m_c = Scaled::new(m_high as u32, u - 16)
+            .mul(Scaled::new((11 * ratio).div_ceil(4) + 2, 0), true);
+        let m_share = Scaled::new(m_high as u32, u - 15);
         let c1 = node
             .vectors
             .iter()
@@ -229,8 +240,13 @@ impl ViewRows {
             .max()
             .unwrap_or(0) as u32;
         let [right, up, forward] = self.rows.map(|r| r.map(i32::from));
+        // Each corner's terms in units of `within_at`'s last place, `2^base`: exact products
+        // of integers, shifted (see `in_units`).
+        let base = within_at.e;
         let mut within = true;
-        let mut worst = 0.0f32;
+        // The largest `g_i⁺` so far against what it is compared with, as 31-bit fractions
+        // `a / b` taken up (see `ratio_above`).
+        let mut worst = (0u32, 1u32);
         for [x, y, z] in corners {
             let top = x.unsigned_abs().max(y.unsigned_abs()).max(z.unsigned_abs());
             let h = (32 - top.leading_zeros()).saturating_sub(15);
@@ -252,24 +268,26 @@ impl ViewRows {
                 square = square.max(square_of(dot(&mx)) + square_of(dot(&my)));
             }
             let j = ((64 - square.leading_zeros()).saturating_sub(31)) / 2;
-            let root = isqrt((square >> (2 * j)) as u32) as i32;
+            let root = isqrt((square >> (2 * j)) as u32);
             let e = ((1u32 << 17) >> t) + 2;
-            let spill = (3 * e * c1).div_ceil(2).div_ceil(1 << j) as i32;
-            if spill >= 1 << 22 {
-                return None;
-            }
+            // (`⌈x / 2^j⌉ <= ⌊x / 2^j⌋ + 1`.)
+            let spill = ((3 * e * c1).div_ceil(2) >> j) + 1;
             let w = (h + t + j) as i32 - 14;
-            let n = isqrt((xs * xs) as u32 + (ys * ys) as u32 + (zs * zs) as u32) as i32;
-            let l = xs.abs() + ys.abs() + zs + 3;
-            let (h, depth) = (h as i32, f32_of(z, 0));
+            let n = isqrt((xs * xs) as u32 + (ys * ys) as u32 + (zs * zs) as u32);
+            let l = xs.unsigned_abs() + ys.unsigned_abs() + zs as u32 + 3;
+            let (h, depth) = (h as i32, z as u32);
+            let at = |x: Scaled, v: u32, e: i32, up: bool| in_units(x, v, e - base, up);
             if within {
                 let n_high = (n + 3) + ((n + 3) >> self.root_excess) + 1;
-                let high = (sigma * f32_of(root + 1 + spill, -w)
-                    + r * f32_of(n_high, -h)
-                    + m_c * f32_of(l, -h))
-                    / depth;
-                if high <= within_at {
-                    worst = max(worst, high);
+                let high = at(sigma, root + 1 + spill, w, true)
+                    .saturating_add(at(r, n_high, h, true))
+                    .saturating_add(at(m_c, l, h, true));
+                let limit = wide(within_at.m, depth);
+                if high <= limit {
+                    let (a, b) = ratio_above(high, limit);
+                    if wide(worst.0, b) <= wide(a, worst.1) {
+                        worst = (a, b);
+                    }
                     continue;
                 }
                 within = false;
@@ -278,21 +296,167 @@ impl ViewRows {
                 }
             }
             // Over `within_at` here: over the tolerance too?
-            let low = sigma * f32_of((root - spill).max(0), -w) + r * f32_of((n - 2).max(0), -h)
-                - m * f32_of(l, -(h - 15));
-            if low > over_at * depth {
-                let bound = self.focal * (low / depth) / z_high * (1.0 - below_one(15));
-                return Some(Decided::Over(max(
-                    bound,
-                    f32::from_bits(tolerance.to_bits() + 1),
-                )));
+            let low = at(sigma, root.saturating_sub(spill), w, false)
+                .saturating_add(at(r, n.saturating_sub(2), h, false))
+                .saturating_sub(at(m_share, l, h, true));
+            if low > in_units(over_at, depth, -base, true) {
+                // (Any number over the tolerance: the bound is at least the next one.)
+                return Some(Decided::Over(f32::from_bits(tolerance.to_bits() + 1)));
             }
         }
-        within.then(|| {
-            Decided::Within(min(
-                self.focal * worst / z_low * (1.0 + below_one(15)),
-                tolerance,
-            ))
-        })
+        if !within {
+            return None;
+        }
+        // The largest `g_i⁺ / Z_i` is at most `a / b` of `within_at`, itself at most
+        // `tol z_min⁻ / (f S)`: the bound on screen at most `a / b` of the tolerance.
+        let (a, b) = worst;
+        let bound = f32_of(a as i32, 0) / f32_of(b as i32, 0) * tolerance * (1.0 + below_one(15));
+        Some(Decided::Within(min(bound, tolerance)))
+    }
+}
+
+/// `x v 2^e` (`x`'s mantissa at most `2^31`, `v` below `2^31`) as an integer, taken `up` or
+/// down; `2^62` where it is larger (over anything it is compared with: at most `2^62`).
+fn in_units(x: Scaled, v: u32, e: i32, up: bool) -> u64 {
+    const CAP: u64 = 1 << 62;
+    let p = wide(x.m, v);
+    let e = x.e + e;
+    if p == 0 {
+        0
+    } else if e >= 0 {
+        if e >= 62 || p >= CAP >> e {
+            CAP
+        } else {
+            p << e
+        }
+    } else if e > -63 {
+        let k = -e as u32;
+        let q = p >> k;
+        q + u64::from(up && q << k != p)
+    } else {
+        u64::from(up)
+    }
+}
+
+/// `a / b` (`a <= b`, `b > 0`) as a fraction of integers below `2^31`, at least it.
+fn ratio_above(a: u64, b: u64) -> (u32, u32) {
+    let s = (64 - b.leading_zeros()).saturating_sub(30);
+    let (top, below) = (a >> s, b >> s);
+    // `a / b <= (⌊a 2^-s⌋ + 1) / ⌊b 2^-s⌋`, the bottom at least `2^29` where `s > 0`.
+    ((top + u64::from(s > 0)) as u32, below.max(1) as u32)
+}
+
+/// A number `m 2^e` at least 0 (`m <= 2^31`): the look's constants, and their products
+/// rounded up or down as asked, in integer operations where the `f32` ones are library calls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+struct Scaled {
+    m: u32,
+    e: i32,
+}
+
+impl Scaled {
+    /// `m 2^e`, for `m <= 2^31`.
+    fn new(m: u32, e: i32) -> Scaled {
+        Scaled { m, e }
+    }
+
+    /// `v 2^e`, rounded `up` or down to 31 bits.
+    fn wide(v: u64, e: i32, up: bool) -> Scaled {
+        let bits = 64 - v.leading_zeros();
+        if bits <= 31 {
+            return Scaled { m: v as u32, e };
+        }
+        let s = bits - 31;
+        let m = (v >> s) as u32;
+        let lost = v & ((1 << s) - 1) != 0;
+        Scaled {
+            m: m + u32::from(up && lost),
+            e: e + s as i32,
+        }
+    }
+
+    /// `x`, exactly; `None` for a negative number, infinity or NaN.
+    fn of_f32(x: f32) -> Option<Scaled> {
+        let bits = x.to_bits();
+        let biased = (bits >> 23) as i32;
+        match biased {
+            0 => Some(Scaled::new(bits & 0x7f_ffff, -149)),
+            1..=254 => Some(Scaled::new(bits & 0x7f_ffff | 0x80_0000, biased - 150)),
+            _ => None,
+        }
+    }
+
+    /// `self b`, rounded `up` or down.
+    fn mul(self, b: Scaled, up: bool) -> Scaled {
+        Scaled::wide(wide(self.m, b.m), self.e + b.e, up)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::TestRng;
+
+    /// `m 2^e` against `n 2^k` exactly, in `u128` (both exponents within the range here).
+    fn cmp(a: (u128, i32), b: (u128, i32)) -> core::cmp::Ordering {
+        let e = a.1.min(b.1);
+        (a.0 << (a.1 - e)).cmp(&(b.0 << (b.1 - e)))
+    }
+
+    /// Products rounded up are at least the exact product and within a unit of the last
+    /// place of it, down at most it; a term in units is its exact value taken up or down (or
+    /// capped where it is over `2^62`); a ratio taken up is at least the exact one, and
+    /// within `2^-28` of it.
+    #[test]
+    fn the_integer_steps_round_the_way_they_are_asked() {
+        let mut rng = TestRng::new(0x5ca1_ed00);
+        let mut random = |bits: u32| {
+            let v = u64::from(rng.next_u32()) << 32 | u64::from(rng.next_u32());
+            v >> (64 - bits)
+        };
+        for k in 0..20_000 {
+            let a = Scaled::new(random(1 + k % 31) as u32, (k % 40) as i32 - 20);
+            let b = Scaled::new(random(1 + (k / 31) % 31) as u32, (k % 7) as i32 - 3);
+            let exact = (u128::from(a.m) * u128::from(b.m), a.e + b.e);
+            let (up, down) = (a.mul(b, true), a.mul(b, false));
+            assert!(up.m <= 1 << 31 && down.m <= 1 << 31);
+            assert!(cmp((up.m.into(), up.e), exact).is_ge(), "{a:?} {b:?}");
+            assert!(cmp((down.m.into(), down.e), exact).is_le(), "{a:?} {b:?}");
+            assert!(
+                cmp((u128::from(down.m) + 1, down.e), exact).is_gt(),
+                "{a:?} {b:?}"
+            );
+            assert!(up.m - down.m <= 1 && up.e == down.e || up.m == down.m);
+            let v = random(1 + k % 31) as u32;
+            let e = (k % 100) as i32 - 70;
+            let value = (u128::from(a.m) * u128::from(v), a.e + e);
+            for round_up in [true, false] {
+                let got = in_units(a, v, e, round_up);
+                if got == 1 << 62 {
+                    assert!(cmp(value, (1 << 62, 0)).is_ge(), "{a:?} {v} {e}");
+                    continue;
+                }
+                let got = u128::from(got);
+                if round_up {
+                    assert!(
+                        cmp((got, 0), value).is_ge()
+                            && (got == 0 || cmp((got - 1, 0), value).is_lt())
+                    );
+                } else {
+                    assert!(cmp((got, 0), value).is_le() && cmp((got + 1, 0), value).is_gt());
+                }
+            }
+            let d = random(62).max(1);
+            let n = random(62) % d;
+            let (top, below) = ratio_above(n, d);
+            assert!(top < 1 << 31 && below < 1 << 31 && below > 0);
+            let (x, y) = (
+                u128::from(top) * u128::from(d),
+                u128::from(n) * u128::from(below),
+            );
+            assert!(x >= y, "{n} / {d}: {top} / {below}");
+            assert!((x - y) as f64 <= (d as f64) * (below as f64) * 2f64.powi(-28) + 1.0);
+        }
     }
 }

@@ -233,14 +233,13 @@ impl GridJudge {
     }
 
     /// The first look at a triangle with fixed corners `corners` ([`GridView::fixed`], in
-    /// `grid`'s units) and node `node`, in a view of `camera` at `tolerance`; `exact`: the
-    /// judgement asks for the bound itself where it is over the tolerance.
+    /// `grid`'s units) and node `node`, at `tolerance` (the frame's); `exact`: the judgement
+    /// asks for the bound itself where it is over the tolerance.
     pub fn look(
         &self,
         grid: &GridView,
         corners: [[i32; 3]; 3],
         node: &HierarchyNode,
-        camera: &Camera,
         tolerance: f32,
         exact: bool,
     ) -> FirstLook {
@@ -322,7 +321,7 @@ impl GridJudge {
                 remainder,
                 m: [least, m],
             };
-            match rows.look(camera, tolerance, corners, &terms, z_min, eta, u, !exact) {
+            match rows.look(tolerance, corners, &terms, z_min, eta, self.near, u, !exact) {
                 Some(Decided::Within(bound)) => return FirstLook::Within(bound),
                 Some(Decided::Over(bound)) => return FirstLook::Over(bound),
                 None => {}
@@ -531,7 +530,7 @@ mod tests {
                 rows: None,
                 ..*case.judge
             };
-            let look = judge.look(view, fixed, &node, camera, tolerance, false);
+            let look = judge.look(view, fixed, &node, tolerance, false);
             looked += 1;
             // The `f32` judgement's own steps (`judge::judge_vectors`).
             let (big, r) = (node.longest_quantised(), node.remainder);
@@ -637,7 +636,7 @@ mod tests {
                     rows: None,
                     ..*judge
                 }
-                .look(view, fixed, &node, camera, tolerance, false);
+                .look(view, fixed, &node, tolerance, false);
                 let Some(Seen {
                     sight: Sight::EveryCorner,
                     isotropic_over: true,
@@ -647,7 +646,7 @@ mod tests {
                 })
                 else {
                     assert_eq!(
-                        judge.look(view, fixed, &node, camera, tolerance, false),
+                        judge.look(view, fixed, &node, tolerance, false),
                         alone,
                         "case {k}"
                     );
@@ -669,7 +668,7 @@ mod tests {
                     true,
                 );
                 float_within += usize::from(full <= tolerance);
-                match judge.look(view, fixed, &node, camera, tolerance, false) {
+                match judge.look(view, fixed, &node, tolerance, false) {
                     FirstLook::Within(bound) => {
                         within += 1;
                         assert!(full <= tolerance, "case {k}: {full} over {tolerance}");
@@ -691,7 +690,7 @@ mod tests {
                     ),
                 }
                 // Asked for the bound itself, the look finds within alone.
-                let exact = judge.look(view, fixed, &node, camera, tolerance, true);
+                let exact = judge.look(view, fixed, &node, tolerance, true);
                 assert!(!matches!(exact, FirstLook::Over(_)), "case {k}");
             });
             std::eprintln!(

@@ -168,12 +168,12 @@ pub(super) fn judge(
         // bound within the tolerance is never asked for in full: `exact` is for one over.)
         let mut seen = Seen::NOTHING;
         let mut over = None;
-        if let (View::Screen { camera, .. }, Some(grid), Some(look), None) =
+        if let (View::Screen { .. }, Some(grid), Some(look), None) =
             (view, selection.grid_view(), selection.grid_judge(), eager)
         {
             let [a, b, c] = h.corners.map(|v| selection.fixed_on_grid(v, grid));
             if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                let first = look.look(grid, [a, b, c], &node, camera, view.tolerance(), exact);
+                let first = look.look(grid, [a, b, c], &node, view.tolerance(), exact);
                 match first {
                     FirstLook::Within(bound) => return Judged::bare(bound, false),
                     FirstLook::Over(bound) => over = Some(Judged::bare(bound, false)),
