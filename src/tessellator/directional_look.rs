@@ -35,11 +35,11 @@
 //! - The first look bounds `m` in units `U`, `m⁻ U <= m <= m⁺ U`, and `η <= η⁺ U`
 //!   (`grid_judge`); the look asks `4 (m⁺ + η⁺) <= Z_min`. The last term of `g_i` is then at
 //!   most `m s_i (8/3 η / z_i + 2^-20)` (`η <= z_i / 4`).
-//! - `z_min` as computed lies in `[max(near, (Z_min - m⁺ - η⁺) U), max(near, (Z_min - m⁻)
-//!   U)]` to within `2^-21` (two differences of numbers whose result is at least `3/4` of
-//!   `z_ℓ`; `z_ℓ` within `2^-23` below `Z_min U`); each end is read into `f32` toward zero,
-//!   and the frame's `tol / (f S)` taken down and up by `(1 ∓ 2^-16) (1 ∓ 2^-18)` makes up
-//!   for it.
+//! - `z_min` as computed lies in `[(Z_min - m⁺ - η⁺) U, max(Z_min - m⁻, N_z) U]` to within
+//!   `2^-21` (two differences of numbers whose result is at least `3/4` of `z_ℓ`; `z_ℓ`
+//!   within `2^-23` below `Z_min U`): the look's `z_min⁻` and `z_min⁺`, in units, and the
+//!   frame's `tol / (f S)` taken down and up by `(1 ∓ 2^-16) (1 ∓ 2^-18)` makes up for the
+//!   `2^-21`.
 //! - The sums, the quotient by `z_min` and the products: a few `ε` relative.
 //!
 //! # In integers
