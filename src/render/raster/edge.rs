@@ -206,7 +206,8 @@ pub(super) fn wire_limit_from_integers(half_width: f32, dx: i32, dy: i32, bias: 
         (r << 8) + ((s - r * r) << 7).div_ceil(r)
     };
     // `ceil(16 a 2^-k root 2^-8)`: `a root < 2^47`.
-    let product = a as u64 * root as u64;
+    // (In 32-bit products: a 64-bit one is a library call on ARMv6-M.)
+    let product = crate::math::wide(a, root);
     let shift = (k + 4) as u32;
     let reach = match shift {
         0..=63 => (product + (1u64 << shift) - 1) >> shift,
