@@ -160,7 +160,7 @@ impl Divisor {
 
 /// `⌊√n⌋`, digit by digit. (Not `u32::isqrt`: on ARMv6-M it cost `fw_teapot`'s wireframe frame
 /// 0.7M instructions more.)
-pub(crate) fn isqrt(n: u32) -> u32 {
+pub(crate) const fn isqrt(n: u32) -> u32 {
     let (mut rest, mut root) = (n, 0u32);
     let mut bit = 1u32 << 30;
     while bit > n {

@@ -132,8 +132,7 @@ impl Default for HierarchyNode {
 
 /// The largest square of a quantised vector the bytes can keep (`3 Q²`, `Q` its largest
 /// coordinate).
-#[cfg(not(target_os = "none"))]
-const LARGEST_SQUARE: usize = 3 * (crate::deviation::kept::Q as usize).pow(2);
+pub(crate) const LARGEST_SQUARE: usize = 3 * (crate::deviation::kept::Q as usize).pow(2);
 
 /// [`sqrt_above`](crate::math::sqrt_above) of every square of a quantised vector a node of
 /// the bytes can keep, evaluated when the crate is built (`f32`'s operations are IEEE's
