@@ -83,7 +83,9 @@
 //! `max(Z_min - m⁻, N_z)`) are products taken down or up to 31 bits. Each test is then `Z`
 //! times its side against the sum of `g_i`'s three terms times `Z`, every one an integer
 //! product (below `2^62`) shifted to the units of the within side's last place, taken up for
-//! `g_i⁺` and down for `g_i⁻` (a term past `2^62` is over anything compared). No `f32`
+//! `g_i⁺` and down for `g_i⁻` (a term past `2^62` is held as `2^62`: over anything a sum
+//! taken up is compared with, and a bound from below; where the part `g_i⁻` takes off, or
+//! the side it is compared with, is past it, the look does not find over). No `f32`
 //! operation is left in the tests.
 //!
 //! **What it reports.** Within, each corner's `g_i⁺ Z` against its side is a fraction at
@@ -295,11 +297,16 @@ impl ViewRows {
                     return None;
                 }
             }
-            // Over `within_at` here: over the tolerance too?
+            // Over `within_at` here: over the tolerance too? (Only where neither the part
+            // taken off nor the side is capped: a capped one is not a bound that way.)
+            let (less, side) = (
+                at(m_share, l, h, true),
+                in_units(over_at, depth, -base, true),
+            );
             let low = at(sigma, root.saturating_sub(spill), w, false)
                 .saturating_add(at(r, n.saturating_sub(2), h, false))
-                .saturating_sub(at(m_share, l, h, true));
-            if low > in_units(over_at, depth, -base, true) {
+                .saturating_sub(less);
+            if less < CAP && side < CAP && low > side {
                 // (Any number over the tolerance: the bound is at least the next one.)
                 return Some(Decided::Over(f32::from_bits(tolerance.to_bits() + 1)));
             }
@@ -315,10 +322,13 @@ impl ViewRows {
     }
 }
 
+/// What [`in_units`] gives a number it cannot hold.
+const CAP: u64 = 1 << 62;
+
 /// `x v 2^e` (`x`'s mantissa at most `2^31`, `v` below `2^31`) as an integer, taken `up` or
-/// down; `2^62` where it is larger (over anything it is compared with: at most `2^62`).
+/// down; [`CAP`] where it is larger (a bound from below, not from above: over anything a
+/// sum taken up is compared with, which is below `2^62`).
 fn in_units(x: Scaled, v: u32, e: i32, up: bool) -> u64 {
-    const CAP: u64 = 1 << 62;
     let p = wide(x.m, v);
     let e = x.e + e;
     if p == 0 {
