@@ -47,6 +47,12 @@ pub(crate) fn f32_of(v: i32, e: i32) -> f32 {
     f32::from_bits(sign | (exponent as u32) << 23 | (mantissa & 0x7f_ffff))
 }
 
+/// `2^k`, for `k` in `-126..=127`, from its bits.
+#[inline(always)]
+pub(crate) const fn power_of_two(k: i32) -> f32 {
+    f32::from_bits(((127 + k) as u32) << 23)
+}
+
 /// `a b`, exact. On 32-bit ARM without an FPU (ARMv6-M has no 32 by 32 to 64-bit multiply),
 /// from four 16-bit products rather than the library's 64-bit one.
 #[inline(always)]

@@ -61,7 +61,7 @@ use glam::Vec3;
 
 use super::kept::{dequantize, KEPT};
 use super::EPS;
-use crate::math::{max, sqrt_above, wide_signed};
+use crate::math::{max, power_of_two, sqrt_above, wide_signed};
 use crate::view::Camera;
 
 /// Deviation vectors whose worst term `max_k φ(τ, e_k)` the bound on screen takes (see the
@@ -302,12 +302,6 @@ fn rows_in_integers(camera: &Camera, [tx, ty]: [f32; 2]) -> Option<([[i32; 3]; 2
         return None;
     }
     Some((rows.map(|r| r.map(|x| (x >> shift) as i32)), s))
-}
-
-/// `2^k`, for `k` in `-126..=127`.
-#[inline(always)]
-fn power_of_two(k: i32) -> f32 {
-    f32::from_bits(((127 + k) as u32) << 23)
 }
 
 /// `x 2^s` truncated toward zero, for a finite `x` with `|x 2^s| < 2^31`, in integer

@@ -404,7 +404,7 @@ fn ceil(x: f32) -> f32 {
 fn pow2(e: i32) -> Option<f32> {
     (-126..=127)
         .contains(&e)
-        .then(|| f32::from_bits(((e + 127) as u32) << 23))
+        .then(|| crate::math::power_of_two(e))
 }
 
 #[cfg(test)]

@@ -111,7 +111,7 @@
 use crate::deviation::kept::KEPT;
 use crate::deviation::vectors::square_of;
 use crate::deviation::SCREEN_SLACK;
-use crate::math::{f32_of, isqrt, min, wide};
+use crate::math::{f32_of, isqrt, min, power_of_two, wide};
 use crate::view::Camera;
 
 /// The view's rows in integers, and the frame's other constants of the directional look
@@ -153,11 +153,6 @@ pub(crate) struct NodeTerms<'a> {
     pub m: [u64; 2],
 }
 
-/// `2^-k` for `k` in `0..=126`.
-fn below_one(k: u32) -> f32 {
-    f32::from_bits((127 - k) << 23)
-}
-
 impl ViewRows {
     /// The constants of `camera` at `tolerance`.
     pub fn new(camera: &Camera, tolerance: f32) -> Option<ViewRows> {
@@ -169,16 +164,16 @@ impl ViewRows {
         let row =
             |r: [f32; 3]| -> Option<[i16; 3]> { Some([fixed(r[0])?, fixed(r[1])?, fixed(r[2])?]) };
         let ([sx, sy], _) = camera.side_planes();
-        let x = (sx * sx + sy * sy) * (1.0 + below_one(20));
-        let excess = x * x * x * x / 128.0 * (1.0 + below_one(20)) + below_one(18);
+        let x = (sx * sx + sy * sy) * (1.0 + power_of_two(-20));
+        let excess = x * x * x * x / 128.0 * (1.0 + power_of_two(-20)) + power_of_two(-18);
         // (`2^e <= excess < 2^(e + 1)`: `k = -(e + 1)`.)
         let e = ((excess.to_bits() >> 23) & 0xff) as i32 - 127;
         let root_excess = u8::try_from(-(e + 1)).ok()?;
         let focal = camera.focal() * SCREEN_SLACK;
         let per_depth = tolerance / focal;
         let per_depth = [
-            per_depth * ((1.0 - below_one(16)) * (1.0 - below_one(18))),
-            per_depth * ((1.0 + below_one(16)) * (1.0 + below_one(18))),
+            per_depth * ((1.0 - power_of_two(-16)) * (1.0 - power_of_two(-18))),
+            per_depth * ((1.0 + power_of_two(-16)) * (1.0 + power_of_two(-18))),
         ];
         if !(per_depth[0] > 0.0 && per_depth[1] < f32::INFINITY) {
             return None;
@@ -317,7 +312,8 @@ impl ViewRows {
         // The largest `g_i⁺ / Z_i` is at most `a / b` of `within_at`, itself at most
         // `tol z_min⁻ / (f S)`: the bound on screen at most `a / b` of the tolerance.
         let (a, b) = worst;
-        let bound = f32_of(a as i32, 0) / f32_of(b as i32, 0) * tolerance * (1.0 + below_one(15));
+        let bound =
+            f32_of(a as i32, 0) / f32_of(b as i32, 0) * tolerance * (1.0 + power_of_two(-15));
         Some(Decided::Within(min(bound, tolerance)))
     }
 }
