@@ -30,14 +30,18 @@
 ///   all). Triangles with a corner beyond 512 pixels (feature `large-viewports`) take `f32`
 ///   spans either way.
 /// - **The renderer's corners** (the same choice): each vertex's view position, shade, clip
-///   test and pixel, in `f32`, or in integer products and two divisions from the bits of its
-///   position and normal, with the view's rotation in 16 bits around the source's bounding
-///   sphere. An integer corner lies within `2^-12` of the sphere's radius of the float one
-///   in view space, and its pixel within a sixteenth or two of the float one's, so a frame's
-///   picture moves by that along its edges (0.15% of `fw_teapot` frame 0's pixels changed
-///   hands); a vertex keeps one position for every triangle that has it, so the mesh stays
-///   closed. An orthographic view, or a viewport side over 1,024 pixels, takes `f32` corners
-///   either way. On ARMv6-M it takes a fifth off `fw_teapot`'s render.
+///   test and pixel, in `f32`, or in integer products and two divisions, with the view's
+///   rotation in 16 bits around the source's bounding sphere. A tessellator's vertex of a
+///   hierarchy's bytes is read there, from its point on the model box's grid and its
+///   normal's octahedral code (an integer root and one quotient), with no `f32` decoding (on
+///   a host, and where `f32` is software; a bare-metal part with an FPU leaves that code out
+///   and reads the bits of the `f32` vertex, as for any other source). An integer corner lies
+///   within `2^-11` of the sphere's radius of the exact one in view space, and its pixel
+///   within a sixteenth or two of the float one's, so a frame's picture moves by that along
+///   its edges (0.15% of `fw_teapot` frame 0's pixels changed hands); a vertex keeps one
+///   position for every triangle that has it, so the mesh stays closed. An orthographic
+///   view, or a viewport side over 1,024 pixels, takes `f32` corners either way. On ARMv6-M
+///   it takes about 30% off `fw_teapot`'s render.
 ///
 /// Judgements kept from frame to frame (`Tessellator::with_reuse`, feature `reuse`) keep no
 /// certificate for a triangle of the bake whose bound was computed in integers: a certificate

@@ -514,7 +514,13 @@ impl<'d> Renderer<'d> {
         O: BandOutput,
     {
         let mut stats = RenderStats::default();
-        let setup = Setup::new(camera, source.bound(), style, self.arithmetic);
+        let setup = Setup::new(
+            camera,
+            source.bound(),
+            style,
+            self.arithmetic,
+            source.hierarchy(),
+        );
         // One cache of corners in view space, for the list's pass and then each band's.
         let mut corners = CornerCache::new();
         let one_sided = |patch| source.one_sided(camera, patch);

@@ -9,12 +9,15 @@
 use glam::Vec3;
 
 use super::clip::{self, ClipVertex, Frustum};
-use super::fixed::{exact_fixed, f32_of, fixed_of, level_of_shade, shade_of_level, FixedView};
+use super::fixed::{
+    exact_fixed, f32_of, fixed_of, level_of_shade, shade_of_level, FixedView, GridReading,
+};
 use super::raster::ScreenVertex;
 use super::{Shading, Style};
 use crate::bound::BoundingSphere;
-use crate::math::{max, normalize, HARD_FLOAT};
+use crate::math::{max, normalize, HARD_FLOAT, INTEGER_FORMS};
 use crate::sink::{Vertex, NO_KEY};
+use crate::tessellator::Hierarchy;
 use crate::view::{Camera, Projection};
 use crate::Arithmetic;
 
@@ -36,14 +39,22 @@ pub(super) struct Setup<'a> {
     /// The view in integers, where the arithmetic is [`Arithmetic::Integer`] and the frame
     /// allows it (see `fixed`).
     fixed: Option<FixedView>,
+    /// The source's hierarchy, where the view in integers reads its vertices from its bytes
+    /// (see [`keyed_corner`](Self::keyed_corner)).
+    coded: Option<(&'a Hierarchy<'a>, GridReading)>,
 }
 
 impl<'a> Setup<'a> {
+    /// The constants of a frame of `camera` drawing a source within `bound` (its hierarchy
+    /// `hierarchy`, where it has one) in `style` with `arithmetic`. (Out of line: inlined,
+    /// its temporaries take room in the renderer's frame, on a firmware's deepest stack.)
+    #[inline(never)]
     pub fn new(
         camera: &'a Camera,
         bound: Option<BoundingSphere>,
         style: &'a Style,
         arithmetic: Arithmetic,
+        hierarchy: Option<&'a Hierarchy<'a>>,
     ) -> Self {
         let perspective = matches!(camera.projection(), Projection::Perspective { .. });
         let near = camera.near();
@@ -68,6 +79,12 @@ impl<'a> Setup<'a> {
             }
             _ => None,
         };
+        // (A bare-metal part with an FPU leaves the code out: see `math::INTEGER_FORMS`.)
+        let coded = fixed.as_ref().zip(hierarchy).filter(|_| INTEGER_FORMS);
+        let coded = coded.and_then(|(f, h)| {
+            let grid = h.grid()?;
+            Some((h, f.grid_reading(grid.min, grid.step)?))
+        });
         Setup {
             camera,
             style,
@@ -82,6 +99,7 @@ impl<'a> Setup<'a> {
             },
             perspective,
             fixed,
+            coded,
         }
     }
 
@@ -144,12 +162,44 @@ impl<'a> Setup<'a> {
         ClipVertex { view, shade }
     }
 
+    /// [`corner`](Self::corner) of vertex `key` of a keyed triangle, its corner `i`: where
+    /// the view is in integers and the key is a vertex of the source's hierarchy, read from
+    /// the hierarchy's bytes (its grid point and normal code, see `fixed`), else from
+    /// `corner(i)`. (Where `f32` is software, that spares the vertex's decoding into `f32`
+    /// and its reading back into integers.)
+    #[inline]
+    pub fn keyed_corner(
+        &self,
+        key: u64,
+        i: usize,
+        corner: &mut dyn FnMut(usize) -> Vertex,
+    ) -> ClipVertex {
+        if INTEGER_FORMS {
+            if let Some(c) = self.coded_corner(key) {
+                return c;
+            }
+        }
+        self.corner(&corner(i))
+    }
+
+    /// [`keyed_corner`](Self::keyed_corner) from the hierarchy's bytes, where it can be.
+    /// (Out of line: inlined in the renderer's sinks, its frame would add to a firmware's
+    /// deepest stack.)
+    #[inline(never)]
+    fn coded_corner(&self, key: u64) -> Option<ClipVertex> {
+        let (f, (tree, grid)) = self.fixed.as_ref().zip(self.coded.as_ref())?;
+        let v = usize::try_from(key).ok()?;
+        let gouraud = self.style.shading == Shading::Gouraud;
+        let c = f.grid_corner(grid, tree.grid_point(v)?, tree.normal_code(v)?, gouraud)?;
+        let shade = c.level.map_or(0.0, shade_of_level);
+        Some(Self::clip_vertex(f, c.view, shade))
+    }
+
     /// [`corner`](Self::corner) in integers (see `fixed`): the view position as the exact
     /// `f32` of its integers, the shade as that of its level. `None` where the view in
     /// integers does not take the vertex.
     fn fixed_corner(&self, f: &FixedView, v: &Vertex) -> Option<ClipVertex> {
         let c = f.corner(v.position, v.normal)?;
-        let m = f.units();
         let shade = match (self.style.shading, c.level) {
             (Shading::Flat, _) => 0.0,
             (Shading::Gouraud, Some(level)) => shade_of_level(level),
@@ -157,14 +207,17 @@ impl<'a> Setup<'a> {
                 self.vertex_shade(Vec3::from_array(v.normal), Vec3::from_array(v.position))
             }
         };
-        Some(ClipVertex {
-            view: Vec3::new(
-                f32_of(c.view[0], m),
-                f32_of(c.view[1], m),
-                f32_of(c.view[2], m),
-            ),
+        Some(Self::clip_vertex(f, c.view, shade))
+    }
+
+    /// A corner at view position `view` (in `f`'s units) with shade `shade`.
+    #[inline(always)]
+    fn clip_vertex(f: &FixedView, view: [i32; 3], shade: f32) -> ClipVertex {
+        let m = f.units();
+        ClipVertex {
+            view: Vec3::new(f32_of(view[0], m), f32_of(view[1], m), f32_of(view[2], m)),
             shade,
-        })
+        }
     }
 
     /// `v` in the view units of `f`, where they hold it.
@@ -333,7 +386,7 @@ impl CornerCache {
             } else {
                 // The entry of the pair used less recently.
                 let slot = first + 1 - (self.recent >> pair & 1) as usize;
-                let c = setup.corner(&corner(i));
+                let c = setup.keyed_corner(key, i, corner);
                 self.entries[slot] = (key, c);
                 self.inside[slot] = setup.inside(&c);
                 replaced |= 1 << slot;
@@ -449,7 +502,7 @@ pub(super) mod tests {
     #[test]
     fn the_corner_cache_keeps_two_corners_per_pair_and_replaces_the_older() {
         let (camera, style) = view();
-        let setup = Setup::new(&camera, None, &style, Arithmetic::Float);
+        let setup = Setup::new(&camera, None, &style, Arithmetic::Float, None);
         // Three keys of one pair, and one of another.
         let pair = pair_of(1);
         let mut same = (2..).filter(|&k| pair_of(k) == pair);

@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::bound::{Aabb, BoundingSphere};
 use crate::patch::BezierPatch;
 use crate::sink::{MeshIndex, TriangleSink, Vertex};
-use crate::tessellator::Tessellator;
+use crate::tessellator::{Hierarchy, Tessellator};
 use crate::view::Camera;
 
 /// Triangles the [`Renderer`](super::Renderer) can draw, band by band.
@@ -28,6 +28,17 @@ pub trait TriangleSource {
     /// [vertex map](super::Renderer::with_vertex_map) of at least `n` entries then lists each
     /// vertex once, by its number. The default, `None`: keys are only names.
     fn vertex_numbers(&self) -> Option<usize> {
+        None
+    }
+
+    /// The hierarchy whose vertices the keys of this source's
+    /// [`keyed_triangle`](TriangleSink::keyed_triangle)s are, where they are a hierarchy's
+    /// (a [`Tessellator`]'s): a key `v` below its
+    /// [`vertex_count`](crate::tessellator::Hierarchy::vertex_count) is its vertex `v`. A
+    /// renderer drawing in integers ([`Arithmetic::Integer`](crate::Arithmetic)) then reads
+    /// such a vertex's point and normal from the hierarchy's compact bytes as integers,
+    /// rather than from the [`Vertex`] in `f32`. The default, `None`: keys are only names.
+    fn hierarchy(&self) -> Option<&Hierarchy<'_>> {
         None
     }
 
@@ -67,6 +78,11 @@ impl TriangleSource for Tessellator<'_, '_> {
     /// The bake's vertices and the pool's ([`Tessellator::remap_len`]).
     fn vertex_numbers(&self) -> Option<usize> {
         Some(self.remap_len())
+    }
+
+    /// The hierarchy it tessellates: its vertex numbers are the keys.
+    fn hierarchy(&self) -> Option<&Hierarchy<'_>> {
+        Some(Tessellator::hierarchy(self))
     }
 
     /// The patches of a closed model, seen from outside ([`Tessellator::one_sided`]).

@@ -917,8 +917,13 @@ impl<'a> HierarchyBytes<'a> {
     }
 
     pub(crate) fn normal(&self, v: usize) -> Option<[f32; 3]> {
+        self.normal_code(v).map(normal_of)
+    }
+
+    /// The octahedral code of vertex `v`'s normal (`None` past the last).
+    pub(crate) fn normal_code(&self, v: usize) -> Option<[i8; 2]> {
         let at = self.layout.vertex_at + v * VERTEX_LEN + 6;
-        (v < self.layout.vertices).then(|| normal_of([0, 1].map(|k| self.byte(at + k) as i8)))
+        (v < self.layout.vertices).then(|| [0, 1].map(|k| self.byte(at + k) as i8))
     }
 }
 

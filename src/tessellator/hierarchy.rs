@@ -339,6 +339,15 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
+    /// Vertex `v`'s normal as its octahedral code (`None` past the last, or for records).
+    #[cfg(feature = "embedded-graphics")]
+    pub(crate) fn normal_code(&self, v: usize) -> Option<[i8; 2]> {
+        match self.store {
+            Store::Records { .. } => None,
+            Store::Bytes(b) => b.normal_code(v),
+        }
+    }
+
     /// The unit normal of vertex `v` (`None` past the last).
     pub fn normal(&self, v: usize) -> Option<[f32; 3]> {
         match self.store {

@@ -68,7 +68,7 @@ mod cull;
 mod directional_look;
 pub(crate) mod format;
 mod grid_judge;
-mod grid_view;
+pub(crate) mod grid_view;
 pub(crate) mod hierarchy;
 mod judge;
 mod links;

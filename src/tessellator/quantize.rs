@@ -92,8 +92,21 @@ pub(crate) fn normal_code(n: [f32; 3]) -> [i8; 2] {
 /// took six quotients, a root and the fold's roundings: 1.11M of `fw_teapot` frame 0's
 /// render instructions on ARMv6-M.)
 pub(crate) fn normal_of(q: [i8; 2]) -> [f32; 3] {
-    if q == NO_NORMAL {
+    let Some([a, b, z]) = octahedral_point(q) else {
         return [0.0; 3];
+    };
+    // (The square is below `2^16`, and not 0, as the three add up to 127 in size.)
+    let square = a * a + b * b + z * z;
+    let inverse = 1.0 / crate::math::sqrt(square as f32);
+    [a, b, z].map(|c| c as f32 * inverse)
+}
+
+/// The point on the octahedron of code `q`, in integers: `|a| + |b| + |z| = 127` for a code
+/// the bake writes (the lower half folded onto the square's corners), every coordinate at
+/// most 128 in size for any code. `None` for the zero normal's code.
+pub(crate) fn octahedral_point(q: [i8; 2]) -> Option<[i32; 3]> {
+    if q == NO_NORMAL {
+        return None;
     }
     const O: i32 = OCT as i32;
     let (mut a, mut b) = (i32::from(q[0]), i32::from(q[1]));
@@ -102,11 +115,7 @@ pub(crate) fn normal_of(q: [i8; 2]) -> [f32; 3] {
         let sign = |x: i32| if x >= 0 { 1 } else { -1 };
         (a, b) = ((O - b.abs()) * sign(a), (O - a.abs()) * sign(b));
     }
-    // (`|a|, |b| <= 128` and `|z| <= 127`: the square is below `2^16`, and not 0, as the
-    // three add up to at least 127 in size.)
-    let square = a * a + b * b + z * z;
-    let inverse = 1.0 / crate::math::sqrt(square as f32);
-    [a, b, z].map(|c| c as f32 * inverse)
+    Some([a, b, z])
 }
 
 /// `n` rounded to its octahedral code.

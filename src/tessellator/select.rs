@@ -535,6 +535,13 @@ impl<'t, 's> Tessellator<'t, 's> {
         self.tree
     }
 
+    /// The hierarchy it tessellates, borrowed (a renderer keeps it for a frame: a copy of the
+    /// bytes' layout would take a firmware's stack).
+    #[cfg(feature = "embedded-graphics")]
+    pub(crate) fn hierarchy(&self) -> &Hierarchy<'t> {
+        &self.tree
+    }
+
     pub(super) fn layout(&self) -> Layout {
         self.layout
     }

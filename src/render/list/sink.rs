@@ -368,7 +368,7 @@ impl ListSink<'_, '_, '_> {
             values[i] = match self.list.get(slot).filter(|_| slot >= self.top) {
                 Some(&listed) => listed,
                 None => {
-                    let c = self.setup.corner(&corner(i));
+                    let c = self.setup.keyed_corner(keys[i], i, corner);
                     if !self.setup.inside(&c) {
                         return None;
                     }
@@ -567,7 +567,7 @@ mod tests {
     #[test]
     fn a_full_list_refuses_a_triangle_of_shared_corners() {
         let (camera, style) = view();
-        let setup = Setup::new(&camera, None, &style, crate::Arithmetic::Float);
+        let setup = Setup::new(&camera, None, &style, crate::Arithmetic::Float, None);
         let mut corners = CornerCache::new();
         let t = [v(1.0, 1.0), v(9.0, 2.0), v(3.0, 8.0)];
         // A group header, one slot of two triangles and their three shared corners.
@@ -596,7 +596,7 @@ mod tests {
     #[test]
     fn a_corner_out_of_the_window_starts_a_group() {
         let (camera, style) = view();
-        let setup = Setup::new(&camera, None, &style, crate::Arithmetic::Float);
+        let setup = Setup::new(&camera, None, &style, crate::Arithmetic::Float, None);
         let mut corners = CornerCache::new();
         // A fan around one centre: 200 triangles of new corners, the centre shared by all
         // of them until it falls out of the window.
