@@ -296,7 +296,7 @@ fn rows_in_integers(camera: &Camera, [tx, ty]: [f32; 2]) -> Option<([[i32; 3]; 2
         .map(|x| x.unsigned_abs())
         .max()
         .unwrap_or(0);
-    let shift = 64 - top.leading_zeros() as i32 - 22;
+    let shift = 64 - crate::math::leading_zeros_64(top) as i32 - 22;
     let s = 29 - shift;
     if shift < 0 || !(-126..=126).contains(&s) {
         return None;
@@ -335,7 +335,7 @@ fn times_power_of_two_in_integers(x: f32, s: i32) -> i32 {
 /// leading 24 bits plus one, scaled back (exact: at most `2^24` times a power of two).
 #[inline(always)]
 fn at_least(x: u64) -> f32 {
-    let excess = 40u32.saturating_sub(x.leading_zeros());
+    let excess = 40u32.saturating_sub(crate::math::leading_zeros_64(x));
     if excess == 0 {
         return x as u32 as f32;
     }

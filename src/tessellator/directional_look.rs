@@ -111,7 +111,7 @@
 use crate::deviation::kept::KEPT;
 use crate::deviation::vectors::square_of;
 use crate::deviation::SCREEN_SLACK;
-use crate::math::{f32_of, isqrt, min, power_of_two, wide};
+use crate::math::{f32_of, isqrt, leading_zeros, leading_zeros_64, min, power_of_two, wide};
 use crate::view::Camera;
 
 /// The view's rows in integers, and the frame's other constants of the directional look
@@ -223,7 +223,7 @@ impl ViewRows {
         let over_at = self.per_depth[1].mul(Scaled::new(z_high as u32, u), true);
         // `c = 2.75 η⁺ / z_ℓ + 2^-15` taken up, in 16 fractional bits: from `z_ℓ`'s top 16
         // bits (taken down) and `η⁺` in the same unit (taken up, below `2^14`).
-        let shift = (64 - z_least.leading_zeros()).saturating_sub(16);
+        let shift = (64 - leading_zeros_64(z_least)).saturating_sub(16);
         let ratio = ((eta >> shift) as u32 + 1) << 16;
         let ratio = ratio.div_ceil((z_least >> shift) as u32);
         // `m⁺ U c` and `2^-15 m⁺ U`.
@@ -246,7 +246,7 @@ impl ViewRows {
         let mut worst = (0u32, 1u32);
         for [x, y, z] in corners {
             let top = x.unsigned_abs().max(y.unsigned_abs()).max(z.unsigned_abs());
-            let h = (32 - top.leading_zeros()).saturating_sub(15);
+            let h = (32 - leading_zeros(top)).saturating_sub(15);
             let (xs, ys, zs) = (x >> h, y >> h, z >> h);
             let row = |r: &[i32; 3], p: i32| [0, 1, 2].map(|j| zs * r[j] - p * forward[j]);
             let (mx, my) = (row(&right, xs), row(&up, ys));
@@ -256,7 +256,7 @@ impl ViewRows {
                 .map(|v| v.unsigned_abs())
                 .max()
                 .unwrap_or(0);
-            let t = (32 - top_m.leading_zeros()).saturating_sub(22);
+            let t = (32 - leading_zeros(top_m)).saturating_sub(22);
             let (mx, my) = (mx.map(|v| v >> t), my.map(|v| v >> t));
             let mut square = 0u64;
             for c in node.vectors {
@@ -264,7 +264,7 @@ impl ViewRows {
                 let dot = |p: &[i32; 3]| p[0] * c[0] + p[1] * c[1] + p[2] * c[2];
                 square = square.max(square_of(dot(&mx)) + square_of(dot(&my)));
             }
-            let j = ((64 - square.leading_zeros()).saturating_sub(31)) / 2;
+            let j = ((64 - leading_zeros_64(square)).saturating_sub(31)) / 2;
             let root = isqrt((square >> (2 * j)) as u32);
             let e = ((1u32 << 17) >> t) + 2;
             // (`⌈x / 2^j⌉ <= ⌊x / 2^j⌋ + 1`.)
@@ -346,7 +346,7 @@ fn in_units(x: Scaled, v: u32, e: i32, up: bool) -> u64 {
 
 /// `a / b` (`a <= b`, `b > 0`) as a fraction of integers below `2^31`, at least it.
 fn ratio_above(a: u64, b: u64) -> (u32, u32) {
-    let s = (64 - b.leading_zeros()).saturating_sub(30);
+    let s = (64 - leading_zeros_64(b)).saturating_sub(30);
     let (top, below) = (a >> s, b >> s);
     // `a / b <= (⌊a 2^-s⌋ + 1) / ⌊b 2^-s⌋`, the bottom at least `2^29` where `s > 0`.
     ((top + u64::from(s > 0)) as u32, below.max(1) as u32)
@@ -369,7 +369,7 @@ impl Scaled {
 
     /// `v 2^e`, rounded `up` or down to 31 bits.
     fn wide(v: u64, e: i32, up: bool) -> Scaled {
-        let bits = 64 - v.leading_zeros();
+        let bits = 64 - leading_zeros_64(v);
         if bits <= 31 {
             return Scaled { m: v as u32, e };
         }

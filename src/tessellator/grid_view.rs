@@ -111,7 +111,7 @@ impl GridView {
                 .sum();
             most = most.max(c.unsigned_abs() + products);
         }
-        let shift = (64 - most.leading_zeros() as i32 - A_BITS).max(0);
+        let shift = (64 - crate::math::leading_zeros_64(most) as i32 - A_BITS).max(0);
         if !(-126..=126).contains(&(e - shift)) {
             return None;
         }
