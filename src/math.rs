@@ -88,6 +88,71 @@ fn leading_zeros_64_in_halvings(x: u64) -> u32 {
     }
 }
 
+/// Whether a 64-bit shift by a count known only when it runs is a library call: on 32-bit
+/// ARM without an FPU, taken for ARMv6-M (`__aeabi_llsl`, `__aeabi_llsr`, `__aeabi_lasr`,
+/// each about twenty instructions and a call), as for [`HARD_CLZ`].
+const SOFT_SHIFTS: bool = !HARD_FLOAT && cfg!(target_arch = "arm");
+
+/// `x >> k` (`k < 64`), on its two words in line where the shift is a library call.
+#[inline(always)]
+pub(crate) fn shr_64(x: u64, k: u32) -> u64 {
+    match SOFT_SHIFTS {
+        true => shr_64_in_words(x, k),
+        false => x >> k,
+    }
+}
+
+/// `x << k` (`k < 64`), as [`shr_64`].
+#[inline(always)]
+pub(crate) fn shl_64(x: u64, k: u32) -> u64 {
+    match SOFT_SHIFTS {
+        true => shl_64_in_words(x, k),
+        false => x << k,
+    }
+}
+
+/// `x >> k` of a signed `x` (`k < 64`; the floor of `x 2^-k`), as [`shr_64`].
+#[inline(always)]
+pub(crate) fn sar_64(x: i64, k: u32) -> i64 {
+    match SOFT_SHIFTS {
+        true => sar_64_in_words(x, k),
+        false => x >> k,
+    }
+}
+
+/// [`shr_64`] on the two words (on every target: the tests check it).
+#[inline(always)]
+fn shr_64_in_words(x: u64, k: u32) -> u64 {
+    let (low, high) = (x as u32, (x >> 32) as u32);
+    match k {
+        0 => x,
+        1..=31 => u64::from(high >> k) << 32 | u64::from(low >> k | high << (32 - k)),
+        _ => u64::from(high >> (k - 32)),
+    }
+}
+
+/// [`shl_64`] on the two words.
+#[inline(always)]
+fn shl_64_in_words(x: u64, k: u32) -> u64 {
+    let (low, high) = (x as u32, (x >> 32) as u32);
+    match k {
+        0 => x,
+        1..=31 => u64::from(high << k | low >> (32 - k)) << 32 | u64::from(low << k),
+        _ => u64::from(low << (k - 32)) << 32,
+    }
+}
+
+/// [`sar_64`] on the two words.
+#[inline(always)]
+fn sar_64_in_words(x: i64, k: u32) -> i64 {
+    let (low, high) = (x as u32, (x >> 32) as i32);
+    match k {
+        0 => x,
+        1..=31 => i64::from(high >> k) << 32 | i64::from(low >> k | (high as u32) << (32 - k)),
+        _ => i64::from(high >> (k - 32)),
+    }
+}
+
 /// `v 2^-e` as `f32`, exact where `|v| < 2^24`, from bits (no `f32` arithmetic); beyond that
 /// the bits that do not fit are cut off. Zero where the value is below `f32`'s normal range,
 /// infinite above it.
@@ -384,6 +449,26 @@ pub(crate) fn clamp_param(t: f32, lo: f32, hi: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// 64-bit shifts on two words are the native ones, for every count and random words.
+    #[test]
+    fn shifts_in_words_are_the_native_ones() {
+        let mut rng = crate::test_rng::TestRng::new(0x5e1f_0001);
+        for n in 0..20_000 {
+            let x = u64::from(rng.next_u32()) << 32 | u64::from(rng.next_u32());
+            let x = x >> (n % 64);
+            for k in 0..64 {
+                assert_eq!(shr_64_in_words(x, k), x >> k, "{x:#x} >> {k}");
+                assert_eq!(shl_64_in_words(x, k), x << k, "{x:#x} << {k}");
+                for y in [x as i64, -(x as i64)] {
+                    assert_eq!(sar_64_in_words(y, k), y >> k, "{y} >> {k}");
+                }
+            }
+        }
+        assert_eq!(shr_64(u64::MAX, 63), 1);
+        assert_eq!(shl_64(1, 63), 1 << 63);
+        assert_eq!(sar_64(i64::MIN, 63), -1);
+    }
 
     /// The leading zeros counted in halvings are the instruction's: every power of two and
     /// its neighbours, and random words of every length; the 64-bit count likewise.

@@ -111,7 +111,9 @@
 use crate::deviation::kept::KEPT;
 use crate::deviation::vectors::square_of;
 use crate::deviation::SCREEN_SLACK;
-use crate::math::{f32_of, isqrt, leading_zeros, leading_zeros_64, min, power_of_two, wide};
+use crate::math::{
+    f32_of, isqrt, leading_zeros, leading_zeros_64, min, power_of_two, shl_64, shr_64, wide,
+};
 use crate::view::Camera;
 
 /// The view's rows in integers, and the frame's other constants of the directional look
@@ -224,8 +226,8 @@ impl ViewRows {
         // `c = 2.75 η⁺ / z_ℓ + 2^-15` taken up, in 16 fractional bits: from `z_ℓ`'s top 16
         // bits (taken down) and `η⁺` in the same unit (taken up, below `2^14`).
         let shift = (64 - leading_zeros_64(z_least)).saturating_sub(16);
-        let ratio = ((eta >> shift) as u32 + 1) << 16;
-        let ratio = ratio.div_ceil((z_least >> shift) as u32);
+        let ratio = (shr_64(eta, shift) as u32 + 1) << 16;
+        let ratio = ratio.div_ceil(shr_64(z_least, shift) as u32);
         // `m⁺ U c` and `2^-15 m⁺ U`.
         let m_c = Scaled::new(m_high as u32, u - 16)
             .mul(Scaled::new((11 * ratio).div_ceil(4) + 2, 0), true);
@@ -265,7 +267,7 @@ impl ViewRows {
                 square = square.max(square_of(dot(&mx)) + square_of(dot(&my)));
             }
             let j = ((64 - leading_zeros_64(square)).saturating_sub(31)) / 2;
-            let root = isqrt((square >> (2 * j)) as u32);
+            let root = isqrt(shr_64(square, 2 * j) as u32);
             let e = ((1u32 << 17) >> t) + 2;
             // (`⌈x / 2^j⌉ <= ⌊x / 2^j⌋ + 1`.)
             let spill = ((3 * e * c1).div_ceil(2) >> j) + 1;
@@ -330,15 +332,15 @@ fn in_units(x: Scaled, v: u32, e: i32, up: bool) -> u64 {
     if p == 0 {
         0
     } else if e >= 0 {
-        if e >= 62 || p >= CAP >> e {
+        if e >= 62 || p >= shr_64(CAP, e as u32) {
             CAP
         } else {
-            p << e
+            shl_64(p, e as u32)
         }
     } else if e > -63 {
         let k = -e as u32;
-        let q = p >> k;
-        q + u64::from(up && q << k != p)
+        let q = shr_64(p, k);
+        q + u64::from(up && shl_64(q, k) != p)
     } else {
         u64::from(up)
     }
@@ -347,7 +349,7 @@ fn in_units(x: Scaled, v: u32, e: i32, up: bool) -> u64 {
 /// `a / b` (`a <= b`, `b > 0`) as a fraction of integers below `2^31`, at least it.
 fn ratio_above(a: u64, b: u64) -> (u32, u32) {
     let s = (64 - leading_zeros_64(b)).saturating_sub(30);
-    let (top, below) = (a >> s, b >> s);
+    let (top, below) = (shr_64(a, s), shr_64(b, s));
     // `a / b <= (⌊a 2^-s⌋ + 1) / ⌊b 2^-s⌋`, the bottom at least `2^29` where `s > 0`.
     ((top + u64::from(s > 0)) as u32, below.max(1) as u32)
 }
@@ -374,8 +376,8 @@ impl Scaled {
             return Scaled { m: v as u32, e };
         }
         let s = bits - 31;
-        let m = (v >> s) as u32;
-        let lost = v & ((1 << s) - 1) != 0;
+        let m = shr_64(v, s) as u32;
+        let lost = shl_64(m.into(), s) != v;
         Scaled {
             m: m + u32::from(up && lost),
             e: e + s as i32,

@@ -163,7 +163,7 @@ impl GridView {
                 sum += product(*a, q);
             }
             // (Below `2^30` after the shift: see `new`.)
-            (sum >> self.shift) as i32
+            crate::math::sar_64(sum, self.shift as u32) as i32
         })
     }
 
@@ -223,16 +223,14 @@ pub(crate) fn floor_fixed(x: f32, e: i32) -> Option<i64> {
         if up > 38 {
             return None;
         }
-        mantissa << up
+        crate::math::shl_64(mantissa, up as u32)
     } else {
-        let down = (-up).min(63) as u32;
-        let whole = mantissa >> down;
+        // (In 32 bits: the mantissa has 24.)
+        let (mantissa, down) = (mantissa as u32, (-up) as u32);
+        let whole = mantissa.checked_shr(down).unwrap_or(0);
         // `⌊-y⌋ = -⌈y⌉`: one more where bits were shifted out.
-        if negative && whole << down != mantissa {
-            whole + 1
-        } else {
-            whole
-        }
+        let cut = whole.checked_shl(down).unwrap_or(0) != mantissa;
+        u64::from(whole + u32::from(negative && cut))
     };
     let magnitude = magnitude as i64;
     Some(if negative { -magnitude } else { magnitude })
@@ -326,6 +324,17 @@ mod tests {
             assert_eq!(v, (x as f64 * 2f64.powi(20)).floor() as i64, "{x}");
         }
         assert_eq!(floor_fixed(f32::INFINITY, 0), None);
+        // Random bits at every exponent it takes: the floor, or none beyond `2^62`.
+        let mut rng = TestRng::new(0xf100_4001);
+        for k in 0..300_000 {
+            let x = f32::from_bits(rng.next_u32());
+            let e = (k % 160) - 80;
+            let exact = x as f64 * 2f64.powi(e);
+            match floor_fixed(x, e) {
+                Some(v) => assert_eq!(v as f64, exact.floor(), "{x} 2^{e}"),
+                None => assert!(!x.is_finite() || exact.abs() >= 2f64.powi(61), "{x} 2^{e}"),
+            }
+        }
         assert_eq!(product(-(1 << 29) - 7, 65535), (-(1i64 << 29) - 7) * 65535);
         assert_eq!(product((1 << 30) - 1, 40_000), ((1i64 << 30) - 1) * 40_000);
     }

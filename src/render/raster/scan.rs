@@ -224,7 +224,7 @@ fn floor_div(n: i32, shift: u32, a: Divisor) -> i64 {
     while left > 0 {
         let k = left.min(step);
         let (digit, rest) = a.div_rem(r << k);
-        q = (q << k) + u64::from(digit);
+        q = crate::math::shl_64(q, k) + u64::from(digit);
         r = rest;
         left -= k;
     }
