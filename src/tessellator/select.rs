@@ -633,17 +633,20 @@ impl<'t, 's> Tessellator<'t, 's> {
     }
 
     /// Vertex `v` of the bake in the frame's fixed point (`grid`'s, see `grid_view`), kept in
-    /// the cache of [`viewed`](Self::viewed); `None` for a vertex not on the grid.
+    /// the cache of [`viewed`](Self::viewed); `None` for a vertex not on the grid (below the
+    /// bake). Its point is read from the bytes only where the cache misses. (A frame has a
+    /// `grid` only over bytes, where every vertex of the bake has its point.)
     pub(super) fn fixed_on_grid(
         &self,
         v: u32,
         grid: &super::grid_view::GridView,
     ) -> Option<[i32; 3]> {
-        let q = self.tree.grid_point(v as usize)?;
-        Some(
-            self.viewed
-                .get_fixed(v, self.tree.vertex_count(), || grid.fixed(q)),
-        )
+        let vertices = self.tree.vertex_count();
+        ((v as usize) < vertices).then(|| {
+            self.viewed.get_fixed(v, vertices, || {
+                grid.fixed(self.tree.grid_point(v as usize).unwrap_or_default())
+            })
+        })
     }
 
     /// The frame's move of the bake's points in integers, if it makes one (see `grid_view`).
