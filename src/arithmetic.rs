@@ -33,9 +33,10 @@
 ///   test and pixel, in `f32`, or in integer products and two divisions, with the view's
 ///   rotation in 16 bits around the source's bounding sphere. A tessellator's vertex of a
 ///   hierarchy's bytes is read there, from its point on the model box's grid and its
-///   normal's octahedral code (an integer root and one quotient), with no `f32` decoding (on
-///   a host, and where `f32` is software; a bare-metal part with an FPU leaves that code out
-///   and reads the bits of the `f32` vertex, as for any other source). An integer corner lies
+///   normal's octahedral code (its inverse length from a table and one Newton step), with
+///   no `f32` decoding (on a host, and where `f32` is software; a bare-metal part with an
+///   FPU leaves that code out and reads the bits of the `f32` vertex, as for any other
+///   source). An integer corner lies
 ///   within `2^-11` of the sphere's radius of the exact one in view space, and its pixel
 ///   within a sixteenth or two of the float one's, so a frame's picture moves by that along
 ///   its edges (0.15% of `fw_teapot` frame 0's pixels changed hands); a vertex keeps one

@@ -41,7 +41,8 @@
 //! `f32`, which it would read back into integers:
 //!
 //! - **The point.** `d_j = ⌊(q_j S_j + B_j) 2^-15⌋` with `S_j` the step `s_j 2^(k+15)`
-//!   rounded (about `2^14`: below `2^15`, so that `q_j S_j` is within `i32`) and `B_j = ⌊min_j 2^(k+15)⌋ - ⌊o_j 2^k⌋ 2^15`, found once a frame
+//!   rounded (about `2^14`: below `2^15`, so that `q_j S_j` is within `i32`) and
+//!   `B_j = ⌊min_j 2^(k+15)⌋ - ⌊o_j 2^k⌋ 2^15`, found once a frame
 //!   ([`FixedView::grid_reading`], which checks that both ends of each coordinate's range,
 //!   `q_j = 0` and `65535`, stay within `i32`: so does every point between). Then
 //!   `(q_j S_j + B_j) 2^-15 = (P_j - o_j) 2^k + ω + (q_j σ - μ) 2^-15`, with `ω ∈ [0, 1)`
@@ -283,13 +284,16 @@ impl FixedView {
     #[inline(never)]
     pub fn grid_reading(&self, min: [f32; 3], step: [f32; 3]) -> Option<GridReading> {
         let e = i32::from(self.k) + GRID_BITS;
+        if !(-126..=127).contains(&e) {
+            return None;
+        }
         let mut reading = GridReading {
             step: [0; 3],
             start: [0; 3],
         };
         for j in 0..3 {
-            let s = step[j] * crate::math::power_of_two(e.clamp(-126, 127));
-            if !(-126..=127).contains(&e) || !(0.0..32768.0).contains(&s) {
+            let s = step[j] * crate::math::power_of_two(e);
+            if !(0.0..32768.0).contains(&s) {
                 return None;
             }
             let s = round_to_i32(s);
@@ -612,7 +616,8 @@ mod tests {
     /// The light of the tests' views.
     const LIGHT: Vec3 = Vec3::new(0.3, -0.5, -0.8);
 
-    /// The float path's shade level of unit normal `n` at model point `p`, seen from `eye`.
+    /// The float path's shade level of unit normal `n` at model point `p`, seen from
+    /// `camera`'s eye.
     fn float_level(camera: &Camera, n: Vec3, p: Vec3) -> f64 {
         let towards = camera.eye() - p;
         let d = n.dot(camera.rotate_from_view(LIGHT.normalize())) as f64;
