@@ -293,6 +293,44 @@ impl Divisor {
         }
         (q, r)
     }
+
+    /// `⌊n 2^shift / a⌋`, exact, for `shift <= 31` and `a` below `2^31`: in 32-bit quotients
+    /// by `a`, one and then one per `clz(a)` bits of `shift` (a 64-bit division is a library
+    /// call on every 32-bit part; these are hardware on a Cortex-M3 and up, and on ARMv6-M a
+    /// product by the reciprocal found once, see the type's docs). Out of line: one copy for
+    /// the rasteriser's four slopes of a triangle.
+    #[inline(never)]
+    pub fn floor_shifted(self, n: i32, shift: u32) -> i64 {
+        let m = n.unsigned_abs();
+        // (Where `m 2^shift` fits 32 bits, as for a plane that changes little or not at
+        // all, one quotient.)
+        let (mut q, mut r, mut left) = match m.checked_shl(shift).filter(|w| w >> shift == m) {
+            Some(wide) => {
+                let (q, r) = self.div_rem(wide);
+                (u64::from(q), r, 0)
+            }
+            None => {
+                let (q, r) = self.div_rem(m);
+                (u64::from(q), r, shift)
+            }
+        };
+        // `r < a < 2^31`: `r << step` fits.
+        let step = self.leading_zeros();
+        while left > 0 {
+            let k = left.min(step);
+            let (digit, rest) = self.div_rem(r << k);
+            q = shl_64(q, k) + u64::from(digit);
+            r = rest;
+            left -= k;
+        }
+        // `m 2^shift = q a + r`: for `n < 0` the floor is `-q`, or `-q - 1` with a remainder.
+        let q = q as i64;
+        if n < 0 {
+            -q - i64::from(r != 0)
+        } else {
+            q
+        }
+    }
 }
 
 /// `⌊√n⌋`, digit by digit. (Not `u32::isqrt`: on ARMv6-M it cost `fw_teapot`'s wireframe frame
@@ -488,6 +526,19 @@ mod tests {
                 let halvings = leading_zeros_64_in_halvings(wide);
                 assert_eq!(halvings, wide.leading_zeros(), "{wide:#x}");
             }
+        }
+    }
+
+    #[test]
+    fn shifted_quotients_are_the_floor() {
+        let mut rng = crate::test_rng::TestRng::new(0x71de_0002);
+        for k in 0..100_000u32 {
+            let a = (rng.next_u32() >> (1 + k % 31)).max(1);
+            let n = (rng.next_u32() as i32) >> (k % 29);
+            let shift = (k / 7) % 32;
+            let exact = (i128::from(n) << shift).div_euclid(i128::from(a));
+            let q = Divisor::new(a).floor_shifted(n, shift);
+            assert_eq!(i128::from(q), exact, "{n} 2^{shift} / {a}");
         }
     }
 

@@ -58,10 +58,12 @@ impl<'a> Setup<'a> {
     ) -> Self {
         let perspective = matches!(camera.projection(), Projection::Perspective { .. });
         let near = camera.near();
-        let depth = bound.and_then(|s| {
+        let range = bound.map(|s| {
             let zc = camera.to_view(s.center).z;
             let zn = max(zc - s.radius, near);
-            let zf = max(zc + s.radius, zn);
+            (zc, zn, max(zc + s.radius, zn))
+        });
+        let depth = range.and_then(|(zc, zn, zf)| {
             let (qn, qf) = if perspective {
                 (1.0 / zn, 1.0 / zf)
             } else {
@@ -73,9 +75,16 @@ impl<'a> Setup<'a> {
             ok.then_some((1.0 - qf * scale, scale))
         });
         let light = normalize(Vec3::from_array(style.light.direction)).unwrap_or(-Vec3::Z);
-        let fixed = match (arithmetic, &bound) {
-            (Arithmetic::Integer, Some(sphere)) if depth.is_some() => {
-                FixedView::new(camera, sphere, light, style.light.ambient)
+        let fixed = match (arithmetic, &bound, range) {
+            (Arithmetic::Integer, Some(sphere), Some((_, zn, zf))) if depth.is_some() => {
+                let f = FixedView::new(camera, sphere, light, style.light.ambient);
+                f.map(|f| {
+                    if INTEGER_FORMS {
+                        f.with_depth(zn, zf)
+                    } else {
+                        f
+                    }
+                })
             }
             _ => None,
         };
@@ -296,15 +305,17 @@ impl<'a> Setup<'a> {
     #[inline]
     pub fn screen(&self, c: &ClipVertex) -> ScreenVertex {
         if let Some(f) = &self.fixed {
-            let xy = Self::fixed_view(f, c.view)
-                .and_then(|v| f.pixel(v))
-                .map_or_else(
-                    || self.camera.view_to_pixel(c.view),
-                    |p| p.map(|x| f32_of(x, 4)),
-                );
+            let v = Self::fixed_view(f, c.view);
+            let xy = v.and_then(|v| f.pixel(v)).map_or_else(
+                || self.camera.view_to_pixel(c.view),
+                |p| p.map(|x| f32_of(x, 4)),
+            );
+            // (The float path's key where the view's does not read it, and on a bare-metal
+            // part with an FPU, which leaves the code out: see `math::INTEGER_FORMS`.)
+            let depth = v.filter(|_| INTEGER_FORMS).and_then(|v| f.depth_key(v[2]));
             return ScreenVertex {
                 xy,
-                depth: self.depth_key(c.view.z),
+                depth: depth.map_or_else(|| self.depth_key(c.view.z), depth_from_u16),
                 shade: shade_of_level(level_of_shade(c.shade)),
             };
         }

@@ -50,7 +50,7 @@
 //! `n_x = -(d_1 dy_1 + d_2 dy_2)`, `n_y = d_1 dx_1 + d_2 dx_2` (`d_i = v_i - v_0`, the edges as
 //! in [`Plane::through`]): integers below `2^31` (`|d_i| < 2^16`, edges within
 //! `2^14` subpixels). Per pixel, in fixed point: `R = floor(n_x 2^(b+4) / a)` and likewise `D`,
-//! exact, in 32-bit quotients (`floor_div`; on ARMv6-M each a product by the reciprocal of
+//! exact, in 32-bit quotients (`Divisor::floor_shifted`; on ARMv6-M each a product by the reciprocal of
 //! `a`, found once for the triangle's four slopes, and a correction). At the anchor,
 //! `(o_x, o_y)` subpixels from the first corner (each in `-7..=8`),
 //! `A = v_0 2^b + 2^(b-1) + floor((R o_x + D o_y) / 16)`.
@@ -113,7 +113,7 @@ impl FixedPlane {
         let ny = d1 * e[1][0] + d2 * e[2][0];
         // The change per pixel in fixed point, rounded down (below `2^49`).
         let shift = bits + SUBPIXELS.trailing_zeros();
-        let (right, down) = (floor_div(nx, shift, area), floor_div(ny, shift, area));
+        let (right, down) = (area.floor_shifted(nx, shift), area.floor_shifted(ny, shift));
         // The pixel whose centre is nearest the corner, `(ox, oy)` subpixels from it (each
         // in `-7..=8`), and the plane there. (`>> 4` is `div_euclid(16)`.)
         let shift_sub = SUBPIXELS.trailing_zeros();
@@ -196,44 +196,6 @@ impl FixedPlane {
     #[inline(always)]
     fn next_row(&mut self) {
         self.at = self.at.wrapping_add(self.down);
-    }
-}
-
-/// `floor(n 2^shift / a)`, exact, for `a > 0` and `shift <= 31`: in 32-bit quotients by
-/// `a`, one and then one per `clz(a)` bits of `shift` (a 64-bit division is a library call on
-/// every 32-bit part; these are hardware on a Cortex-M3 and up, and on ARMv6-M a product by
-/// the area's reciprocal, found once for the four slopes of a triangle: see [`Divisor`]).
-/// Out of line: one copy for the four slopes.
-#[inline(never)]
-fn floor_div(n: i32, shift: u32, a: Divisor) -> i64 {
-    let m = n.unsigned_abs();
-    // (Where `m 2^shift` fits 32 bits, as for a plane that changes little or not at all, one
-    // quotient.)
-    let (mut q, mut r, mut left) = match m.checked_shl(shift).filter(|w| w >> shift == m) {
-        Some(wide) => {
-            let (q, r) = a.div_rem(wide);
-            (u64::from(q), r, 0)
-        }
-        None => {
-            let (q, r) = a.div_rem(m);
-            (u64::from(q), r, shift)
-        }
-    };
-    // `r < a < 2^31`: `r << step` fits.
-    let step = a.leading_zeros();
-    while left > 0 {
-        let k = left.min(step);
-        let (digit, rest) = a.div_rem(r << k);
-        q = crate::math::shl_64(q, k) + u64::from(digit);
-        r = rest;
-        left -= k;
-    }
-    // `m 2^shift = q a + r`: for `n < 0` the floor is `-q`, or `-q - 1` with a remainder.
-    let q = q as i64;
-    if n < 0 {
-        -q - i64::from(r != 0)
-    } else {
-        q
     }
 }
 
