@@ -112,7 +112,8 @@ use crate::deviation::kept::KEPT;
 use crate::deviation::vectors::square_of;
 use crate::deviation::SCREEN_SLACK;
 use crate::math::{
-    f32_of, isqrt, leading_zeros, leading_zeros_64, min, power_of_two, shl_64, shr_64, wide,
+    f32_of, isqrt_by_table, leading_zeros, leading_zeros_64, min, power_of_two, shl_64, shr_64,
+    wide,
 };
 use crate::view::Camera;
 
@@ -267,12 +268,12 @@ impl ViewRows {
                 square = square.max(square_of(dot(&mx)) + square_of(dot(&my)));
             }
             let j = ((64 - leading_zeros_64(square)).saturating_sub(31)) / 2;
-            let root = isqrt(shr_64(square, 2 * j) as u32);
+            let root = isqrt_by_table(shr_64(square, 2 * j) as u32);
             let e = ((1u32 << 17) >> t) + 2;
             // (`⌈x / 2^j⌉ <= ⌊x / 2^j⌋ + 1`.)
             let spill = ((3 * e * c1).div_ceil(2) >> j) + 1;
             let w = (h + t + j) as i32 - 14;
-            let n = isqrt((xs * xs) as u32 + (ys * ys) as u32 + (zs * zs) as u32);
+            let n = isqrt_by_table((xs * xs) as u32 + (ys * ys) as u32 + (zs * zs) as u32);
             let l = xs.unsigned_abs() + ys.unsigned_abs() + zs as u32 + 3;
             let (h, depth) = (h as i32, z as u32);
             let at = |x: Scaled, v: u32, e: i32, up: bool| in_units(x, v, e - base, up);

@@ -96,7 +96,7 @@ use super::directional_look::{Decided, NodeTerms, ViewRows};
 use super::grid_view::{floor_fixed, GridView};
 use super::HierarchyNode;
 use crate::deviation::{EPS, SCREEN_SLACK};
-use crate::math::{isqrt, wide};
+use crate::math::{isqrt, isqrt_by_table, wide};
 use crate::view::{Camera, Projection};
 
 /// A frame's constants for the first look (see the [module docs](self)), in the units of
@@ -393,7 +393,7 @@ fn ceil_fixed(x: f32, u: i32) -> Option<u32> {
 fn root_256(n: i32) -> u32 {
     match ROOTS_256.get(n as usize) {
         Some(&root) => u32::from(root),
-        None => isqrt((n as u32) << 8),
+        None => isqrt_by_table((n as u32) << 8),
     }
 }
 
