@@ -575,23 +575,27 @@ mod tests {
                 super::super::judge::beyond_one_plane(camera, points, size, big + r + view.slack());
             let z_corner = points.iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
             let isotropic = isotropic_bound_on_screen(camera, points, size, big + r, slack);
+            // The bound on screen in full, testing its corners or not.
+            let e = Quantised::new(node.vectors, node.scale);
+            let full_bound = |inside| {
+                bound_on_screen(
+                    camera,
+                    points,
+                    size,
+                    &e,
+                    big,
+                    r,
+                    slack,
+                    f32::INFINITY,
+                    inside,
+                )
+            };
             let seen = match look {
                 FirstLook::Within(_) => None,
                 FirstLook::Over(bound) => {
                     // Without the directional look, only a remainder as deep as the near
                     // plane: both `f32` bounds are infinite.
-                    let e = Quantised::new(node.vectors, node.scale);
-                    let full = bound_on_screen(
-                        camera,
-                        points,
-                        size,
-                        &e,
-                        big,
-                        r,
-                        slack,
-                        f32::INFINITY,
-                        false,
-                    );
+                    let full = full_bound(false);
                     assert!(
                         bound == f32::INFINITY && isotropic == bound && full == bound,
                         "case {k}: over by {bound}, the f32 bounds {isotropic} and {full}"
@@ -615,21 +619,11 @@ mod tests {
             }
             if seen.is_some_and(|s| s.sight == Sight::EveryCorner) {
                 // The bound on screen's own test finds the corners inside: the same bits.
-                let e = Quantised::new(node.vectors, node.scale);
-                let bound = |inside| {
-                    bound_on_screen(
-                        camera,
-                        points,
-                        size,
-                        &e,
-                        big,
-                        r,
-                        slack,
-                        f32::INFINITY,
-                        inside,
-                    )
-                };
-                assert_eq!(bound(true).to_bits(), bound(false).to_bits(), "case {k}");
+                assert_eq!(
+                    full_bound(true).to_bits(),
+                    full_bound(false).to_bits(),
+                    "case {k}"
+                );
                 every += 1;
             }
             float_within += usize::from(!beyond && isotropic <= tolerance);
