@@ -92,7 +92,7 @@
 //!   at least `2^15` and off `z 2^-j` by less than one, a relative `2^-15`, so `q` is within
 //!   4 of `2^16 ζ`.
 //! - `key = 1 + ⌊⌊p q 2^-16⌋ 65534 2^-16⌋`: `p q` is off `2^32 ρ ζ` by at most
-//!   `2 q + 4 p <= 6 · 2^16`, six keys, and the two floors take less than one each. The key
+//!   `2 q + 4 · 2^16 ρ <= 6 · 2^16`, six keys, and the two floors take less than one each. The key
 //!   is within eight of the exact map's (a test over random views finds 3.3), and never
 //!   rises with the depth (`p` and `q` fall as `z` rises), so nearer stays in front. The near
 //!   end's key is 65533 or more.
@@ -307,8 +307,8 @@ impl FixedView {
 
     /// This view with its depth keys in integers, for the keys' range from depth `near` to
     /// `far` (`0 < near < far`, view coordinates; see the module docs, *Depth keys*). Where
-    /// the numbers leave their ranges (a range under `2^-14` of its distance), the keys stay
-    /// the float path's.
+    /// the numbers leave their ranges (a range under `2^16` units, about `2^-6` of its
+    /// distance), the keys stay the float path's.
     pub fn with_depth(mut self, near: f32, far: f32) -> FixedView {
         self.depth = pow2(self.m.into()).and_then(|scale| {
             // `Z_n = ⌊z_n 2^m⌋` (at least 1) and `Z_f = ⌈z_f 2^m⌉`, below `2^23` units.
