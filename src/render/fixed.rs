@@ -112,6 +112,7 @@ use glam::Vec3;
 
 use crate::bound::BoundingSphere;
 pub(super) use crate::math::f32_of;
+use crate::math::INTEGER_FORMS;
 use crate::tessellator::grid_view::floor_fixed;
 use crate::view::{Camera, Projection};
 
@@ -308,8 +309,12 @@ impl FixedView {
     /// This view with its depth keys in integers, for the keys' range from depth `near` to
     /// `far` (`0 < near < far`, view coordinates; see the module docs, *Depth keys*). Where
     /// the numbers leave their ranges (a range under `2^16` units, about `2^-6` of its
-    /// distance), the keys stay the float path's.
+    /// distance), and on a bare-metal part with an FPU, which leaves the code out (see
+    /// `math::INTEGER_FORMS`), the keys stay the float path's.
     pub fn with_depth(mut self, near: f32, far: f32) -> FixedView {
+        if !INTEGER_FORMS {
+            return self;
+        }
         self.depth = pow2(self.m.into()).and_then(|scale| {
             // `Z_n = ⌊z_n 2^m⌋` (at least 1) and `Z_f = ⌈z_f 2^m⌉`, below `2^23` units.
             let (near, far) = (near * scale, ceil(far * scale));
@@ -340,7 +345,7 @@ impl FixedView {
     /// reads its keys in integers (see [`with_depth`](Self::with_depth)).
     #[inline]
     pub fn depth_key(&self, z: i32) -> Option<u16> {
-        let d = self.depth.as_ref()?;
+        let d = self.depth.as_ref().filter(|_| INTEGER_FORMS)?;
         let z = z.clamp(d.near, d.far);
         // `p` and `q`: `2^16` times `(Z_f - z) / (Z_f - Z_n)` and `Z_n / z`, each at most
         // 65535. (`(Z_f - z) 2^a < 2^31`; `z 2^-j >= 2^15`, or `z` itself.)

@@ -77,14 +77,8 @@ impl<'a> Setup<'a> {
         let light = normalize(Vec3::from_array(style.light.direction)).unwrap_or(-Vec3::Z);
         let fixed = match (arithmetic, &bound, range) {
             (Arithmetic::Integer, Some(sphere), Some((_, zn, zf))) if depth.is_some() => {
-                let f = FixedView::new(camera, sphere, light, style.light.ambient);
-                f.map(|f| {
-                    if INTEGER_FORMS {
-                        f.with_depth(zn, zf)
-                    } else {
-                        f
-                    }
-                })
+                FixedView::new(camera, sphere, light, style.light.ambient)
+                    .map(|f| f.with_depth(zn, zf))
             }
             _ => None,
         };
@@ -310,9 +304,8 @@ impl<'a> Setup<'a> {
                 || self.camera.view_to_pixel(c.view),
                 |p| p.map(|x| f32_of(x, 4)),
             );
-            // (The float path's key where the view's does not read it, and on a bare-metal
-            // part with an FPU, which leaves the code out: see `math::INTEGER_FORMS`.)
-            let depth = v.filter(|_| INTEGER_FORMS).and_then(|v| f.depth_key(v[2]));
+            // (The float path's key where the view does not read it in integers.)
+            let depth = v.and_then(|v| f.depth_key(v[2]));
             return ScreenVertex {
                 xy,
                 depth: depth.map_or_else(|| self.depth_key(c.view.z), depth_from_u16),
