@@ -63,8 +63,9 @@
 //!
 //! **Near the eye.** The `f32` bounds move the near plane in by their rounding `η` (at least
 //! the remainder `r`: a sum of nonnegative terms), and are infinite where `near - η <= 0`
-//! (`screen`). Where `⌊r / U⌋ >= N_z`, `r >= N_z U >= near`, so the `f32` judgement is over
-//! with an infinite bound, and the look says so. Elsewhere it asks `η⁺ + ⌊(N_z - 1) 2^-19⌋ +
+//! (`screen`). Where `⌈r / U⌉ > N_z`, `r > N_z U >= near`, so the `f32` judgement is over
+//! with an infinite bound, and the look says so (`r` at exactly `N_z U` fails the next
+//! test, and the `f32` judgement finds the same). Elsewhere it asks `η⁺ + ⌊(N_z - 1) 2^-19⌋ +
 //! 1 <= N_z - 1`: `N_z U` is the ceiling of `near (1 + 2^-20)` rounded to `f32`, at most
 //! `near (1 + 2^-19)`, so `near > (N_z - 1)(1 - 2^-19) U > η⁺ U`, and the `f32` bound is
 //! finite (the sign of an `f32` difference is exact). (It asked `η <= near / 2` before: on
@@ -294,7 +295,7 @@ impl GridJudge {
         let eta = u64::from(r) + u64::from(r >> 20) + 1 + rounding;
         // A remainder as deep as the near plane: the `f32` bound is infinite (see the module
         // docs, *Near the eye*).
-        if floor_fixed(remainder, -u).is_some_and(|r| r >= i64::from(self.near)) {
+        if r > self.near {
             return FirstLook::Over(f32::INFINITY);
         }
         let near = u64::from(self.near) - 1;
