@@ -298,6 +298,9 @@ impl Divisor {
     /// the rasteriser's four slopes of a triangle.
     #[inline(never)]
     pub fn floor_shifted(self, n: i32, shift: u32) -> i64 {
+        if n == 0 {
+            return 0; // (a plane level one way: often the shade's)
+        }
         let m = n.unsigned_abs();
         // (Where `m 2^shift` fits 32 bits, as for a plane that changes little or not at
         // all, one quotient.)
