@@ -25,14 +25,16 @@
 //! - **Depths.** `z_i' ∈ [z_i - δ, z_i + δ]`, so the least depth moves by at most `δ`, and
 //!   the view extent `Σ` (largest `|x| + |y| + |z|`) by at most `3 δ`; the rounding
 //!   `η = slack + 16 ε Σ` by at most `48 ε δ`.
-//! - **Rays.** `τ = (x / z, y / z)`: `|τ_x' - τ_x| <= (|Δx| z + |x| |Δz|) / (z z') <=
-//!   δ (1 + |τ_x|) / (z - δ)`, likewise `τ_y`, so `|τ' - τ| <= Δ = δ (2 + |τ_x| + |τ_y|) /
-//!   (z - δ)`.
+//! - **Rays.** `τ = (x / z, y / z)`: `τ' - τ = (Δv_⊥ - τ Δz) / z' = A Δv / z'` with
+//!   `A = [I | -τ]`, whose largest stretch is `t = √(1 + |τ|²)` (`A Aᵀ = I + τ τᵀ`), so
+//!   `|τ' - τ| <= Δ = δ t / (z - δ)`, and `|τ_x' - τ_x| + |τ_y' - τ_y| <= √2 Δ`. (Bounding
+//!   each coordinate apart, `δ (1 + |τ_x|) / (z - δ)`, gave `Δ = δ (2 + |τ_x| + |τ_y|) /
+//!   (z - δ)`: twice this on the axis, where certificates lasted about that much less.)
 //! - **Vectors.** `e_k' - e_k = (M' - M) e`, at most `ρ |e| <= ρ big` long.
 //! - **One corner's term** `g = max_k φ(τ, e_k) + r √(1 + |τ|²) + m (widen + 16 ε spread)`:
 //!   `φ(τ, e) = |e_⊥ - τ e_z|` moves by at most `|e_z| |Δτ| + |Δe| √(1 + |τ'|²)`, so by
 //!   `big Δ + ρ big (t + Δ)` with `t = √(1 + |τ|²)`; `r t` by at most `r Δ`; `spread = 1 +
-//!   |τ_x| + |τ_y|` by at most `2 Δ`; and `widen = 2 η spread / (z - η)` stays under
+//!   |τ_x| + |τ_y|` by at most `√2 Δ <= 2 Δ`; and `widen = 2 η spread / (z - η)` stays under
 //!   `2 η⁺ (spread + 2 Δ) / (z - δ - η⁺)`, `η⁺` the rounding at extent `Σ + 3 δ`.
 //! - **Vectors turned one by one** (up to four): `φ(τ, e) = |A e|` with `A = [I | -τ]`,
 //!   whose largest stretch is `t`. The step turns `e` by an angle `β` with `sin β <= ρ`
@@ -642,7 +644,7 @@ impl<'a> Moved<'a> {
         let mut g = 0.0f32;
         for (corner, (&([tx, ty], t, phi), v)) in self.rays.iter().zip(&self.corners).enumerate() {
             let z = v.z;
-            let step = delta * (2.0 + tx.abs() + ty.abs()) / (z - delta);
+            let step = delta * t / (z - delta);
             let spread = 1.0 + tx.abs() + ty.abs() + 2.0 * step;
             let turn = rho * big * (t + step);
             // The vectors turned one by one where they are few (see the module docs), else
