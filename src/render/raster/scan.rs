@@ -263,16 +263,19 @@ impl Snapped {
             .min(rows.end - 1);
         let first = ceil_div(x[0].min(x[1]).min(x[2]) - half, sub);
         let last = (x[0].max(x[1]).max(x[2]) - half).div_euclid(sub);
-        let (mut depth, mut shade, mut wire) = (self.depth, self.shade, self.wire);
-        let area = counter_clockwise(&mut x, &mut y, &mut depth, &mut shade, &mut wire);
-        if top > bottom || area == 0 {
+        // A band's columns may lie anywhere a viewport does: where they miss the box, or the
+        // box holds no pixel centre's column (a sliver), the scan would have no pixel.
+        let (x0, end) = (first.max(columns.start), last.min(columns.end - 1));
+        if top > bottom || end < x0 {
             return BandScan::Off;
         }
-        // A band's columns may lie anywhere a viewport does: where they miss the box, `x0`
-        // lies past it, the scan's width is 0 or less (no pixel), and its edge values are
-        // taken modulo 2^32 (below: only within the box do they keep the bounds of
-        // `NARROW_LIMIT`, and no pixel outside it is looked at).
-        let (x0, end) = (first.max(columns.start), last.min(columns.end - 1));
+        let (mut depth, mut shade, mut wire) = (self.depth, self.shade, self.wire);
+        let area = counter_clockwise(&mut x, &mut y, &mut depth, &mut shade, &mut wire);
+        if area == 0 {
+            return BandScan::Off;
+        }
+        // The edge values below are taken modulo 2^32: only within the box do they keep the
+        // bounds of `NARROW_LIMIT`, and no pixel outside it is looked at.
         let yc = top * sub + half;
         let mut edges = [[0i32; 2]; 3];
         let mut scan = Scan {
