@@ -605,19 +605,14 @@ pub(super) fn exact_fixed(x: f32, e: i32) -> Option<i32> {
         // finite.
         return None;
     }
-    // `|x| = mantissa 2^(field - 150)`, so `|x| 2^e = mantissa 2^up`.
+    // `|x| = mantissa 2^(field - 150)`, so `|x| 2^e = mantissa 2^-down`.
     let mantissa = (bits & 0x7f_ffff) | 0x80_0000;
-    let up = field as i32 - 150 + e;
-    let magnitude = if up >= 0 {
-        // (`mantissa >= 2^23`: any `up` above 0 leaves it at `2^22` or more.)
+    // (`mantissa >= 2^23`: shifted up, or not at all, it is `2^22` or more.)
+    let down = 150 - field as i32 - e;
+    if !(1..=31).contains(&down) || (mantissa >> down) << down != mantissa {
         return None;
-    } else {
-        let down = (-up) as u32;
-        if down > 31 || (mantissa >> down) << down != mantissa {
-            return None;
-        }
-        mantissa >> down
-    };
+    }
+    let magnitude = mantissa >> down;
     (magnitude < 1 << 22).then_some(if bits >> 31 != 0 {
         -(magnitude as i32)
     } else {
