@@ -112,7 +112,7 @@ use glam::Vec3;
 
 use crate::bound::BoundingSphere;
 pub(super) use crate::math::f32_of;
-use crate::math::{Divisor, INTEGER_FORMS};
+use crate::math::{leading_zeros, Divisor, INTEGER_FORMS};
 use crate::tessellator::grid_view::floor_fixed;
 use crate::view::{Camera, Projection};
 
@@ -325,10 +325,10 @@ impl FixedView {
             // (A range under `2^16` units keeps the float path's keys: see the module docs.)
             let span = u32::try_from(far - near).ok().filter(|&d| d >= 1 << 16)?;
             // `(Z_f - Z_n) 2^a` in `[2^30, 2^31)`, so `P` in `(2^31, 2^32)`.
-            let span_shift = span.leading_zeros() - 1;
+            let span_shift = leading_zeros(span) - 1;
             let inverse = ((1u64 << 62) - 1) / u64::from(span << span_shift);
             // `Z_n 2^-j` in `[2^15, 2^16)`, or `j = 0` below.
-            let depth_shift = (32 - (near as u32).leading_zeros()).saturating_sub(16);
+            let depth_shift = (32 - leading_zeros(near as u32)).saturating_sub(16);
             Some(DepthReading {
                 near,
                 far,
@@ -485,7 +485,7 @@ impl FixedView {
         };
         // Towards the eye: `-view`, shifted to 15 bits.
         let big = view.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
-        let s = (32 - big.leading_zeros()).saturating_sub(15);
+        let s = (32 - leading_zeros(big)).saturating_sub(15);
         let towards = view.map(|x| -(x >> s));
         let lit = dot(n, self.light.map(i32::from)) >> 14;
         let lit = if dot(n, towards) < 0 { -lit } else { lit };
@@ -543,7 +543,7 @@ fn shifted(view: [i32; 3]) -> Option<[i32; 3]> {
     if z <= 0 {
         return None;
     }
-    let s = (32 - (z as u32).leading_zeros()).saturating_sub(16);
+    let s = (32 - leading_zeros(z as u32)).saturating_sub(16);
     Some(view.map(|c| c >> s))
 }
 
@@ -629,7 +629,7 @@ pub(super) fn shade_of_level(level: u8) -> f32 {
         // `⌊level 2^32 / 255⌋`, then its top 24 bits.
         l => {
             let n = (l as u32) * 16_843_009;
-            let top = 31 - n.leading_zeros() as i32;
+            let top = 31 - leading_zeros(n) as i32;
             let mantissa = n >> (top - 23);
             f32::from_bits(((top - 32 + 127) as u32) << 23 | (mantissa & 0x7f_ffff))
         }

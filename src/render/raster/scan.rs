@@ -161,7 +161,7 @@ impl FixedPlane {
         let fraction = if limit < (1u32 << (31 - bits)) as f32 {
             bits
         } else {
-            bits.min((limit as u32).leading_zeros() - 1)
+            bits.min(crate::math::leading_zeros(limit as u32) - 1)
         };
         let fixed = f32::from_bits((127 + fraction) << 23);
         // The pixel whose centre is nearest the corner, and the plane there.
