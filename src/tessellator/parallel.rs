@@ -371,9 +371,10 @@ impl Tessellator<'_, '_> {
         let Some(n) = h.tri.across(|p, s| tree.link(p, s), |p| tree.cells(p)) else {
             return;
         };
-        // A level a loop: the triangle across is at most 24 halvings down its cell.
+        // A level a loop: the triangle across is at most 24 halvings down its cell. (Each
+        // leaf found coarser is halved, and the search goes on from it.)
+        let mut leaf = self.locate(&n);
         for _ in 0..32 {
-            let leaf = self.locate(&n);
             if leaf.tri == n {
                 if !self.is_split(&leaf) {
                     self.halve_alone(&leaf);
@@ -383,6 +384,7 @@ impl Tessellator<'_, '_> {
             if !self.split(&leaf, 1) {
                 return;
             }
+            leaf = self.locate_from(leaf, &n);
         }
     }
 }

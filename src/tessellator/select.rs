@@ -1090,7 +1090,14 @@ impl<'t, 's> Tessellator<'t, 's> {
     /// The leaf of the current mesh that holds `t` (its own, or a coarser one).
     pub(super) fn locate(&self, t: &Tri) -> Pending {
         let cells = self.tree.cells(t.patch);
-        let mut h = self.tree.root(t.patch, t.root_index(cells));
+        self.locate_from(self.tree.root(t.patch, t.root_index(cells)), t)
+    }
+
+    /// [`locate`](Self::locate) from `h`, a triangle of the mesh's halvings that holds `t`:
+    /// the same leaf, as the halvings above `h` lead to it (a triangle once halved stays
+    /// halved in a frame).
+    pub(super) fn locate_from(&self, mut h: Pending, t: &Tri) -> Pending {
+        let cells = self.tree.cells(t.patch);
         let target = t.centroid3();
         while h.tri != *t {
             let Some(v) = self.split_vertex(&h) else {
@@ -1156,16 +1163,17 @@ impl<'t, 's> Tessellator<'t, 's> {
             if !self.holds(&n) {
                 leave = true;
             } else {
-                loop {
-                    let leaf = self.locate(&n);
-                    if leaf.tri == n {
-                        across = Some(leaf);
-                        break;
-                    }
+                // (Each leaf found coarser is halved, and the search goes on from it: searching
+                // from the root again took `fw_teapot`'s frame 0 update 0.23M instructions more
+                // on ARMv6-M, 0.14M on the Cortex-M4F.)
+                let mut leaf = self.locate(&n);
+                while leaf.tri != n {
                     if !self.split(&leaf, depth + 1) {
                         return false;
                     }
+                    leaf = self.locate_from(leaf, &n);
                 }
+                across = Some(leaf);
             }
         }
         // A triangle across that is halved already is not halved again (its halves were
