@@ -234,7 +234,7 @@ pub(crate) const HARD_DIVIDE: bool = HARD_FLOAT || !cfg!(target_arch = "arm");
 pub(crate) struct Divisor {
     a: u32,
     inv: u32,
-    /// `a`'s leading zero bits (a library call on ARMv6-M: found once).
+    /// `a`'s leading zero bits (no instruction on ARMv6-M: found once).
     zeros: u32,
 }
 

@@ -114,7 +114,7 @@ fn coordinate(bytes: &[u8], k: usize) -> i8 {
 /// up) at `bytes`, [`VECTOR_BYTES`] of them (fewer read as zero bytes): four from each three
 /// bytes, read as one 24-bit word. (Read one by one, each with its two bytes checked, they
 /// took `fw_teapot`'s frame 0 update 0.10M instructions more on ARMv6-M: 1,335 nodes.)
-pub(crate) fn vector_coordinates(bytes: &[u8]) -> [[i8; 3]; KEPT] {
+fn vector_coordinates(bytes: &[u8]) -> [[i8; 3]; KEPT] {
     const ZEROS: [u8; VECTOR_BYTES] = [0; VECTOR_BYTES];
     let b: &[u8; VECTOR_BYTES] = bytes
         .get(..VECTOR_BYTES)
