@@ -519,6 +519,8 @@ impl FixedView {
             return None;
         }
         let focal = u32::from(self.focal);
+        // (Two quotients by `z`: where a division is a library call, by one reciprocal.)
+        let z_divisor = Divisor::new(z);
         let offset = |c: i32| -> Option<i32> {
             // `round(16 f |c| / z)` (halves up), in `u32` where `|c| < 2^16` (then `16 f |c|
             // + z / 2 < 2^32`, as `16 f < 2^16` and `z < 2^16`).
@@ -526,7 +528,7 @@ impl FixedView {
             if c_abs >= 1 << 16 {
                 return None; // a ray more than 45 degrees off the axis: the float path's
             }
-            let q = (c_abs * focal + z / 2) / z;
+            let (q, _) = z_divisor.div_rem(c_abs * focal + z / 2);
             // At most 16 times the viewport's side (a corner the clipper moved a little past
             // the guard band, at most): far inside `i32`.
             let q = (q <= 1 << 20).then_some(q as i32)?;
