@@ -214,7 +214,7 @@ impl ViewRows {
     pub fn look(
         &self,
         tolerance: f32,
-        corners: [[i32; 3]; 3],
+        corners: &[[i32; 3]; 3],
         node: &NodeTerms<'_>,
         z_least: u64,
         eta: u64,
@@ -268,7 +268,7 @@ impl ViewRows {
         // Asked for the bound in full: whether a corner found it over, and the largest
         // `g_i⁺` against what it is compared with, as a number at least it.
         let (in_full, mut found_over, mut largest) = (!over, false, 0.0f32);
-        for [x, y, z] in corners {
+        for &[x, y, z] in corners {
             let top = x.unsigned_abs().max(y.unsigned_abs()).max(z.unsigned_abs());
             let h = (32 - leading_zeros(top)).saturating_sub(15);
             let (xs, ys, zs) = (x >> h, y >> h, z >> h);

@@ -95,6 +95,7 @@
 
 use super::directional_look::{Decided, NodeTerms, ViewRows};
 use super::grid_view::{floor_fixed, GridView};
+use super::judge::Bound;
 use super::HierarchyNode;
 use crate::deviation::{EPS, SCREEN_SLACK};
 use crate::math::{isqrt, isqrt_by_table, wide};
@@ -127,12 +128,143 @@ pub(crate) struct GridJudge {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum FirstLook {
     /// Within the tolerance, with this bound (at most the tolerance).
-    Within(f32),
+    Within(Bound),
     /// Over the tolerance by the directional bound, with this bound (over the tolerance, at
     /// most that bound): asked for only where any bound over the tolerance will do.
     Over(f32),
     /// Not certainly within: what it found certain.
     Seen(Seen),
+}
+
+/// A first look's bound within the tolerance, kept as its terms: `tol (1 + 2^-15) L / (2^16
+/// Z_min)` (see the module docs), whose value is [`value`](Self::value). Where `f32` is
+/// software, the two conversions, the quotient and the product cost about 370 instructions
+/// (ARMv6-M), and a frame reads the value only where it may be its worst bound (see
+/// [`QuotientLimit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct WithinQuotient {
+    /// The test's left side `L`.
+    left: u64,
+    /// `Z_min`.
+    z_min: u32,
+    /// `tol (1 + 2^-15) 2^-16`.
+    unit: f32,
+}
+
+impl WithinQuotient {
+    /// The bound, in `f32`: `L` and `Z_min` rounded, their quotient, times the unit.
+    #[inline(never)]
+    pub fn value(self) -> f32 {
+        self.left as f32 / self.z_min as f32 * self.unit
+    }
+
+    /// As a judgement's bound: the quotient kept, where the build keeps one (see
+    /// [`KeptQuotient`]).
+    #[inline(always)]
+    fn into_bound(self) -> Bound {
+        #[cfg(any(
+            not(target_os = "none"),
+            not(any(target_abi = "eabihf", target_feature = "f"))
+        ))]
+        return Bound::Within(self);
+        #[cfg(not(any(
+            not(target_os = "none"),
+            not(any(target_abi = "eabihf", target_feature = "f"))
+        )))]
+        return Bound::Value(self.value());
+    }
+}
+
+/// What a judgement's bound keeps of a first look's quotient: the quotient, where the build
+/// carries the integer forms (`math::INTEGER_FORMS`, the same targets); elsewhere no first
+/// look is taken and nothing is kept: an empty type, so that a bound is its value alone
+/// there, as cheap to move and to read as before the quotient was kept (on the Cortex-M4F,
+/// 11K more instructions of `fw_teapot`'s frame 0 with the quotient's room and tests).
+#[cfg(any(
+    not(target_os = "none"),
+    not(any(target_abi = "eabihf", target_feature = "f"))
+))]
+pub(crate) type KeptQuotient = WithinQuotient;
+/// (See the other definition.)
+#[cfg(not(any(
+    not(target_os = "none"),
+    not(any(target_abi = "eabihf", target_feature = "f"))
+)))]
+pub(crate) type KeptQuotient = NoQuotient;
+
+/// No quotient: the [`KeptQuotient`] of a build without the integer forms.
+#[allow(dead_code)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum NoQuotient {}
+
+#[allow(dead_code)]
+impl NoQuotient {
+    /// (None is ever made.)
+    pub fn value(self) -> f32 {
+        match self {}
+    }
+}
+
+/// The least quotient `L / Z_min` a [`WithinQuotient`] needs to raise a frame's worst bound
+/// `W`, from below, so that most quotients are compared with it in integers and never
+/// divided out.
+///
+/// **Why it holds.** The limit is `λ = ⌊fl(fl(W / unit) (2^16 - 2^-4))⌋` (the constant is
+/// `2^16 (1 - 2^-20)`, exact in `f32`); with `u = 2^-24` each rounding's relative error,
+/// `λ 2^-16 <= (W / unit)(1 + u)² (1 - 2^-20) <= (W / unit)(1 - 2^-21)`. A quotient with `L
+/// <= ⌊Z_min λ / 2^16⌋` has `L / Z_min <= (W / unit)(1 - 2^-21)`, and its value, four
+/// roundings from `unit L / Z_min` (two conversions, a quotient, a product: at most a factor
+/// `(1 + u)³ / (1 - u) <= 1 + 5u` above), is at most `W (1 - 2^-21)(1 + 5u) < W`: the worst
+/// stays `W`, bit for bit, as it would with the value. (Every value here is a normal `f32`:
+/// `L >= 1`, `Z_min < 2^32`, and the unit is normal.)
+#[derive(Clone, Copy, Debug)]
+pub(super) struct QuotientLimit {
+    /// The worst bound and the unit `limit` was found for (their bits).
+    worst: u32,
+    unit: u32,
+    /// `λ`.
+    limit: u32,
+}
+
+impl QuotientLimit {
+    /// A limit found for no worst bound yet.
+    pub const NONE: QuotientLimit = QuotientLimit {
+        worst: u32::MAX,
+        unit: u32::MAX,
+        limit: 0,
+    };
+
+    /// `worst` raised to the value of `q` where that is larger: `max(worst, q.value())`,
+    /// with the value found only where `q` may be over `worst` (see the type's docs).
+    #[inline(always)]
+    pub fn raise(&mut self, worst: &mut f32, q: KeptQuotient) {
+        #[cfg(not(any(
+            not(target_os = "none"),
+            not(any(target_abi = "eabihf", target_feature = "f"))
+        )))]
+        match (q, worst).0 {}
+        #[cfg(any(
+            not(target_os = "none"),
+            not(any(target_abi = "eabihf", target_feature = "f"))
+        ))]
+        self.raise_by(worst, q);
+    }
+
+    /// [`raise`](Self::raise) by a quotient.
+    #[allow(dead_code)]
+    #[inline(always)]
+    fn raise_by(&mut self, worst: &mut f32, q: WithinQuotient) {
+        if (self.worst, self.unit) != (worst.to_bits(), q.unit.to_bits()) {
+            *self = QuotientLimit {
+                worst: worst.to_bits(),
+                unit: q.unit.to_bits(),
+                limit: (*worst / q.unit * (65536.0 - 0.0625)) as u32,
+            };
+        }
+        if q.left > wide(q.z_min, self.limit) >> 16 {
+            *worst = crate::math::max(*worst, q.value());
+        }
+    }
 }
 
 /// What a first look found certain of a triangle it did not find within.
@@ -250,7 +382,7 @@ impl GridJudge {
     pub fn look(
         &self,
         grid: &GridView,
-        corners: [[i32; 3]; 3],
+        corners: &[[i32; 3]; 3],
         node: &HierarchyNode,
         tolerance: f32,
         exact: bool,
@@ -325,7 +457,12 @@ impl GridJudge {
             (left <= right).then_some(left)
         });
         if let Some(left) = within {
-            return FirstLook::Within(left as f32 / z_min as u32 as f32 * self.tolerance);
+            let bound = WithinQuotient {
+                left,
+                z_min: z_min as u32,
+                unit: self.tolerance,
+            };
+            return FirstLook::Within(bound.into_bound());
         }
         let least = self.least_m(n, scale, remainder, u);
         let isotropic_over = least.is_some_and(|least| self.isotropic_over(z_min, least));
@@ -341,7 +478,7 @@ impl GridJudge {
                 m: [least, m],
             };
             match rows.look(tolerance, corners, &terms, z_min, eta, self.near, u, !exact) {
-                Some(Decided::Within(bound)) => return FirstLook::Within(bound),
+                Some(Decided::Within(bound)) => return FirstLook::Within(Bound::Value(bound)),
                 Some(Decided::Over(bound)) => return FirstLook::Over(bound),
                 None => {}
             }
@@ -584,7 +721,7 @@ mod tests {
                 rows: None,
                 ..*case.judge
             };
-            let look = judge.look(view, fixed, &node, tolerance, false);
+            let look = judge.look(view, &fixed, &node, tolerance, false);
             looked += 1;
             // The `f32` judgement's own steps (`judge::judge_vectors`).
             let (big, r) = (node.longest_quantised(), node.remainder);
@@ -648,6 +785,7 @@ mod tests {
             float_within += usize::from(!beyond && isotropic <= tolerance);
             float_over += usize::from(!beyond && isotropic > tolerance);
             if let FirstLook::Within(bound) = look {
+                let bound = bound.value();
                 within += 1;
                 let exact = isotropic_exact(camera, z_corner, size, big + r, slack);
                 assert!(
@@ -717,7 +855,7 @@ mod tests {
                     rows: None,
                     ..*judge
                 }
-                .look(view, fixed, &node, tolerance, false);
+                .look(view, &fixed, &node, tolerance, false);
                 let Some(Seen {
                     sight: Sight::EveryCorner,
                     isotropic_over: true,
@@ -727,7 +865,7 @@ mod tests {
                 })
                 else {
                     assert_eq!(
-                        judge.look(view, fixed, &node, tolerance, false),
+                        judge.look(view, &fixed, &node, tolerance, false),
                         alone,
                         "case {k}"
                     );
@@ -749,8 +887,9 @@ mod tests {
                     true,
                 );
                 float_within += usize::from(full <= tolerance);
-                match judge.look(view, fixed, &node, tolerance, false) {
+                match judge.look(view, &fixed, &node, tolerance, false) {
                     FirstLook::Within(bound) => {
+                        let bound = bound.value();
                         within += 1;
                         assert!(full <= tolerance, "case {k}: {full} over {tolerance}");
                         assert!(bound >= full && bound <= tolerance, "case {k}: {bound}");
@@ -772,7 +911,7 @@ mod tests {
                 }
                 // Asked for the bound itself: within as above, over with a bound at least
                 // the `f32` one.
-                match judge.look(view, fixed, &node, tolerance, true) {
+                match judge.look(view, &fixed, &node, tolerance, true) {
                     FirstLook::Within(_) => assert!(full <= tolerance, "case {k}"),
                     FirstLook::Over(bound) => {
                         in_full += 1;
@@ -806,5 +945,52 @@ mod tests {
                 "in full {in_full} of {over} over, at most {loosest_in_full} of the bound"
             );
         }
+    }
+
+    /// A frame's worst bound raised through [`QuotientLimit`] has the bits it has with every
+    /// quotient divided out: random quotients, among them many at a hair's breadth of the
+    /// worst so far, and bounds given as values between them.
+    #[test]
+    fn the_limit_keeps_the_worst_bound_bit_for_bit() {
+        let mut rng = TestRng::new(0x51ab_1e5e);
+        let (mut skipped, mut quotients) = (0, 0);
+        for frame in 0..200 {
+            let tolerance = 0.25 + (rng.next_u32() % 1750) as f32 / 1000.0;
+            let unit = tolerance * (1.0 + 1.0 / 32768.0) / 65536.0;
+            let (mut worst, mut eager) = (0.0f32, 0.0f32);
+            let mut limit = QuotientLimit::NONE;
+            for _ in 0..500 {
+                if rng.next_u32().is_multiple_of(16) {
+                    let b = (rng.next_u32() % 1000) as f32 / 1000.0 * tolerance;
+                    Bound::Value(b).raise(&mut worst, &mut limit);
+                    eager = crate::math::max(eager, b);
+                    continue;
+                }
+                let z_min = 256 + rng.next_u32() % ((1 << (8 + frame % 23)) - 255);
+                let most = u64::from(z_min) << 16;
+                let left = match rng.next_u32() % 3 {
+                    // At the worst so far, give or take a few units.
+                    0 => {
+                        let ratio = f64::from(eager) / f64::from(unit);
+                        let at = (ratio * f64::from(z_min)) as i64 + rng.signed(3);
+                        at.clamp(1, most as i64) as u64
+                    }
+                    _ => {
+                        1 + (u64::from(rng.next_u32()) << 16 | u64::from(rng.next_u32() >> 16))
+                            % most
+                    }
+                };
+                let q = WithinQuotient { left, z_min, unit };
+                quotients += 1;
+                skipped += usize::from(
+                    left <= wide(z_min, limit.limit) >> 16 && limit.worst == worst.to_bits(),
+                );
+                Bound::Within(q).raise(&mut worst, &mut limit);
+                eager = crate::math::max(eager, q.value());
+                assert_eq!(worst.to_bits(), eager.to_bits(), "frame {frame}: {q:?}");
+            }
+        }
+        std::eprintln!("{skipped} of {quotients} quotients never divided out");
+        assert!(skipped > quotients / 2, "{skipped} of {quotients}");
     }
 }

@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use super::address::ONE;
-use super::grid_judge::{FirstLook, GridJudge, Seen, Sight};
+use super::grid_judge::{FirstLook, GridJudge, KeptQuotient, QuotientLimit, Seen, Sight};
 use super::hierarchy::{Hierarchy, Pending};
 use super::select::Tessellator;
 use crate::deviation::certificate::{Asked, Lasting};
@@ -26,6 +26,7 @@ use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
 use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
+use crate::math::max;
 use crate::view::{Camera, Projection, View};
 use crate::Arithmetic;
 
@@ -33,7 +34,7 @@ use crate::Arithmetic;
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Judged {
     /// The bound; unless judged `exact`, only a value over the tolerance where the bound is.
-    pub bound: f32,
+    pub bound: Bound,
     pub hidden: bool,
     /// Where certificates were asked for (see `reuse`): the largest of the steps asked for
     /// over which this judgement (over the tolerance or not) is certain.
@@ -44,9 +45,58 @@ impl Judged {
     /// A judgement with no certificate.
     pub(super) const fn bare(bound: f32, hidden: bool) -> Judged {
         Judged {
-            bound,
+            bound: Bound::Value(bound),
             hidden,
             lasting: None,
+        }
+    }
+}
+
+/// A judgement's bound: a value, or a first look's quotient within the tolerance, divided
+/// out only where it is read (see `grid_judge::WithinQuotient`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Bound {
+    /// This value.
+    Value(f32),
+    /// Within the view's tolerance by a first look, with this bound. (Never made where
+    /// nothing is kept.)
+    #[allow(dead_code)]
+    Within(KeptQuotient),
+}
+
+impl Bound {
+    /// The bound's value.
+    pub fn value(self) -> f32 {
+        match self {
+            Bound::Value(b) => b,
+            Bound::Within(q) => q.value(),
+        }
+    }
+
+    /// Whether it is within `tolerance`, the view's (as a first look's quotient is).
+    #[inline(always)]
+    pub fn is_within(self, tolerance: f32) -> bool {
+        match self {
+            Bound::Value(b) => b <= tolerance,
+            Bound::Within(_) => true,
+        }
+    }
+
+    /// Whether it is over `tolerance`, the view's, or not a number.
+    pub fn is_over(self, tolerance: f32) -> bool {
+        match self {
+            Bound::Value(b) => b > tolerance || b.is_nan(),
+            Bound::Within(_) => false,
+        }
+    }
+
+    /// `worst` raised to this bound where it is larger (`max`), through `limit` for a first
+    /// look's quotient, which then is divided out only where it may be larger.
+    #[inline(always)]
+    pub(super) fn raise(self, worst: &mut f32, limit: &mut QuotientLimit) {
+        match self {
+            Bound::Value(b) => *worst = max(*worst, b),
+            Bound::Within(q) => limit.raise(worst, q),
         }
     }
 }
@@ -171,11 +221,25 @@ pub(super) fn judge(
         if let (View::Screen { .. }, Some(grid), Some(look), None) =
             (view, selection.grid_view(), selection.grid_judge(), eager)
         {
-            let [a, b, c] = h.corners.map(|v| selection.fixed_on_grid(v, grid));
-            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                let first = look.look(grid, [a, b, c], &node, view.tolerance(), exact);
+            // (Gathered in place, and lent: on ARMv6-M, arrays of options moved through the
+            // stack cost about 100 instructions a judgement.)
+            let mut fixed = [[0; 3]; 3];
+            let on_grid = h.corners.iter().zip(&mut fixed).all(|(&v, slot)| {
+                selection
+                    .fixed_on_grid(v, grid)
+                    .map(|p| *slot = p)
+                    .is_some()
+            });
+            if on_grid {
+                let first = look.look(grid, &fixed, &node, view.tolerance(), exact);
                 match first {
-                    FirstLook::Within(bound) => return Judged::bare(bound, false),
+                    FirstLook::Within(bound) => {
+                        return Judged {
+                            bound,
+                            hidden: false,
+                            lasting: None,
+                        }
+                    }
                     FirstLook::Over(bound) => over = Some(Judged::bare(bound, false)),
                     FirstLook::Seen(found) => seen = found,
                 }
@@ -229,7 +293,8 @@ pub(super) fn judge(
         };
         // A leaf of the bake keeps one bound, no vector: where it is over, the run time's
         // own lattice (with `refine`) may be within, as it is for a triangle below the bake.
-        if !(leaf && cfg!(feature = "refine") && !j.hidden && j.bound > view.tolerance()) {
+        let over = matches!(j.bound, Bound::Value(b) if b > view.tolerance());
+        if !(leaf && cfg!(feature = "refine") && !j.hidden && over) {
             return j;
         }
         baked = Some(j);
@@ -268,10 +333,9 @@ pub(super) fn judge(
     // bound's say, so that a build without `refine` writes the same triangles.
     match baked {
         Some(b) => Judged {
-            bound: if own.bound < b.bound {
-                own.bound
-            } else {
-                b.bound
+            bound: {
+                let (own, b) = (own.bound.value(), b.bound.value());
+                Bound::Value(if own < b { own } else { b })
             },
             hidden: b.hidden,
             // Within while either bound is; over while both are (the baked one is over
@@ -398,7 +462,7 @@ fn judge_vectors<D: Deviations>(
                 full,
             );
             Judged {
-                bound,
+                bound: Bound::Value(bound),
                 hidden: false,
                 lasting,
             }

@@ -188,6 +188,7 @@ impl Tessellator<'_, '_> {
             crate::deviation::certificate::Asked::NONE,
         )
         .bound
+        .value()
     }
 
     /// Size of the mesh [`write_mesh`](Self::write_mesh) writes: the frame's triangles, and

@@ -200,6 +200,9 @@ pub struct Tessellator<'t, 's> {
     /// The frame's constants for a first look at triangles in integers, with `grid_view`
     /// (see `grid_judge`).
     grid_judge: super::grid_judge::GridJudge,
+    /// What a first look's bound within the tolerance must be over to raise the frame's
+    /// worst bound (see `grid_judge`).
+    quotient_limit: super::grid_judge::QuotientLimit,
     /// How triangles' bounds are computed from their kept vectors.
     pub(super) arithmetic: Arithmetic,
     /// The node whose judgement over the tolerance is halving triangles now (kept with
@@ -455,6 +458,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             viewed: ViewedCorners::new(),
             grid_view: None,
             grid_judge: super::grid_judge::GridJudge::OFF,
+            quotient_limit: super::grid_judge::QuotientLimit::NONE,
             arithmetic: Arithmetic::default(),
             trigger: super::reuse::NO_NODE,
             #[cfg(all(feature = "std", not(target_os = "none")))]
@@ -989,8 +993,8 @@ impl<'t, 's> Tessellator<'t, 's> {
             }
             let j = judge(self, view, h, true, Asked::NONE);
             if !j.hidden {
-                worst = max(worst, j.bound);
-                over += usize::from(j.bound > tolerance || j.bound.is_nan());
+                worst = max(worst, j.bound.value());
+                over += usize::from(j.bound.is_over(tolerance));
             }
             None
         });
@@ -1053,12 +1057,13 @@ impl<'t, 's> Tessellator<'t, 's> {
                     self.stats.hidden += 1;
                     return;
                 }
-                if j.bound <= tolerance {
-                    self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+                if j.bound.is_within(tolerance) {
+                    j.bound
+                        .raise(&mut self.stats.worst_bound, &mut self.quotient_limit);
                     self.count_leaf(&h);
                     return;
                 }
-                (!halvable).then_some(j.bound)
+                (!halvable).then_some(j.bound.value())
             }
         };
         if parted && !(baked && self.split(&h, 0)) {
@@ -1082,7 +1087,7 @@ impl<'t, 's> Tessellator<'t, 's> {
             // (Its bound in full, where the judgement stopped once it was over or was kept.)
             let bound = match over_by {
                 Some(b) => b,
-                None => judge(self, view, &h, true, Asked::NONE).bound,
+                None => judge(self, view, &h, true, Asked::NONE).bound.value(),
             };
             self.stats.left_over += 1;
             self.stats.worst_bound = max(self.stats.worst_bound, bound);

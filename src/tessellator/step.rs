@@ -565,7 +565,7 @@ impl Tessellator<'_, '_> {
                 return false;
             }
         } else if !j.hidden {
-            self.stats.worst_bound = max(self.stats.worst_bound, j.bound);
+            self.stats.worst_bound = max(self.stats.worst_bound, j.bound.value());
         }
         true
     }
@@ -763,5 +763,5 @@ impl Tessellator<'_, '_> {
 /// Whether judgement `j` is over `tolerance`, as the search takes it: shown, and its bound
 /// not within (a NaN bound is over).
 fn is_over(j: &Judged, tolerance: f32) -> bool {
-    !j.hidden && (j.bound > tolerance || j.bound.is_nan())
+    !j.hidden && j.bound.is_over(tolerance)
 }
