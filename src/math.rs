@@ -529,10 +529,50 @@ pub(crate) fn sqrt_one_plus_above(x: f32) -> f32 {
 /// Cortex-M get the same bits from this one definition, signed zeros included.
 #[inline(always)]
 pub(crate) fn max(a: f32, b: f32) -> f32 {
-    if a.is_nan() || a < b {
+    if a.is_nan() || less(a, b) {
         b
     } else {
         a
+    }
+}
+
+/// `a < b`, as IEEE 754 orders `f32` (false with a NaN; the two zeros equal): by the
+/// comparison where `f32` is hardware, in integers elsewhere (see [`less_in_integers`]).
+#[inline(always)]
+pub(crate) fn less(a: f32, b: f32) -> bool {
+    match HARD_FLOAT {
+        true => a < b,
+        false => less_in_integers(a, b, false),
+    }
+}
+
+/// `a <= b`, as IEEE 754 orders `f32`; see [`less`].
+#[inline(always)]
+pub(crate) fn at_most(a: f32, b: f32) -> bool {
+    match HARD_FLOAT {
+        true => a <= b,
+        false => less_in_integers(a, b, true),
+    }
+}
+
+/// `a < b`, or `a <= b` with `or_equal`, from the bits (on every target: the tests check it
+/// against the comparison). Where `f32` is software a comparison is a library call of about
+/// 25 instructions, which the compiler may also make before it knows it needs it; here, with
+/// no NaN, the bits turned into keys that order as the numbers do (a negative number's bits
+/// inverted, a positive one's sign bit set), the two zeros taken apart first.
+#[inline(always)]
+pub(crate) fn less_in_integers(a: f32, b: f32, or_equal: bool) -> bool {
+    let (x, y) = (a.to_bits(), b.to_bits());
+    if (x & 0x7fff_ffff) > 0x7f80_0000 || (y & 0x7fff_ffff) > 0x7f80_0000 {
+        return false;
+    }
+    if (x | y) << 1 == 0 {
+        return or_equal;
+    }
+    let key = |v: u32| v ^ (((v as i32) >> 31) as u32 | 0x8000_0000);
+    match or_equal {
+        true => key(x) <= key(y),
+        false => key(x) < key(y),
     }
 }
 
@@ -540,7 +580,7 @@ pub(crate) fn max(a: f32, b: f32) -> f32 {
 /// see [`max`].
 #[inline(always)]
 pub(crate) fn min(a: f32, b: f32) -> f32 {
-    if b.is_nan() || a < b {
+    if b.is_nan() || less(a, b) {
         a
     } else {
         b
@@ -604,6 +644,45 @@ pub(crate) fn clamp_param(t: f32, lo: f32, hi: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Comparisons from the bits order as the `f32` ones: zeros of either sign, infinities,
+    /// NaNs, subnormals, the numbers next to each, and random bits.
+    #[test]
+    fn comparisons_in_integers_are_the_float_ones() {
+        let special = [
+            0.0f32,
+            -0.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x8000_0001),
+            1.0,
+            -1.0,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            f32::from_bits(0x7f80_0001),
+        ];
+        let near = |x: f32| {
+            [
+                x,
+                f32::from_bits(x.to_bits().wrapping_add(1)),
+                f32::from_bits(x.to_bits().wrapping_sub(1)),
+            ]
+        };
+        let mut values: std::vec::Vec<f32> = special.iter().flat_map(|&x| near(x)).collect();
+        let mut rng = crate::test_rng::TestRng::new(0xc0_4a12);
+        values.extend((0..400).map(|_| f32::from_bits(rng.next_u32())));
+        for &a in &values {
+            for &b in &values {
+                assert_eq!(less_in_integers(a, b, false), a < b, "{a:?} < {b:?}");
+                assert_eq!(less_in_integers(a, b, true), a <= b, "{a:?} <= {b:?}");
+            }
+        }
+    }
 
     /// 64-bit shifts on two words are the native ones, for every count and random words.
     #[test]

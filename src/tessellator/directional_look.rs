@@ -151,9 +151,9 @@ pub(crate) struct ViewRows {
 /// What the look decided.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Decided {
-    /// The `f32` directional bound is within the tolerance: a bound at least it, at most the
-    /// tolerance.
-    Within(f32),
+    /// The `f32` directional bound is within the tolerance: at most `a / b` of it, `[a, b]`
+    /// (`a <= b < 2^31`), whose bound is [`within_bound`](Self::within_bound).
+    Within([u32; 2]),
     /// The `f32` directional bound is over the tolerance: a bound at most it, over the
     /// tolerance.
     Over(f32),
@@ -359,9 +359,17 @@ impl ViewRows {
         // The largest `g_i⁺ / Z_i` is at most `a / b` of `within_at`, itself at most
         // `tol z_min⁻ / (f S)`: the bound on screen at most `a / b` of the tolerance.
         let (a, b) = worst;
+        Some(Decided::Within([a, b]))
+    }
+}
+
+impl Decided {
+    /// The bound of a look within at `a / b` of `tolerance`: at least the `f32` directional
+    /// bound, at most the tolerance.
+    pub fn within_bound([a, b]: [u32; 2], tolerance: f32) -> f32 {
         let bound =
             f32_of(a as i32, 0) / f32_of(b as i32, 0) * tolerance * (1.0 + power_of_two(-15));
-        Some(Decided::Within(min(bound, tolerance)))
+        min(bound, tolerance)
     }
 }
 

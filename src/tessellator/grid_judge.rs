@@ -136,26 +136,61 @@ pub(crate) enum FirstLook {
     Seen(Seen),
 }
 
-/// A first look's bound within the tolerance, kept as its terms: `tol (1 + 2^-15) L / (2^16
-/// Z_min)` (see the module docs), whose value is [`value`](Self::value). Where `f32` is
-/// software, the two conversions, the quotient and the product cost about 370 instructions
-/// (ARMv6-M), and a frame reads the value only where it may be its worst bound (see
-/// [`QuotientLimit`]).
+/// A first look's bound within the tolerance, kept as its terms, whose value is
+/// [`value`](Self::value): the isotropic look's `tol (1 + 2^-15) L / (2^16 Z_min)` (see the
+/// module docs), or the directional look's `ρ = a / b` of the tolerance (see
+/// `directional_look`), as `L = 2^16 a` over `b`. Where `f32` is software, the conversions,
+/// the quotient and the products cost about 370 instructions (ARMv6-M), and a frame reads the
+/// value only where it may be its worst bound (see [`QuotientLimit`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct WithinQuotient {
-    /// The test's left side `L`.
+    /// `L`, below `2^48`; [`DIRECTIONAL`] set for the directional look's.
     left: u64,
-    /// `Z_min`.
-    z_min: u32,
-    /// `tol (1 + 2^-15) 2^-16`.
-    unit: f32,
+    /// `Z_min`, or `b`.
+    below: u32,
+    /// The view's tolerance.
+    tolerance: f32,
+}
+
+/// The bit of [`WithinQuotient::left`] that marks the directional look's.
+const DIRECTIONAL: u64 = 1 << 63;
+
+/// `tol (1 + 2^-15) 2^-16` in `f32`: the isotropic look's unit (see the module docs).
+#[inline(always)]
+fn unit_of(tolerance: f32) -> f32 {
+    tolerance * (1.0 + 1.0 / 32768.0) / 65536.0
 }
 
 impl WithinQuotient {
-    /// The bound, in `f32`: `L` and `Z_min` rounded, their quotient, times the unit.
+    /// The isotropic look's `L / Z_min` at `tolerance`.
+    fn isotropic(left: u64, z_min: u32, tolerance: f32) -> WithinQuotient {
+        WithinQuotient {
+            left,
+            below: z_min,
+            tolerance,
+        }
+    }
+
+    /// The directional look's `a / b` at `tolerance` (`a <= b < 2^31`).
+    fn directional([a, b]: [u32; 2], tolerance: f32) -> WithinQuotient {
+        WithinQuotient {
+            left: u64::from(a) << 16 | DIRECTIONAL,
+            below: b,
+            tolerance,
+        }
+    }
+
+    /// The bound, in `f32`: for the isotropic look `L` and `Z_min` rounded, their quotient,
+    /// times the unit; for the directional one, as [`Decided::Within`]'s.
     #[inline(never)]
     pub fn value(self) -> f32 {
-        self.left as f32 / self.z_min as f32 * self.unit
+        match self.left & DIRECTIONAL {
+            0 => self.left as f32 / self.below as f32 * unit_of(self.tolerance),
+            _ => Decided::within_bound(
+                [(self.left >> 16) as u32 & 0x7fff_ffff, self.below],
+                self.tolerance,
+            ),
+        }
     }
 
     /// As a judgement's bound: the quotient kept, where the build keeps one (see
@@ -205,23 +240,27 @@ impl NoQuotient {
     }
 }
 
-/// The least quotient `L / Z_min` a [`WithinQuotient`] needs to raise a frame's worst bound
-/// `W`, from below, so that most quotients are compared with it in integers and never
-/// divided out.
+/// The least quotient `L / Z_min` (or `2^16 a / b`) a [`WithinQuotient`] needs to raise a
+/// frame's worst bound `W`, from below, so that most quotients are compared with it in
+/// integers and never divided out.
 ///
-/// **Why it holds.** The limit is `λ = ⌊fl(fl(W / unit) (2^16 - 2^-4))⌋` (the constant is
-/// `2^16 (1 - 2^-20)`, exact in `f32`); with `u = 2^-24` each rounding's relative error,
-/// `λ 2^-16 <= (W / unit)(1 + u)² (1 - 2^-20) <= (W / unit)(1 - 2^-21)`. A quotient with `L
-/// <= ⌊Z_min λ / 2^16⌋` has `L / Z_min <= (W / unit)(1 - 2^-21)`, and its value, four
-/// roundings from `unit L / Z_min` (two conversions, a quotient, a product: at most a factor
-/// `(1 + u)³ / (1 - u) <= 1 + 5u` above), is at most `W (1 - 2^-21)(1 + 5u) < W`: the worst
-/// stays `W`, bit for bit, as it would with the value. (Every value here is a normal `f32`:
-/// `L >= 1`, `Z_min < 2^32`, and the unit is normal.)
+/// **Why it holds.** With `U` the unit `fl(fl(tol (1 + 2^-15)) 2^-16)` and `u = 2^-24` each
+/// rounding's relative error, the limit is `λ = ⌊fl(fl(W / U) (2^16 - 2^-3))⌋` (the constant
+/// is `2^16 (1 - 2^-19)`, exact in `f32`), so `λ 2^-16 <= (W / U)(1 + u)² (1 - 2^-19) <= (W /
+/// U)(1 - 2^-20)`. A quotient with `L <= ⌊Z_min λ / 2^16⌋` has `L / Z_min <= (W / U)(1 -
+/// 2^-20)`. The isotropic value is four roundings from `U L / Z_min` (two conversions, a
+/// quotient, a product: a factor at most `(1 + u)³ / (1 - u)` above). The directional one,
+/// `fl(fl(fl(a' / b') tol)(1 + 2^-15))` with `a'`, `b'` cut to 24 bits (`a' <= a`, `b' >= b
+/// (1 - 2u)`) and then at most the tolerance, is at most `(a / b) tol (1 + 2^-15)(1 + u)³ /
+/// (1 - 2u)`, and `tol (1 + 2^-15) <= 2^16 U / (1 - u)`: a factor at most `(1 + u)³ / ((1 -
+/// 2u)(1 - u)) < 1 + 8u` above `U L / b`. Either is then below `W (1 - 16u)(1 + 8u) < W`:
+/// the worst stays `W`, bit for bit, as it would with the value. (Every value here is a
+/// normal `f32`: `L >= 1`, the divisor below `2^32`, and the unit normal.)
 #[derive(Clone, Copy, Debug)]
 pub(super) struct QuotientLimit {
-    /// The worst bound and the unit `limit` was found for (their bits).
+    /// The worst bound and the tolerance `limit` was found for (their bits).
     worst: u32,
-    unit: u32,
+    tolerance: u32,
     /// `λ`.
     limit: u32,
 }
@@ -230,7 +269,7 @@ impl QuotientLimit {
     /// A limit found for no worst bound yet.
     pub const NONE: QuotientLimit = QuotientLimit {
         worst: u32::MAX,
-        unit: u32::MAX,
+        tolerance: u32::MAX,
         limit: 0,
     };
 
@@ -254,14 +293,14 @@ impl QuotientLimit {
     #[allow(dead_code)]
     #[inline(always)]
     fn raise_by(&mut self, worst: &mut f32, q: WithinQuotient) {
-        if (self.worst, self.unit) != (worst.to_bits(), q.unit.to_bits()) {
+        if (self.worst, self.tolerance) != (worst.to_bits(), q.tolerance.to_bits()) {
             *self = QuotientLimit {
                 worst: worst.to_bits(),
-                unit: q.unit.to_bits(),
-                limit: (*worst / q.unit * (65536.0 - 0.0625)) as u32,
+                tolerance: q.tolerance.to_bits(),
+                limit: (*worst / unit_of(q.tolerance) * (65536.0 - 0.125)) as u32,
             };
         }
-        if q.left > wide(q.z_min, self.limit) >> 16 {
+        if q.left & !DIRECTIONAL > wide(q.below, self.limit) >> 16 {
             *worst = crate::math::max(*worst, q.value());
         }
     }
@@ -371,7 +410,7 @@ impl GridJudge {
             k: k as u32 + 1,
             k_r: k_r as u16 + 1,
             k_c: (least_k * (1u32 << K_BITS) as f32) as u32,
-            tolerance: tolerance * (1.0 + 1.0 / 32768.0) / 65536.0,
+            tolerance: unit_of(tolerance),
             rows: ViewRows::new(camera, tolerance),
         })
     }
@@ -457,11 +496,7 @@ impl GridJudge {
             (left <= right).then_some(left)
         });
         if let Some(left) = within {
-            let bound = WithinQuotient {
-                left,
-                z_min: z_min as u32,
-                unit: self.tolerance,
-            };
+            let bound = WithinQuotient::isotropic(left, z_min as u32, tolerance);
             return FirstLook::Within(bound.into_bound());
         }
         let least = self.least_m(n, scale, remainder, u);
@@ -478,7 +513,10 @@ impl GridJudge {
                 m: [least, m],
             };
             match rows.look(tolerance, corners, &terms, z_min, eta, self.near, u, !exact) {
-                Some(Decided::Within(bound)) => return FirstLook::Within(Bound::Value(bound)),
+                Some(Decided::Within(ratio)) => {
+                    let bound = WithinQuotient::directional(ratio, tolerance);
+                    return FirstLook::Within(bound.into_bound());
+                }
                 Some(Decided::Over(bound)) => return FirstLook::Over(bound),
                 None => {}
             }
@@ -980,7 +1018,14 @@ mod tests {
                             % most
                     }
                 };
-                let q = WithinQuotient { left, z_min, unit };
+                let q = match rng.next_u32() % 4 {
+                    0 => {
+                        let b = z_min >> 1;
+                        let a = (left * u64::from(b) / most).min(u64::from(b)) as u32;
+                        WithinQuotient::directional([a, b], tolerance)
+                    }
+                    _ => WithinQuotient::isotropic(left, z_min, tolerance),
+                };
                 quotients += 1;
                 skipped += usize::from(
                     left <= wide(z_min, limit.limit) >> 16 && limit.worst == worst.to_bits(),

@@ -77,7 +77,7 @@ impl Bound {
     #[inline(always)]
     pub fn is_within(self, tolerance: f32) -> bool {
         match self {
-            Bound::Value(b) => b <= tolerance,
+            Bound::Value(b) => crate::math::at_most(b, tolerance),
             Bound::Within(_) => true,
         }
     }
