@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use super::address::ONE;
-use super::grid_judge::{FirstLook, GridJudge, KeptQuotient, QuotientLimit, Seen, Sight};
+use super::grid_judge::{FirstLook, GridJudge, KeptQuotient, Seen, Sight};
 use super::hierarchy::{Hierarchy, Pending};
 use super::select::Tessellator;
 use crate::deviation::certificate::{Asked, Lasting};
@@ -26,7 +26,6 @@ use crate::deviation::kept::longest_of;
 use crate::deviation::lattice::{deviation_vectors, RUN_TIME_POINTS, RUN_TIME_STEPS};
 use crate::deviation::vectors::{Deviations, NodeVectors, Quantised};
 use crate::deviation::{bound_on_screen, isotropic_bound_on_screen, view_extent, EPS};
-use crate::math::max;
 use crate::view::{Camera, Projection, View};
 use crate::Arithmetic;
 
@@ -73,30 +72,11 @@ impl Bound {
         }
     }
 
-    /// Whether it is within `tolerance`, the view's (as a first look's quotient is).
-    #[inline(always)]
-    pub fn is_within(self, tolerance: f32) -> bool {
-        match self {
-            Bound::Value(b) => crate::math::at_most(b, tolerance),
-            Bound::Within(_) => true,
-        }
-    }
-
     /// Whether it is over `tolerance`, the view's, or not a number.
     pub fn is_over(self, tolerance: f32) -> bool {
         match self {
             Bound::Value(b) => b > tolerance || b.is_nan(),
             Bound::Within(_) => false,
-        }
-    }
-
-    /// `worst` raised to this bound where it is larger (`max`), through `limit` for a first
-    /// look's quotient, which then is divided out only where it may be larger.
-    #[inline(always)]
-    pub(super) fn raise(self, worst: &mut f32, limit: &mut QuotientLimit) {
-        match self {
-            Bound::Value(b) => *worst = max(*worst, b),
-            Bound::Within(q) => limit.raise(worst, q),
         }
     }
 }
