@@ -257,7 +257,9 @@ fn with_fw_teapot_tessellator<R>(
 /// a part with an FPU takes floats, one without integers. Last, the bits of the frame's worst
 /// bound (`FrameStats::worst_bound`: where `f32` is software, the firmware keeps a first
 /// look's bound as a quotient and divides it out only where it may be the worst, see
-/// `grid_judge::QuotientLimit`; the host divides out every one).
+/// `grid_judge::QuotientLimit`; the host divides out every one). The firmware checks it where
+/// it leaves no leaf over the tolerance: it is built without `refine`, whose lattice bounds a
+/// leaf left over here.
 fn fw_teapot_frames(arithmetic: Arithmetic) -> Vec<[u32; 4]> {
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::prelude::RgbColor;
