@@ -230,7 +230,7 @@ pub(crate) type KeptQuotient = WithinQuotient;
 )))]
 pub(crate) type KeptQuotient = NoQuotient;
 
-/// No quotient: the [`KeptQuotient`] of a build without the integer forms.
+/// No quotient: the [`KeptQuotient`] where `f32` is hardware.
 #[allow(dead_code)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum NoQuotient {}
