@@ -1024,7 +1024,9 @@ mod tests {
                 let q = match rng.next_u32() % 4 {
                     0 => {
                         let b = z_min >> 1;
-                        let a = (left * u64::from(b) / most).min(u64::from(b)) as u32;
+                        // (`left b` may pass `2^64`.)
+                        let a = u128::from(left) * u128::from(b) / u128::from(most);
+                        let a = a.min(u128::from(b)) as u32;
                         WithinQuotient::directional([a, b], tolerance)
                     }
                     _ => WithinQuotient::isotropic(left, z_min, tolerance),
