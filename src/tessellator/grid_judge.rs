@@ -289,13 +289,13 @@ impl QuotientLimit {
             target_os = "none",
             not(any(target_abi = "eabihf", target_feature = "f"))
         ))]
-        self.raise_by(worst, q);
+        let _ = self.raise_by(worst, q);
     }
 
-    /// [`raise`](Self::raise) by a quotient.
+    /// [`raise`](Self::raise) by a quotient; whether it was divided out.
     #[allow(dead_code)]
     #[inline(always)]
-    fn raise_by(&mut self, worst: &mut f32, q: WithinQuotient) {
+    fn raise_by(&mut self, worst: &mut f32, q: WithinQuotient) -> bool {
         if (self.worst, self.tolerance) != (worst.to_bits(), q.tolerance.to_bits()) {
             *self = QuotientLimit {
                 worst: worst.to_bits(),
@@ -303,9 +303,11 @@ impl QuotientLimit {
                 limit: (*worst / unit_of(q.tolerance) * (65536.0 - 0.125)) as u32,
             };
         }
-        if q.left & !DIRECTIONAL > wide(q.below, self.limit) >> 16 {
+        let may_raise = q.left & !DIRECTIONAL > wide(q.below, self.limit) >> 16;
+        if may_raise {
             *worst = crate::math::max(*worst, q.value());
         }
+        may_raise
     }
 }
 
@@ -1032,10 +1034,7 @@ mod tests {
                     _ => WithinQuotient::isotropic(left, z_min, tolerance),
                 };
                 quotients += 1;
-                skipped += usize::from(
-                    left <= wide(z_min, limit.limit) >> 16 && limit.worst == worst.to_bits(),
-                );
-                limit.raise_by(&mut worst, q);
+                skipped += usize::from(!limit.raise_by(&mut worst, q));
                 eager = crate::math::max(eager, q.value());
                 assert_eq!(worst.to_bits(), eager.to_bits(), "frame {frame}: {q:?}");
             }
