@@ -48,8 +48,8 @@ fn views(tree: &Hierarchy<'_>) -> Vec<View> {
 }
 
 /// A frame's figures but for how many triangles were judged (and kept), which depend on the
-/// order the search halves in, and for the worst bound where a judgement was kept (which
-/// knows only that its bound is within the tolerance).
+/// order the search halves in, and for the worst bound, which a frame that keeps judgements
+/// knows less exactly (see [`worst_bound_holds`]).
 fn figures(s: FrameStats) -> FrameStats {
     FrameStats {
         judged: 0,
@@ -58,9 +58,18 @@ fn figures(s: FrameStats) -> FrameStats {
         sweeps: 0,
         // (Whether a frame was a step from the one before: the same mesh either way.)
         stepped: false,
-        worst_bound: if s.kept > 0 { 0.0 } else { s.worst_bound },
+        worst_bound: 0.0,
         ..s
     }
+}
+
+/// Whether `reusing`'s worst bound is what `FrameStats::worst_bound` promises beside the
+/// exact one of a frame that keeps no judgement (`fresh`, of the same mesh): an upper bound
+/// of it, within the tolerance where nothing is left over (a judgement kept knows only that
+/// its bound is within; one a certificate made, only the certificate's bound, above it).
+fn worst_bound_holds(reusing: &FrameStats, fresh: &FrameStats, tolerance: f32) -> bool {
+    reusing.worst_bound >= fresh.worst_bound
+        && (fresh.left_over > 0 || reusing.worst_bound <= tolerance)
 }
 
 /// The current frame written into buffers with room to spare, without a count first.
@@ -113,6 +122,12 @@ fn links_give_the_same_meshes_on_every_model() {
                     ..sx
                 };
                 assert_eq!(figures(kept), figures(sy), "{name}: frame figures");
+                assert!(
+                    worst_bound_holds(&sy, &sx, view.tolerance()),
+                    "{name}: worst bound {} against {}",
+                    sy.worst_bound,
+                    sx.worst_bound
+                );
                 let my = written_at_once(&mut y);
                 let mx = indexed(&mut x);
                 assert!(!mx.triangles.is_empty(), "{name}");
