@@ -463,23 +463,27 @@ impl<'s> Reuse<'s> {
         // The reading past which an entry's judgement lapses, by how it is held and its
         // class: NaN for a node halved for another's sake (its own judgement is not asked,
         // and NaN is past nothing). (A kept class is always one of them, and an expiry is
-        // never NaN: see `keep`.) The loop is a step's scan of its whole list, so it has one branch, where a node
+        // never NaN: see `keep`.) The loop is a step's scan of its whole list: it reads each
+        // entry's class and hold as indices, and has no branch on whether it lapsed (about one
+        // in six does, at random): the node is written either way, and kept only where it
         // lapsed.
         let mut lapse = [[f32::NAN; REACHES.len()]; 3];
         (lapse[Held::Leaf as usize], lapse[Held::Own as usize]) = (self.readings, self.readings);
+        // Per hold, whether a judgement that holds is counted as kept, and as a leaf's.
+        let (mut own, mut leafy) = ([1usize; 3], [false; 3]);
+        (own[Held::ForAnother as usize], leafy[Held::Leaf as usize]) = (0, true);
         // (Counted here, and added once: the counts behind references stay in memory.)
         let (mut held, mut leaf) = (0, false);
         let mut next = self.len;
         for (k, Judgement { entry: e, .. }) in entries.iter().enumerate() {
-            // Without a branch on whether it lapsed (about one in six does, at random): the
-            // node is written either way, and kept only where it lapsed.
-            let lapsed = lapse[e.held as usize][usize::from(e.class) % REACHES.len()] > e.expires;
+            let h = e.held as usize;
+            let lapsed = lapse[h][usize::from(e.class) % REACHES.len()] > e.expires;
             if let Some(slot) = out.get_mut(n) {
                 *slot = e.node;
             }
             n += usize::from(lapsed);
-            held += usize::from(!lapsed & (e.held != Held::ForAnother));
-            leaf |= !lapsed & (e.held == Held::Leaf);
+            held += usize::from(!lapsed) & own[h];
+            leaf |= !lapsed & leafy[h];
             if n == out.len() {
                 next = from + k + 1;
                 break;
