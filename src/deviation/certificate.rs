@@ -638,9 +638,19 @@ impl<'a> Moved<'a> {
             let (a, b) = (d.x - tx * d.z, d.y - ty * d.z);
             (a * a + b * b, a, b)
         };
+        // Every `φ²` (and below, every `q`) finite, or no `φ` (nothing certain): then no lane
+        // of the bounds is NaN but by an infinity that stays in it (see `largest`), or in a
+        // term whose `min` or `max` with another bound of the same side leaves a bound.
+        let found = |worst: Vec4, finite: bool| match finite {
+            true => lane_sqrt(worst),
+            false => Vec4::NAN,
+        };
         let Some(e) = e.get(..TURNS).filter(|_| e.len() <= TURNS) else {
-            let worst = e.iter().fold(Vec4::ZERO, |w, d| lane_max(w, phi2(d).0));
-            self.rays.phi = lane_sqrt(worst);
+            let (worst, finite) = e.iter().fold((Vec4::ZERO, true), |(w, finite), d| {
+                let p = phi2(d).0;
+                (lane_max(w, p), finite && p.is_finite())
+            });
+            self.rays.phi = found(worst, finite);
             self.phis_found = true;
             return;
         };
@@ -671,14 +681,11 @@ impl<'a> Moved<'a> {
             *lz = Vec4::select(now, Vec4::splat(d.z.abs()), *lz);
             *ln = Vec4::select(now, Vec4::splat(sqrt(n2)), *ln);
         }
-        // Every `φ²` and `q` finite, or no `φ` (nothing certain): then no lane of the bounds
-        // is NaN but by an infinity that stays in it (see `largest`), or in a term whose
-        // `min` or `max` with another bound of the same side leaves a bound.
-        let finite = turns.q.iter().all(|q| q.is_finite()) && worst.is_finite();
-        self.rays.phi = match finite {
-            true => lane_sqrt(worst),
-            false => Vec4::NAN,
-        };
+        let finite = turns.p[..e.len()]
+            .iter()
+            .chain(&turns.q[..e.len()])
+            .all(|v| v.is_finite());
+        self.rays.phi = found(worst, finite);
         self.ez = e.iter().map(|d| d.z.abs()).fold(0.0f32, max);
         self.phis_found = true;
     }

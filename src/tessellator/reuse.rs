@@ -385,13 +385,11 @@ impl<'s> Reuse<'s> {
     /// Node `node`'s entry, if it is on the list, held `held` now: moved across the end of
     /// the asked entries where it crosses it.
     fn hold(&mut self, node: u32, held: Held) {
-        let Some(at) = self.slots.get(node as usize).map(|j| j.at as usize) else {
+        let Some(e) = self.entry_of(node) else {
             return;
         };
-        let Some(j) = self.slots.get_mut(at).filter(|_| at < self.len) else {
-            return;
-        };
-        j.entry.held = held;
+        e.held = held;
+        let at = self.slots[node as usize].at as usize;
         match (at < self.asked, held != Held::ForAnother) {
             (true, false) => {
                 self.asked -= 1;
@@ -530,30 +528,22 @@ impl<'s> Reuse<'s> {
             }
             return (n, self.asked);
         }
-        // The reading past which an entry's judgement lapses, by how it is held and its
-        // class: NaN for a node halved for another's sake (its own judgement is not asked,
-        // and NaN is past nothing). (A kept class is always one of them, and an expiry is
-        // never NaN: see `keep`.) The loop is a step's scan of its whole list: it reads each
-        // entry's class and hold as indices, and has no branch on whether it lapsed (about one
-        // in six does, at random): the node is written either way, and kept only where it
-        // lapsed.
-        let mut lapse = [[f32::NAN; REACHES.len()]; 3];
-        (lapse[Held::Leaf as usize], lapse[Held::Own as usize]) = (self.readings, self.readings);
-        // Per hold, whether a judgement that holds is counted as kept, and as a leaf's.
-        let (mut own, mut leafy) = ([1usize; 3], [false; 3]);
-        (own[Held::ForAnother as usize], leafy[Held::Leaf as usize]) = (0, true);
+        // An entry's judgement lapses past its class's reading. (A kept class is always one of
+        // them, and an expiry is never NaN: see `keep`.) The loop is a step's scan of its
+        // asked entries: it has no branch on whether one lapsed (about one in six does, at
+        // random): the node is written either way, and kept only where it lapsed.
+        let readings = self.readings;
         // (Counted here, and added once: the counts behind references stay in memory.)
         let (mut held, mut leaf) = (0, false);
         let mut next = self.asked;
         for (k, Judgement { entry: e, .. }) in entries.iter().enumerate() {
-            let h = e.held as usize;
-            let lapsed = lapse[h][usize::from(e.class) % REACHES.len()] > e.expires;
+            let lapsed = readings[usize::from(e.class) % REACHES.len()] > e.expires;
             if let Some(slot) = out.get_mut(n) {
                 *slot = e.node;
             }
             n += usize::from(lapsed);
-            held += usize::from(!lapsed) & own[h];
-            leaf |= !lapsed & leafy[h];
+            held += usize::from(!lapsed);
+            leaf |= !lapsed & (e.held == Held::Leaf);
             if n == out.len() {
                 next = from + k + 1;
                 break;
