@@ -78,7 +78,7 @@ use glam::{Vec3, Vec4};
 
 use super::screen::{isotropic_from, view_extent, SCREEN_SLACK};
 use super::EPS;
-use crate::math::{max, min, sqrt};
+use crate::math::{larger, max, min, sqrt};
 use crate::view::{Camera, Projection};
 
 /// The relative margin by which a certificate's bounds must clear the tolerance (see
@@ -401,7 +401,7 @@ fn reach_class(corners: &[Vec3; 3], steps: &Steps) -> Option<usize> {
     let far = corners
         .iter()
         .map(|&v| (v - centre).length() + 20.0 * EPS * (spread(v) + spread(centre)))
-        .fold(0.0f32, max)
+        .fold(0.0f32, larger)
         * (1.0 + 4.0 * EPS);
     (0..steps.reaches.len())
         .rev()
@@ -587,7 +587,7 @@ impl<'a> Moved<'a> {
             m,
             size,
             z_low: corners.iter().map(|v| v.z).fold(f32::INFINITY, min),
-            z_high: corners.iter().map(|v| v.z).fold(0.0f32, max),
+            z_high: corners.iter().map(|v| v.z).fold(0.0f32, larger),
             rays,
             phis_found: false,
             turns: None,
@@ -703,7 +703,7 @@ impl<'a> Moved<'a> {
             .chain(&turns.q[..e.len()])
             .all(|v| v.is_finite());
         self.rays.phi = found(worst, finite);
-        self.ez = e.iter().map(|d| d.z.abs()).fold(0.0f32, max);
+        self.ez = e.iter().map(|d| d.z.abs()).fold(0.0f32, larger);
         self.phis_found = true;
     }
 

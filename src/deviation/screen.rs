@@ -81,7 +81,7 @@ use glam::Vec3;
 
 use super::vectors::Deviations;
 use super::EPS;
-use crate::math::{max, min, sqrt_one_plus_above};
+use crate::math::{larger, max, min, sqrt_one_plus_above};
 use crate::view::{Camera, Projection};
 
 /// Most vertices of a triangle clipped by five planes.
@@ -267,7 +267,7 @@ pub(crate) fn bound_on_screen(
         let g = e.worst(camera, [tx, ty])
             + r * sqrt_one_plus_above(tx * tx + ty * ty)
             + m * (widen + 16.0 * EPS * spread);
-        worst = max(worst, g);
+        worst = larger(worst, g);
         if stops && focal_slack * worst > stop * least_depth(camera, z_low, m, eta) {
             let so_far = on_screen(camera, z_low, m, eta, worst);
             if so_far > stop {

@@ -61,7 +61,7 @@ use glam::Vec3;
 
 use super::kept::{dequantize, KEPT};
 use super::EPS;
-use crate::math::{max, power_of_two, sqrt_above, wide_signed};
+use crate::math::{larger, power_of_two, sqrt_above, wide_signed};
 use crate::view::Camera;
 
 /// Deviation vectors whose worst term `max_k φ(τ, e_k)` the bound on screen takes (see the
@@ -94,7 +94,7 @@ impl<const K: usize> Deviations for [Vec3; K] {
                 let (a, b) = (d.x - tx * d.z, d.y - ty * d.z);
                 a * a + b * b
             })
-            .fold(0.0f32, max);
+            .fold(0.0f32, larger);
         sqrt_above(phi)
     }
 }
