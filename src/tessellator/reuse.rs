@@ -619,23 +619,18 @@ fn scan<const LEAF: bool>(
     leaf_kept: &mut bool,
 ) -> (usize, usize) {
     let mut n = 0;
-    let mut leaf = false;
     for (k, Judgement { entry: e, .. }) in entries.iter().enumerate() {
         let lapsed = readings[usize::from(e.class) % REACHES.len()] > e.expires;
         if let Some(slot) = out.get_mut(n) {
             *slot = e.node;
         }
         n += usize::from(lapsed);
-        if LEAF {
-            leaf |= !lapsed & (e.held == Held::Leaf);
-            if leaf {
-                *leaf_kept = true;
-                let (more, scanned) = match n == out.len() {
-                    true => (0, 0),
-                    false => scan::<false>(&entries[k + 1..], readings, &mut out[n..], leaf_kept),
-                };
-                return (n + more, k + 1 + scanned);
-            }
+        if LEAF && !lapsed && e.held == Held::Leaf {
+            // The rest without looking. (This entry held: `out` has room still.)
+            *leaf_kept = true;
+            let (more, scanned) =
+                scan::<false>(&entries[k + 1..], readings, &mut out[n..], leaf_kept);
+            return (n + more, k + 1 + scanned);
         }
         if n == out.len() {
             return (n, k + 1);
@@ -726,6 +721,7 @@ mod tests {
         assert_eq!(r.lapsed(0, &mut more, &mut kept, &mut leaf_kept), (1, 2));
         assert_eq!((more[0], kept, leaf_kept), (2, 1, true));
     }
+
     /// A step's scan, in batches of any size, finds exactly the asked entries whose judgement
     /// lapsed, in the list's order, counts the others as kept, and notes whether a leaf's
     /// judgement was kept, as reading every entry does.
@@ -752,7 +748,7 @@ mod tests {
                 } else if pick == 4 {
                     r.set_trigger(node, (node + 1) % N as u32);
                 }
-                // (Some leaves kept, as the case asks: none kept in every case past 200.)
+                // (About 70% of the nodes kept in the first 200 cases, none after.)
                 if unit() < 0.7 && case < 200 {
                     let class = (unit() * REACHES.len() as f32) as u8 % REACHES.len() as u8;
                     let lasting = Lasting {
